@@ -1,0 +1,115 @@
+#pragma once
+// The scan-cycle engine: one scan is a pure function of the image, the plant and `now`.
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "plcemu/image/image.hpp"
+
+namespace plcemu::engine {
+
+/// Simulated time since power-up.
+using Duration = std::chrono::nanoseconds;
+
+/// Wall-clock date and time for the calendar registers, passed in by whoever owns a clock.
+struct Calendar {
+    int second = 0;  ///< 0–59
+    int minute = 0;  ///< 0–59
+    int hour = 0;    ///< 0–23
+    int day = 1;     ///< 1–31
+    int month = 1;   ///< 1–12
+    int year = 2026; ///< four digits (the register holds the last two)
+    int weekday = 0; ///< 0 = Sunday
+};
+
+/// What an instruction sees during one scan.
+struct ScanContext {
+    image::Image& image;   ///< the register image
+    Duration now;          ///< simulated time of this scan's start
+    Duration dt;           ///< simulated time since the previous scan (the scan period)
+    std::uint64_t scan;    ///< scans completed before this one
+    bool first_scan;       ///< true during the first scan after power-up
+};
+
+/// One program instruction (one file per mnemonic in src/instructions).
+class Instruction {
+public:
+    virtual ~Instruction() = default;
+    /// Runs once per scan, in program order.
+    virtual void execute(ScanContext& ctx) noexcept = 0;
+    /// The manual's mnemonic.
+    virtual std::string_view mnemonic() const noexcept = 0;
+};
+
+/// Something that runs around the program each scan: the plant and the temperature modules.
+class Subsystem {
+public:
+    virtual ~Subsystem() = default;
+    /// Before the program: plant → inputs, readings.
+    virtual void inputs(ScanContext& /*ctx*/) noexcept {}
+    /// After the program: outputs → plant.
+    virtual void outputs(ScanContext& /*ctx*/) noexcept {}
+};
+
+/// The ordered instruction list.
+using Program = std::vector<std::unique_ptr<Instruction>>;
+
+/// Fixed parameters of an engine.
+struct EngineOptions {
+    Duration scan_period = std::chrono::milliseconds(10); ///< scan_ms
+    std::uint8_t station = 1;                             ///< initial station number
+    std::uint16_t model_code = 0;                         ///< R4167
+};
+
+/// Runs scans over an image.
+class Engine {
+public:
+    /// `image` must outlive the engine.
+    Engine(image::Image& image, EngineOptions options, Program program);
+
+    /// Adds a subsystem; subsystems run in the order added (inputs) and reverse (outputs).
+    void add_subsystem(std::unique_ptr<Subsystem> s);
+
+    /// Power-up: special-register defaults, power-up counter, station. Call once, after the
+    /// image holds its retained values and config presets.
+    void power_up();
+
+    /// Runs one scan starting at simulated time `now` (monotonic, one period after the last).
+    void step(Duration now, const Calendar& calendar) noexcept;
+
+    /// Runs `n` scans back to back at the scan period (tests, virtual time).
+    void run_scans(std::uint64_t n, const Calendar& calendar = {}) noexcept;
+
+    /// The station number (R4055), which a master may change.
+    const std::uint8_t& station() const { return station_; }
+    /// Scans completed.
+    std::uint64_t scans() const { return scans_; }
+    /// Simulated time of the last scan start.
+    Duration now() const { return last_; }
+    /// The scan period.
+    Duration scan_period() const { return options_.scan_period; }
+    /// The image.
+    image::Image& image() { return image_; }
+    /// The subsystems, in order.
+    const std::vector<std::unique_ptr<Subsystem>>& subsystems() const { return subsystems_; }
+
+private:
+    void special_relays(const ScanContext& ctx) noexcept;
+    void special_registers(const ScanContext& ctx, const Calendar& calendar) noexcept;
+
+    image::Image& image_;
+    EngineOptions options_;
+    Program program_;
+    std::vector<std::unique_ptr<Subsystem>> subsystems_;
+    std::uint8_t station_ = 1;
+    std::uint64_t scans_ = 0;
+    Duration last_{0};
+    bool started_ = false;
+    std::uint16_t scan_min_ms_ = 0xFFFF;
+    std::uint16_t scan_max_ms_ = 0;
+};
+
+}  // namespace plcemu::engine

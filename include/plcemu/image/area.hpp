@@ -1,0 +1,77 @@
+#pragma once
+// Device areas of a PLC and the ranges that address them.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace plcemu::image {
+
+/// A device area. Bit areas hold one byte per bit (0 or 1); word areas hold uint16_t.
+enum class Area : std::uint8_t {
+    X,   ///< discrete inputs (bits)
+    Y,   ///< discrete outputs (bits)
+    M,   ///< internal relays (bits)
+    S,   ///< step relays (bits)
+    T,   ///< timer status bits
+    C,   ///< counter status bits
+    R,   ///< registers R0.. (words)
+    D,   ///< data registers D0.. (words)
+    TV,  ///< timer current values (words)
+    CV,  ///< counter current values (words; 32-bit counters take two, low word first)
+};
+
+/// Number of areas, for tables indexed by Area.
+inline constexpr std::size_t kAreaCount = 10;
+
+/// True for the areas that hold bits.
+constexpr bool is_bit_area(Area a) {
+    return a == Area::X || a == Area::Y || a == Area::M || a == Area::S || a == Area::T ||
+           a == Area::C;
+}
+
+/// The manual's letter(s) for an area: "X", "R", "TMR"…
+std::string_view area_name(Area a);
+
+/// A contiguous run of devices in one area, e.g. D100–D199.
+struct Range {
+    Area area = Area::R;     ///< the area
+    std::uint32_t start = 0; ///< first device index
+    std::uint32_t count = 0; ///< number of devices (bits or words)
+
+    /// One past the last index.
+    std::uint32_t end() const { return start + count; }
+    /// True when the two ranges share at least one device.
+    bool overlaps(const Range& o) const {
+        return area == o.area && start < o.end() && o.start < end();
+    }
+    /// True when `o` lies wholly inside this range.
+    bool contains(const Range& o) const {
+        return area == o.area && o.start >= start && o.end() <= end();
+    }
+    bool operator==(const Range&) const = default;
+};
+
+/// Text of a range in the manual's notation: "D100-D199", "R4136", "TMR0-TMR255".
+std::string format_range(const Range& r);
+
+/// One device operand as written in a config: a bit (M0), a word (R100), or 16 bits read as a
+/// word (WM800).
+struct Device {
+    Area area = Area::R;     ///< area of the device (for WMn: M)
+    std::uint32_t index = 0; ///< index within the area
+    bool word_of_bits = false; ///< "W" prefix: 16 consecutive bits taken as one word
+
+    bool operator==(const Device&) const = default;
+};
+
+/// Parses "R100", "D0", "M800", "WM800", "Y30", "T5", "C200", "TMR5" (timer value),
+/// "CTR200" (counter value). Returns nothing for text that is not a device name.
+/// Index limits are not checked here; see Layout::contains.
+std::optional<Device> parse_device(std::string_view text);
+
+/// Parses "D100-D199" or a single device "R4136" as a range (word-of-bits not allowed).
+std::optional<Range> parse_range(std::string_view text);
+
+}  // namespace plcemu::image

@@ -1,0 +1,73 @@
+#pragma once
+// Request dispatch: unit ID, function code, validation, address resolution, reply. The one
+// place where refusals become Modbus exceptions.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "plcemu/modbus/unit.hpp"
+
+namespace plcemu::modbus {
+
+/// Which framing a request arrived in.
+enum class Transport : std::uint8_t { Tcp, Rtu };
+
+/// What the dispatcher does with TCP unit IDs other than the station, 255 and the simulator.
+enum class UnknownUnitPolicy : std::uint8_t { Exception, Silent };
+
+/// Identification strings for FC 11h and 2Bh/0Eh.
+struct Identity {
+    std::string vendor = "FATEK"; ///< VendorName
+    std::string product;          ///< ProductCode: the model, e.g. FBs-24MC
+    std::string revision;         ///< MajorMinorRevision: the emulator's version
+};
+
+/// Counters, for logs and tests.
+struct DispatchStats {
+    std::uint64_t requests = 0;   ///< requests answered or refused
+    std::uint64_t exceptions = 0; ///< exception replies sent
+    std::uint64_t ignored = 0;    ///< requests dropped without an answer
+};
+
+/// Turns complete request frames into replies written to a file descriptor.
+class Dispatcher {
+public:
+    /// `plc` and `station` must outlive the dispatcher; `station` is read on every request
+    /// (it changes when a master writes 55xxh to R4055).
+    Dispatcher(Unit& plc, const std::uint8_t& station, Identity identity);
+    ~Dispatcher();
+    Dispatcher(const Dispatcher&) = delete;
+    Dispatcher& operator=(const Dispatcher&) = delete;
+
+    /// Serves a second unit (the simulator-control unit) under `unit_id` (0 = none).
+    void set_simulator(Unit* sim, std::uint8_t unit_id);
+    /// Sets the TCP policy for unknown unit IDs.
+    void set_unknown_unit_policy(UnknownUnitPolicy p) { unknown_unit_ = p; }
+
+    /// Serves one complete TCP ADU (MBAP header + PDU) and writes the reply, if any, to `fd`.
+    void serve_tcp(int fd, std::span<const std::uint8_t> adu) noexcept;
+    /// Serves one complete RTU frame (address, PDU, CRC already checked) and writes the reply,
+    /// if any, to `fd`.
+    void serve_rtu(int fd, std::span<const std::uint8_t> frame) noexcept;
+
+    /// Counters since start.
+    const DispatchStats& stats() const { return stats_; }
+
+private:
+    struct Contexts;
+    void serve(Transport t, int fd, std::span<const std::uint8_t> adu) noexcept;
+
+    Unit& plc_;
+    const std::uint8_t& station_;
+    Identity identity_;
+    Unit* sim_ = nullptr;
+    std::uint8_t sim_unit_ = 0;
+    UnknownUnitPolicy unknown_unit_ = UnknownUnitPolicy::Exception;
+    std::unique_ptr<Contexts> ctx_;
+    DispatchStats stats_;
+};
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,43 @@
+#pragma once
+// A Modbus unit: something that turns wire addresses into memory the protocol code may read or
+// write in place, or into a refusal.
+
+#include <cstdint>
+
+namespace plcemu::modbus {
+
+/// The four Modbus data tables.
+enum class Table : std::uint8_t { Coils, DiscreteInputs, HoldingRegisters, InputRegisters };
+
+/// Modbus exception codes, and Ok.
+enum class Status : std::uint8_t {
+    Ok = 0,
+    IllegalFunction = 0x01,
+    IllegalDataAddress = 0x02,
+    IllegalDataValue = 0x03,
+    ServerFailure = 0x04,
+    GatewayTargetFailed = 0x0B,
+};
+
+/// The memory a request reads or writes: `bits`/`words` point at the element for the request's
+/// first wire address, followed by the rest of the request's elements.
+struct Window {
+    Status status = Status::IllegalDataAddress; ///< Ok, or why not
+    std::uint8_t* bits = nullptr;               ///< coils / discrete inputs, one byte each
+    std::uint16_t* words = nullptr;             ///< holding / input registers
+};
+
+/// One addressable unit (the PLC itself, the simulator-control unit, …).
+class Unit {
+public:
+    virtual ~Unit() = default;
+    /// Resolves `qty` elements of `table` from wire address `addr`, for reading or writing.
+    /// Returns IllegalFunction when the table is not served, IllegalDataAddress when any element
+    /// is unmapped or (for writes) read-only.
+    virtual Window resolve(Table table, std::uint16_t addr, std::uint16_t qty,
+                           bool write) noexcept = 0;
+    /// Called after a write landed in a window this unit returned.
+    virtual void written(Table /*table*/, std::uint16_t /*addr*/, std::uint16_t /*qty*/) noexcept {}
+};
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,219 @@
+#!/usr/bin/env bash
+# Benchmarks. Builds Release into build-bench/, runs the closed-loop load client against plcemud
+# and three yardsticks (noop: a do-nothing epoll server, the machine's ceiling; libmodbus: a plain
+# libmodbus select() server; pymodbus: pymodbus' asyncio server) with 1, 4 and 16 connections,
+# and prints one `name value unit` line per figure on stdout. Lines starting with `#` are notes;
+# build output goes to stderr. It reports speed and never fails on it.
+#
+#   scripts/bench.sh                     # 5 s per run after a 1 s warm-up
+#   BENCH_SECONDS=2 scripts/bench.sh     # shorter runs (BENCH_WARMUP sets the warm-up)
+set -euo pipefail
+
+cd "$(dirname "$0")/.."
+
+readonly RUN_SECONDS="${BENCH_SECONDS:-5}"
+readonly WARMUP_SECONDS="${BENCH_WARMUP:-1}"
+readonly BUILD=build-bench
+readonly CONNECTIONS=(1 4 16)
+# Debian's interpreter: the one on PATH may lack python3-pymodbus.
+readonly PY=/usr/bin/python3
+
+declare -A FIG=()  # figure name -> value, for the ratio lines
+BUILD_OK=0         # 1 when the whole tree built, so plcemud and bench_engine are current
+SERVER_PID=""
+TMP=$(mktemp -d)
+trap 'stop_server; rm -rf "$TMP"' EXIT
+
+note() { echo "# $*"; }
+
+# Prints `name value unit` lines from stdin and remembers each value under its name.
+emit() {
+    local name value unit
+    while read -r name value unit; do
+        echo "$name $value $unit"
+        FIG[$name]=$value
+    done
+}
+
+install_packages() {
+    local missing=() pkg sudo=""
+    for pkg in cmake g++ pkg-config libmodbus-dev libbenchmark-dev python3-pymodbus; do
+        dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
+    done
+    if ((${#missing[@]} == 0)); then return 0; fi
+    note "installing ${missing[*]}"
+    [[ $EUID -eq 0 ]] || sudo=sudo
+    $sudo apt-get update >&2
+    $sudo env DEBIAN_FRONTEND=noninteractive \
+        apt-get install -y --no-install-recommends "${missing[@]}" >&2
+}
+
+build() {
+    # The unit tests are not needed to benchmark, and building them would double the build.
+    local src=. options=(-DPLCEMU_BENCH=ON -DPLCEMU_TESTS=OFF -DCMAKE_BUILD_TYPE=Release)
+    if [[ ! -f CMakeLists.txt ]]; then
+        note "no top-level CMakeLists.txt: building the bench tools alone"
+        src=bench
+        options=(-DCMAKE_BUILD_TYPE=Release)
+    fi
+    # cmake refuses a build directory configured from another source tree.
+    if [[ -f $BUILD/CMakeCache.txt ]] &&
+        ! grep -qx "CMAKE_HOME_DIRECTORY:INTERNAL=$(cd "$src" && pwd)" "$BUILD/CMakeCache.txt"; then
+        rm -rf "$BUILD"
+    fi
+    cmake -S "$src" -B "$BUILD" "${options[@]}" >&2
+    if cmake --build "$BUILD" -j2 >&2; then
+        BUILD_OK=1
+    else
+        # Still measure the yardsticks; a stale plcemud would give misleading figures.
+        note "full build failed (see stderr): plcemud and bench_engine are skipped"
+        cmake --build "$BUILD" -j2 --target load_client noop_server libmodbus_peer >&2
+    fi
+}
+
+free_port() {
+    "$PY" -c 'import socket
+s = socket.socket()
+s.bind(("127.0.0.1", 0))
+print(s.getsockname()[1])'
+}
+
+# A child that has exited stays a zombie until waited for, so kill -0 alone would say alive.
+alive() { [[ -r /proc/$1/status ]] && ! grep -q '^State:[[:space:]]*Z' "/proc/$1/status"; }
+
+# start_server NAME PORT COMMAND...: runs COMMAND in the background, logging to a temp file, and
+# waits until it accepts connections on PORT.
+start_server() {
+    local name=$1 port=$2
+    shift 2
+    "$@" >"$TMP/$name.log" 2>&1 &
+    SERVER_PID=$!
+    for _ in $(seq 200); do
+        alive "$SERVER_PID" || break
+        if (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null; then return 0; fi
+        sleep 0.05
+    done
+    note "$name did not accept connections on port $port; skipped. Its log:"
+    sed 's/^/#   /' "$TMP/$name.log"
+    stop_server
+    return 1
+}
+
+stop_server() {
+    [[ -n $SERVER_PID ]] || return 0
+    kill "$SERVER_PID" 2>/dev/null || true
+    for _ in $(seq 50); do
+        alive "$SERVER_PID" || break
+        sleep 0.1
+    done
+    kill -KILL "$SERVER_PID" 2>/dev/null || true
+    wait "$SERVER_PID" 2>/dev/null || true
+    SERVER_PID=""
+}
+
+# bench_server NAME PORT COMMAND...: the load runs against one server, then its peak RSS.
+bench_server() {
+    local name=$1 port=$2 c out
+    start_server "$@" || return 0
+    for c in "${CONNECTIONS[@]}"; do
+        if out=$("$BUILD/load_client" --port "$port" --connections "$c" \
+            --seconds "$RUN_SECONDS" --warmup "$WARMUP_SECONDS" --label "$name.c$c"); then
+            emit <<<"$out"
+        else
+            note "$name.c$c: load_client could not connect"
+        fi
+    done
+    # VmHWM is the peak resident set over the server's life, so it covers the 16-connection run.
+    if alive "$SERVER_PID"; then
+        emit < <(awk -v n="$name" '/^VmHWM:/ { printf "%s.peak_rss %.1f MB\n", n, $2 / 1024 }' \
+            "/proc/$SERVER_PID/status")
+    else
+        note "$name exited during the load; its log is lost with $TMP"
+    fi
+    stop_server
+}
+
+# ratio NAME A B: A's throughput over B's, at 1 and 16 connections.
+ratio() {
+    local c a b
+    for c in 1 16; do
+        a=${FIG[$2.c$c.rps]:-}
+        b=${FIG[$3.c$c.rps]:-}
+        if [[ -n $a && -n $b && $b != 0 ]]; then
+            awk -v n="ratio.$1.c$c" -v a="$a" -v b="$b" \
+                'BEGIN { printf "%s %.2f ratio\n", n, a / b }'
+        else
+            note "ratio.$1.c$c: needs both $2 and $3 figures"
+        fi
+    done
+}
+
+bench_plcemud() {
+    local port
+    if [[ $BUILD_OK != 1 || ! -x $BUILD/plcemud ]]; then
+        note "plcemud: $BUILD/plcemud not built; skipped"
+        return 0
+    fi
+    port=$(free_port)
+    bench_server plcemud "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port"
+}
+
+# ---- Hook: scan-engine benchmark --------------------------------------------------------------
+# Google Benchmark over the core (build-bench/bench_engine), each result as `engine.<name>.*`.
+bench_engine() {
+    local bin=$BUILD/bench_engine json
+    if [[ $BUILD_OK != 1 || ! -x $bin ]]; then
+        note "engine: $bin not built; skipped"
+        return 0
+    fi
+    if ! json=$("$bin" --benchmark_format=json 2>/dev/null); then
+        note "engine: $bin failed"
+        return 0
+    fi
+    emit < <("$PY" -c '
+import json, sys
+standard = {"name", "family_index", "per_family_instance_index", "run_name", "run_type",
+            "repetitions", "repetition_index", "threads", "iterations", "real_time", "cpu_time",
+            "time_unit", "aggregate_name", "aggregate_unit", "label", "error_occurred",
+            "error_message"}
+def fmt(v):
+    return "%.0f" % v if abs(v) >= 1000 else "%.4g" % v
+for b in json.load(sys.stdin).get("benchmarks", []):
+    name = "engine." + b["name"].replace(" ", "_")
+    print("%s.time %s %s" % (name, fmt(b["real_time"]), b["time_unit"]))
+    for key, value in b.items():
+        if key in standard or not isinstance(value, (int, float)):
+            continue
+        unit = key[: -len("_per_second")] + "/s" if key.endswith("_per_second") else "value"
+        print("%s.%s %s %s" % (name, key, fmt(value), unit))
+' <<<"$json")
+}
+
+# ---- Hook: scan lateness ----------------------------------------------------------------------
+# How late each scan starts against its absolute deadline (p50/p99/max), with the daemon idle
+# and under the 16-connection load.
+bench_scan_lateness() {
+    :
+}
+
+# ---- Hook: RTU turnaround ---------------------------------------------------------------------
+# Request-to-reply time over a socat pty pair at a given baud rate, against the t3.5 silence.
+bench_rtu_turnaround() {
+    :
+}
+
+install_packages
+build
+note "each run: ${WARMUP_SECONDS} s warm-up, ${RUN_SECONDS} s measured; FC03 of 125 registers"
+bench_engine
+bench_plcemud
+port=$(free_port)
+bench_server noop "$port" "$BUILD/noop_server" --port "$port"
+port=$(free_port)
+bench_server libmodbus "$port" "$BUILD/libmodbus_peer" --port "$port"
+port=$(free_port)
+bench_server pymodbus "$port" "$PY" bench/pymodbus_server.py --port "$port"
+bench_scan_lateness
+bench_rtu_turnaround
+ratio plcemud_vs_noop plcemud noop
+ratio plcemud_vs_libmodbus plcemud libmodbus

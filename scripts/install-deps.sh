@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs, from Debian's packages, whatever the build and the tests need and is missing.
+# Usage: scripts/install-deps.sh [run|test|bench|fuzz]...   (default: run)
+set -euo pipefail
+
+want=(cmake g++ make pkg-config libmodbus-dev libasio-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
+      libsystemd-dev)
+for what in "${@:-run}"; do
+    case "$what" in
+        run) ;;
+        test) want+=(libgtest-dev python3-pymodbus python3-pytest python3-serial mbpoll socat
+                     clang-14 libclang-rt-14-dev systemd) ;;
+        bench) want+=(libbenchmark-dev python3-pymodbus socat) ;;
+        fuzz) want+=(clang-14 libclang-rt-14-dev) ;;
+        plot) want+=(python3-matplotlib) ;;
+        *) echo "install-deps: unknown set '$what'" >&2; exit 2 ;;
+    esac
+done
+
+missing=()
+for p in "${want[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+((${#missing[@]} == 0)) && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+sudo=()
+if [[ $(id -u) -ne 0 ]]; then
+    command -v sudo >/dev/null || { echo "install-deps: need root (or sudo) for apt-get" >&2; exit 1; }
+    sudo=(sudo)
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

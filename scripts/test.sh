@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Builds with AddressSanitizer and UndefinedBehaviorSanitizer and runs every test: unit tests
+# (GoogleTest, through ctest) and system tests (pytest + pymodbus against the real daemon).
+# Exits non-zero on any failure.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh test
+
+build=build-test
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLCEMU_SANITIZE=ON -DPLCEMU_WERROR=ON \
+    -DPLCEMU_TESTS=ON >/dev/null
+cmake --build "$build" -j"$(nproc)"
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+
+echo "== unit tests"
+(cd "$build" && ctest --output-on-failure -j"$(nproc)" --timeout 300)
+
+if [[ -x scripts/fuzz.sh && -d tests/fuzz ]] && ls tests/fuzz/*.cpp >/dev/null 2>&1; then
+    echo "== fuzz (short)"
+    scripts/fuzz.sh "${PLCEMU_FUZZ_SECONDS:-20}"
+fi
+
+echo "== system tests"
+# Debian's pytest and pymodbus belong to /usr/bin/python3.
+PLCEMUD="$PWD/$build/plcemud" /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/system

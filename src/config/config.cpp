@@ -1,0 +1,453 @@
+#include "plcemu/config/config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace plcemu::config {
+
+namespace {
+
+std::string format_error(const Position& p, const std::string& m) {
+    return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": " + m;
+}
+
+// Walks the YAML tree; every accessor checks the node's type and throws with its position.
+class Reader {
+public:
+    explicit Reader(std::string file) : file_(std::move(file)) {}
+
+    Position pos(const YAML::Node& n) const {
+        const YAML::Mark m = n.Mark();
+        return {file_, m.line + 1, m.column + 1};
+    }
+
+    [[noreturn]] void fail(const YAML::Node& n, const std::string& msg) const {
+        throw ConfigError(pos(n), msg);
+    }
+
+    void expect_map(const YAML::Node& n, const std::string& what) const {
+        if (!n.IsMap()) fail(n, what + ": expected a mapping");
+    }
+
+    // Rejects keys not in `known` (catches typos) and returns the map's entries.
+    void check_keys(const YAML::Node& n, const std::string& what,
+                    std::initializer_list<const char*> known) const {
+        expect_map(n, what);
+        for (auto it = n.begin(); it != n.end(); ++it) {
+            const std::string key = scalar(it->first, what + " key");
+            bool ok = false;
+            for (const char* k : known) ok = ok || key == k;
+            if (!ok) {
+                std::string list;
+                for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
+                fail(it->first, "unknown key '" + key + "' in " + what + " (expected one of: " +
+                                    list + ")");
+            }
+        }
+    }
+
+    std::string scalar(const YAML::Node& n, const std::string& what) const {
+        if (!n.IsScalar()) fail(n, what + ": expected a scalar");
+        return n.Scalar();
+    }
+
+    long long integer(const YAML::Node& n, const std::string& what, long long lo,
+                      long long hi) const {
+        const std::string s = scalar(n, what);
+        long long v = 0;
+        if (!parse_integer(s, v)) fail(n, what + ": expected an integer, got '" + s + "'");
+        if (v < lo || v > hi) {
+            fail(n, what + ": " + s + " is out of range " + std::to_string(lo) + ".." +
+                        std::to_string(hi));
+        }
+        return v;
+    }
+
+    double number(const YAML::Node& n, const std::string& what, double lo, double hi) const {
+        const std::string s = scalar(n, what);
+        double v = 0;
+        std::istringstream is(s);
+        is >> v;
+        if (!is || !is.eof() || !std::isfinite(v)) {
+            fail(n, what + ": expected a number, got '" + s + "'");
+        }
+        if (v < lo || v > hi) {
+            std::ostringstream o;
+            o << what << ": " << s << " is out of range " << lo << ".." << hi;
+            fail(n, o.str());
+        }
+        return v;
+    }
+
+    bool boolean(const YAML::Node& n, const std::string& what) const {
+        const std::string s = scalar(n, what);
+        if (s == "true" || s == "yes" || s == "on" || s == "1") return true;
+        if (s == "false" || s == "no" || s == "off" || s == "0") return false;
+        fail(n, what + ": expected true or false, got '" + s + "'");
+    }
+
+    image::Device device(const YAML::Node& n, const std::string& what) const {
+        const std::string s = scalar(n, what);
+        auto d = image::parse_device(s);
+        if (!d) fail(n, what + ": expected a device such as R100 or D0, got '" + s + "'");
+        return *d;
+    }
+
+    image::Range range(const YAML::Node& n, const std::string& what) const {
+        const std::string s = scalar(n, what);
+        auto r = image::parse_range(s);
+        if (!r) fail(n, what + ": expected a device range such as D100-D199, got '" + s + "'");
+        return *r;
+    }
+
+    // Decimal, 0x.., or the manual's 0A556h / A556H notation.
+    static bool parse_integer(std::string s, long long& out) {
+        if (s.empty()) return false;
+        int base = 10;
+        bool neg = false;
+        if (s[0] == '-' || s[0] == '+') {
+            neg = s[0] == '-';
+            s.erase(0, 1);
+        }
+        if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) {
+            base = 16;
+            s.erase(0, 2);
+        } else if (s.size() > 1 && (s.back() == 'h' || s.back() == 'H')) {
+            base = 16;
+            s.pop_back();
+        } else if (s.size() > 1 && (s[0] == 'K' || s[0] == 'k')) {
+            s.erase(0, 1);  // FATEK constant prefix: K100
+        }
+        if (s.empty()) return false;
+        long long v = 0;
+        for (char c : s) {
+            int d = -1;
+            if (c >= '0' && c <= '9') d = c - '0';
+            if (base == 16 && c >= 'a' && c <= 'f') d = c - 'a' + 10;
+            if (base == 16 && c >= 'A' && c <= 'F') d = c - 'A' + 10;
+            if (d < 0) return false;
+            v = v * base + d;
+            if (v > (1LL << 40)) return false;
+        }
+        out = neg ? -v : v;
+        return true;
+    }
+
+private:
+    std::string file_;
+};
+
+void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
+    r.check_keys(n, "modbus.tcp",
+                 {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients",
+                  "idle_timeout_s"});
+    if (n["enabled"]) tcp.enabled = r.boolean(n["enabled"], "modbus.tcp.enabled");
+    if (n["bind"]) tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");
+    if (n["port"]) tcp.port = static_cast<std::uint16_t>(r.integer(n["port"], "modbus.tcp.port", 0, 65535));
+    if (n["unknown_unit"]) {
+        const std::string s = r.scalar(n["unknown_unit"], "modbus.tcp.unknown_unit");
+        if (s == "exception") {
+            tcp.unknown_unit = UnknownUnit::Exception;
+        } else if (s == "silent") {
+            tcp.unknown_unit = UnknownUnit::Silent;
+        } else {
+            r.fail(n["unknown_unit"], "modbus.tcp.unknown_unit: expected 'exception' or 'silent'");
+        }
+    }
+    if (const auto a = n["allow"]) {
+        if (!a.IsSequence()) r.fail(a, "modbus.tcp.allow: expected a list of CIDR ranges");
+        for (const auto& e : a) tcp.allow.push_back(r.scalar(e, "modbus.tcp.allow entry"));
+    }
+    if (n["max_clients"]) {
+        tcp.max_clients = static_cast<int>(r.integer(n["max_clients"], "modbus.tcp.max_clients", 1, 10000));
+    }
+    if (n["idle_timeout_s"]) {
+        tcp.idle_timeout_s =
+            static_cast<int>(r.integer(n["idle_timeout_s"], "modbus.tcp.idle_timeout_s", 0, 86400));
+    }
+}
+
+void read_rtu(const Reader& r, const YAML::Node& n, RtuConfig& rtu) {
+    r.check_keys(n, "modbus.rtu", {"device", "baud", "parity", "data_bits", "stop_bits"});
+    if (!n["device"]) r.fail(n, "modbus.rtu: 'device' is required");
+    rtu.device = r.scalar(n["device"], "modbus.rtu.device");
+    if (n["baud"]) {
+        const long long b = r.integer(n["baud"], "modbus.rtu.baud", 300, 921600);
+        static const std::set<long long> kBauds{300,   600,   1200,   2400,   4800,   9600,  19200,
+                                                38400, 57600, 115200, 230400, 460800, 921600};
+        if (!kBauds.count(b)) r.fail(n["baud"], "modbus.rtu.baud: not a standard baud rate");
+        rtu.baud = static_cast<int>(b);
+    }
+    if (n["parity"]) {
+        const std::string p = r.scalar(n["parity"], "modbus.rtu.parity");
+        if (p != "N" && p != "E" && p != "O") r.fail(n["parity"], "modbus.rtu.parity: expected N, E or O");
+        rtu.parity = p[0];
+    }
+    if (n["data_bits"]) rtu.data_bits = static_cast<int>(r.integer(n["data_bits"], "modbus.rtu.data_bits", 7, 8));
+    if (n["stop_bits"]) rtu.stop_bits = static_cast<int>(r.integer(n["stop_bits"], "modbus.rtu.stop_bits", 1, 2));
+}
+
+void read_modbus(const Reader& r, const YAML::Node& n, ModbusConfig& mb) {
+    r.check_keys(n, "modbus", {"tcp", "rtu", "read_only", "write_protect"});
+    if (n["tcp"]) read_tcp(r, n["tcp"], mb.tcp);
+    if (n["rtu"] && !n["rtu"].IsNull()) {
+        RtuConfig rtu;
+        read_rtu(r, n["rtu"], rtu);
+        mb.rtu = rtu;
+    }
+    if (n["read_only"]) mb.read_only = r.boolean(n["read_only"], "modbus.read_only");
+    if (const auto w = n["write_protect"]) {
+        if (!w.IsSequence()) r.fail(w, "modbus.write_protect: expected a list of device ranges");
+        for (const auto& e : w) mb.write_protect.push_back(r.range(e, "modbus.write_protect entry"));
+    }
+}
+
+void read_init(const Reader& r, const YAML::Node& n, std::vector<InitEntry>& init) {
+    r.expect_map(n, "init");
+    for (auto it = n.begin(); it != n.end(); ++it) {
+        InitEntry e;
+        e.pos = r.pos(it->first);
+        e.device = r.device(it->first, "init key");
+        const std::string what = "init." + it->first.Scalar();
+        auto one = [&](const YAML::Node& v) {
+            e.values.push_back(static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
+        };
+        if (it->second.IsSequence()) {
+            for (const auto& v : it->second) one(v);
+        } else {
+            one(it->second);
+        }
+        init.push_back(std::move(e));
+    }
+}
+
+void read_program(const Reader& r, const YAML::Node& n, std::vector<InstructionConfig>& prog) {
+    if (n.IsNull()) return;
+    if (!n.IsSequence()) r.fail(n, "program: expected a list of instructions");
+    for (const auto& item : n) {
+        if (!item.IsMap() || item.size() != 1) {
+            r.fail(item, "program entry: expected one instruction such as 'MOV: {en: M1926, s: WM800, d: R4012}'");
+        }
+        const auto kv = *item.begin();
+        InstructionConfig ic;
+        ic.mnemonic = r.scalar(kv.first, "instruction");
+        ic.pos = r.pos(kv.first);
+        if (!kv.second.IsMap()) r.fail(kv.second, ic.mnemonic + ": expected a mapping of operands");
+        for (auto op = kv.second.begin(); op != kv.second.end(); ++op) {
+            const std::string key = r.scalar(op->first, ic.mnemonic + " operand");
+            ic.operands.emplace_back(key, Operand{r.scalar(op->second, ic.mnemonic + "." + key),
+                                                   r.pos(op->second)});
+        }
+        prog.push_back(std::move(ic));
+    }
+}
+
+std::uint8_t module_code(const std::string& name) {
+    static const std::map<std::string, std::uint8_t> kNames{
+        {"TC6", 1}, {"RTD6", 2}, {"TC16", 3}, {"RTD16", 4}, {"TC2", 5}};
+    auto it = kNames.find(name);
+    return it == kNames.end() ? 0 : it->second;
+}
+
+bool sensor_code(std::uint8_t module, const std::string& s, std::uint8_t& out) {
+    static const std::map<std::string, std::uint8_t> kTc{{"J", 0}, {"K", 1}, {"T", 2}, {"E", 3},
+                                                         {"N", 4}, {"B", 5}, {"R", 6}, {"S", 7}};
+    static const std::map<std::string, std::uint8_t> kRtd{
+        {"PT100_DIN", 0}, {"PT100_JIS", 1}, {"PT1000_DIN", 2}, {"PT1000_JIS", 3}};
+    std::string u;
+    for (char c : s) u += static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+    const bool rtd = module == 2 || module == 4;
+    const auto& m = rtd ? kRtd : kTc;
+    auto it = m.find(u);
+    if (it == m.end()) return false;
+    out = it->second;
+    return true;
+}
+
+void read_temperature(const Reader& r, const YAML::Node& n, TemperatureConfig& t) {
+    r.check_keys(n, "temperature", {"table", "modules", "scan_rate"});
+    if (n["table"]) {
+        t.table = r.device(n["table"], "temperature.table");
+        if (t.table->word_of_bits ||
+            (t.table->area != image::Area::R && t.table->area != image::Area::D)) {
+            r.fail(n["table"], "temperature.table: expected an R or D register");
+        }
+    }
+    if (const auto m = n["modules"]) {
+        if (!m.IsSequence()) r.fail(m, "temperature.modules: expected a list such as [TC6:K, RTD6:PT100_DIN]");
+        for (const auto& e : m) {
+            const std::string s = r.scalar(e, "temperature.modules entry");
+            const auto colon = s.find(':');
+            ModuleConfig mc;
+            mc.pos = r.pos(e);
+            mc.name_code = module_code(s.substr(0, colon));
+            if (mc.name_code == 0) {
+                r.fail(e, "temperature.modules: unknown module '" + s.substr(0, colon) +
+                              "' (expected TC6, RTD6, TC16, RTD16 or TC2)");
+            }
+            const bool rtd = mc.name_code == 2 || mc.name_code == 4;
+            const std::string sensor = colon == std::string::npos ? (rtd ? "PT100_DIN" : "K") : s.substr(colon + 1);
+            if (!sensor_code(mc.name_code, sensor, mc.sensor_type)) {
+                r.fail(e, "temperature.modules: unknown sensor '" + sensor + "' (expected " +
+                              (rtd ? "PT100_DIN, PT100_JIS, PT1000_DIN or PT1000_JIS"
+                                   : "J, K, T, E, N, B, R or S") + ")");
+            }
+            t.modules.push_back(mc);
+        }
+        if (t.modules.size() > 8) r.fail(m, "temperature.modules: at most 8 modules");
+    }
+    if (n["scan_rate"]) {
+        const std::string s = r.scalar(n["scan_rate"], "temperature.scan_rate");
+        if (s != "normal" && s != "fast") r.fail(n["scan_rate"], "temperature.scan_rate: expected 'normal' or 'fast'");
+        t.fast = s == "fast";
+    }
+}
+
+void read_faults(const Reader& r, const YAML::Node& n, Faults& f) {
+    r.check_keys(n, "faults", {"sensor_broken", "heater_open", "heater_shorted", "reading_frozen"});
+    if (n["sensor_broken"]) f.sensor_broken = r.boolean(n["sensor_broken"], "faults.sensor_broken");
+    if (n["heater_open"]) f.heater_open = r.boolean(n["heater_open"], "faults.heater_open");
+    if (n["heater_shorted"]) f.heater_shorted = r.boolean(n["heater_shorted"], "faults.heater_shorted");
+    if (n["reading_frozen"]) f.reading_frozen = r.boolean(n["reading_frozen"], "faults.reading_frozen");
+}
+
+void read_channel(const Reader& r, const YAML::Node& n, ChannelConfig& c, const std::string& what) {
+    r.check_keys(n, what, {"ambient", "k", "tau", "dead_time", "noise", "cooling", "drive", "faults"});
+    if (n["ambient"]) c.ambient_c = r.number(n["ambient"], what + ".ambient", -200, 1000);
+    if (n["k"]) c.k_c = r.number(n["k"], what + ".k", 0, 3000);
+    if (n["tau"]) c.tau_s = r.number(n["tau"], what + ".tau", 0.1, 100000);
+    if (n["dead_time"]) c.dead_time_s = r.number(n["dead_time"], what + ".dead_time", 0, 3600);
+    if (n["noise"]) c.noise_c = r.number(n["noise"], what + ".noise", 0, 100);
+    if (n["cooling"]) c.cooling = r.boolean(n["cooling"], what + ".cooling");
+    if (n["drive"]) {
+        c.drive = r.device(n["drive"], what + ".drive");
+        const auto a = c.drive->area;
+        if (c.drive->word_of_bits || (a != image::Area::Y && a != image::Area::R && a != image::Area::D)) {
+            r.fail(n["drive"], what + ".drive: expected a Y output (PWM) or an R/D register (OR value)");
+        }
+    }
+    if (n["faults"]) read_faults(r, n["faults"], c.faults);
+}
+
+void read_plant(const Reader& r, const YAML::Node& n, PlantConfig& p) {
+    r.check_keys(n, "plant", {"defaults", "channels", "seed"});
+    if (n["defaults"]) read_channel(r, n["defaults"], p.defaults, "plant.defaults");
+    if (n["seed"]) p.seed = static_cast<std::uint64_t>(r.integer(n["seed"], "plant.seed", 0, 1LL << 40));
+    if (const auto ch = n["channels"]) {
+        r.expect_map(ch, "plant.channels");
+        for (auto it = ch.begin(); it != ch.end(); ++it) {
+            const int idx = static_cast<int>(r.integer(it->first, "plant.channels key", 0, 31));
+            ChannelConfig c = p.defaults;
+            read_channel(r, it->second, c, "plant.channels." + std::to_string(idx));
+            p.channels.emplace_back(idx, c);
+        }
+    }
+}
+
+void read_persistence(const Reader& r, const YAML::Node& n, PersistenceConfig& p) {
+    r.check_keys(n, "persistence", {"file", "retentive", "sync_ms"});
+    if (n["file"]) p.file = r.scalar(n["file"], "persistence.file");
+    if (n["sync_ms"]) p.sync_ms = static_cast<int>(r.integer(n["sync_ms"], "persistence.sync_ms", 10, 600000));
+    if (const auto ret = n["retentive"]) {
+        if (!ret.IsSequence()) r.fail(ret, "persistence.retentive: expected a list of device ranges");
+        std::vector<image::Range> v;
+        for (const auto& e : ret) v.push_back(r.range(e, "persistence.retentive entry"));
+        p.retentive = v;
+    }
+}
+
+Config read_root(const Reader& r, const YAML::Node& root) {
+    Config c;
+    if (!root.IsMap()) r.fail(root, "the config must be a mapping with at least 'profile: fbs'");
+    r.check_keys(root, "config",
+                 {"profile", "model", "station", "scan_ms", "time_scale", "modbus", "init",
+                  "program", "temperature", "plant", "simulator", "persistence", "log"});
+    if (!root["profile"]) r.fail(root, "'profile' is required (fbs)");
+    const std::string prof = r.scalar(root["profile"], "profile");
+    if (!image::parse_profile(prof, c.profile)) r.fail(root["profile"], "profile: expected fbs, fb or vb, got '" + prof + "'");
+    if (c.profile != image::Profile::Fbs) r.fail(root["profile"], "profile '" + prof + "' is not supported yet (only fbs)");
+    if (root["model"]) {
+        c.model = r.scalar(root["model"], "model");
+        if (!model_code(c.model)) r.fail(root["model"], "model: expected an FBs model such as FBs-24MC, got '" + c.model + "'");
+    }
+    if (root["station"]) c.station = static_cast<std::uint8_t>(r.integer(root["station"], "station", 1, 254));
+    if (root["scan_ms"]) c.scan_ms = static_cast<int>(r.integer(root["scan_ms"], "scan_ms", 1, 1000));
+    if (root["time_scale"]) c.time_scale = r.number(root["time_scale"], "time_scale", 0.001, 100000);
+    if (root["modbus"]) read_modbus(r, root["modbus"], c.modbus);
+    if (root["init"]) read_init(r, root["init"], c.init);
+    if (root["program"]) read_program(r, root["program"], c.program);
+    if (root["temperature"]) read_temperature(r, root["temperature"], c.temperature);
+    if (root["plant"]) read_plant(r, root["plant"], c.plant);
+    if (const auto s = root["simulator"]) {
+        r.check_keys(s, "simulator", {"unit"});
+        if (s["unit"]) c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
+    }
+    if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
+    if (const auto l = root["log"]) {
+        r.check_keys(l, "log", {"level"});
+        if (l["level"]) {
+            c.log.level = r.scalar(l["level"], "log.level");
+            static const std::set<std::string> kLevels{"trace", "debug", "info", "warn", "error", "off"};
+            if (!kLevels.count(c.log.level)) r.fail(l["level"], "log.level: expected trace, debug, info, warn, error or off");
+        }
+    }
+    return c;
+}
+
+}  // namespace
+
+ConfigError::ConfigError(const Position& pos, const std::string& message)
+    : std::runtime_error(format_error(pos, message)),
+      pos_(pos) {}
+
+Config parse_config(const std::string& text, const std::string& name) {
+    Reader r(name);
+    YAML::Node root;
+    try {
+        root = YAML::Load(text);
+    } catch (const YAML::Exception& e) {
+        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1}, e.msg);
+    }
+    try {
+        Config c = read_root(r, root);
+        c.path = name;
+        return c;
+    } catch (const YAML::Exception& e) {
+        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1}, e.msg);
+    }
+}
+
+Config load_config(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ConfigError({path, 0, 0}, "cannot open the config file");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return parse_config(ss.str(), path);
+}
+
+std::optional<std::uint16_t> model_code(const std::string& model) {
+    // "FBs-<points><MA|MC|MN>", e.g. FBs-24MC.
+    if (model.rfind("FBs-", 0) != 0 || model.size() < 7) return std::nullopt;
+    const std::string kind = model.substr(model.size() - 2);
+    const std::string digits = model.substr(4, model.size() - 6);
+    int hi = -1;
+    if (kind == "MA") hi = 0;
+    if (kind == "MC") hi = 1;
+    if (kind == "MN") hi = 2;
+    if (hi < 0 || digits.empty() || digits.size() > 2) return std::nullopt;
+    for (char ch : digits) {
+        if (ch < '0' || ch > '9') return std::nullopt;
+    }
+    const int points = std::stoi(digits);
+    static const std::set<int> kPoints{10, 14, 20, 24, 32, 40, 44, 60};
+    if (!kPoints.count(points)) return std::nullopt;
+    return static_cast<std::uint16_t>(hi << 8 | points);
+}
+
+}  // namespace plcemu::config

@@ -1,0 +1,24 @@
+#pragma once
+// The running daemon: one event loop with the listeners, the scan timer and the signals.
+
+#include <optional>
+#include <string>
+
+#include "plcemu/config/config.hpp"
+
+namespace plcemu::daemon {
+
+/// Command-line overrides of config values.
+struct Overrides {
+    std::optional<std::uint16_t> port;  ///< --port
+    std::optional<double> time_scale;   ///< --time-scale
+};
+
+/// Applies the overrides to a loaded config.
+void apply_overrides(config::Config& config, const Overrides& o);
+
+/// Runs until SIGINT or SIGTERM. Throws config::ConfigError for a bad config and
+/// std::system_error when a listener cannot be opened. Returns the exit status.
+int run_daemon(const std::string& config_path, const Overrides& overrides);
+
+}  // namespace plcemu::daemon

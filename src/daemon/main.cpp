@@ -1,0 +1,111 @@
+// plcemud: command line and the one top-level catch.
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "daemon.hpp"
+#include "plcemu/daemon/plc.hpp"
+#include "print_map.hpp"
+
+namespace {
+
+constexpr int kExitBadConfig = 2;
+
+const char* kUsage =
+    "Usage: plcemud -c FILE [options]\n"
+    "Emulates a FATEK FBs PLC as a Modbus TCP/RTU slave.\n\n"
+    "  -c, --config FILE    configuration file (YAML)\n"
+    "      --check-config   validate the configuration and exit (0 valid, 2 invalid)\n"
+    "      --print-map      print the Modbus address map and exit\n"
+    "      --format FMT     with --print-map: text (default) or csv\n"
+    "      --port N         override modbus.tcp.port\n"
+    "      --time-scale X   override time_scale (simulated seconds per real second)\n"
+    "      --version        print the version and exit\n"
+    "  -h, --help           print this help and exit\n";
+
+int usage_error(const std::string& msg) {
+    std::cerr << "plcemud: " << msg << "\n" << kUsage;
+    return kExitBadConfig;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    auto logger = spdlog::stderr_color_mt("plcemud");
+    spdlog::set_default_logger(logger);
+    spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%-5l%$ %v");
+
+    std::string config_path;
+    bool check = false;
+    bool print = false;
+    bool csv = false;
+    plcemu::daemon::Overrides overrides;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&](std::string& out) {
+            if (i + 1 >= argc) return false;
+            out = argv[++i];
+            return true;
+        };
+        std::string v;
+        if (a == "-h" || a == "--help") {
+            std::cout << kUsage;
+            return 0;
+        } else if (a == "--version") {
+            std::cout << "plcemud " << plcemu::daemon::version() << "\n";
+            return 0;
+        } else if (a == "-c" || a == "--config") {
+            if (!value(config_path)) return usage_error(a + " needs a file");
+        } else if (a == "--check-config") {
+            check = true;
+        } else if (a == "--print-map") {
+            print = true;
+        } else if (a == "--format") {
+            if (!value(v) || (v != "csv" && v != "text")) return usage_error("--format takes text or csv");
+            csv = v == "csv";
+        } else if (a == "--port") {
+            char* end = nullptr;
+            if (!value(v)) return usage_error("--port needs a number");
+            const long p = std::strtol(v.c_str(), &end, 10);
+            if (*end != '\0' || p < 0 || p > 65535) return usage_error("--port: 0..65535");
+            overrides.port = static_cast<std::uint16_t>(p);
+        } else if (a == "--time-scale") {
+            char* end = nullptr;
+            if (!value(v)) return usage_error("--time-scale needs a number");
+            const double x = std::strtod(v.c_str(), &end);
+            if (*end != '\0' || !(x >= 0.001 && x <= 100000)) return usage_error("--time-scale: 0.001..100000");
+            overrides.time_scale = x;
+        } else {
+            return usage_error("unknown argument '" + a + "'");
+        }
+    }
+
+    try {
+        if (print) {
+            plcemu::config::Config cfg = config_path.empty()
+                                             ? plcemu::config::parse_config("profile: fbs\n", "<built-in>")
+                                             : plcemu::config::load_config(config_path);
+            plcemu::daemon::print_map(std::cout, cfg, csv);
+            return 0;
+        }
+        if (config_path.empty()) return usage_error("no configuration file (-c FILE)");
+        if (check) {
+            plcemu::config::Config cfg = plcemu::config::load_config(config_path);
+            plcemu::daemon::apply_overrides(cfg, overrides);
+            plcemu::daemon::Plc plc(cfg);  // binds the program: operand errors too
+            std::cout << config_path << ": ok\n";
+            return 0;
+        }
+        return plcemu::daemon::run_daemon(config_path, overrides);
+    } catch (const plcemu::config::ConfigError& e) {
+        spdlog::error("config: {}", e.what());
+        return kExitBadConfig;
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return 1;
+    }
+}

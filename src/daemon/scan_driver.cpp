@@ -1,0 +1,115 @@
+#include "scan_driver.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <ctime>
+
+namespace plcemu::daemon {
+
+namespace {
+
+// Longest stretch of back-to-back scans before the loop lets I/O in.
+constexpr auto kBudget = std::chrono::milliseconds(2);
+// Further behind than this, the driver stops trying to catch up.
+constexpr auto kMaxBehind = std::chrono::seconds(1);
+
+}  // namespace
+
+ScanDriver::ScanDriver(asio::io_context& io, engine::Engine& engine, double time_scale)
+    : io_(io),
+      timer_(io),
+      engine_(engine),
+      scale_(time_scale) {}
+
+void ScanDriver::start() {
+    running_ = true;
+    next_sim_ = engine_.scans() == 0 ? engine::Duration{0}
+                                     : engine_.now() + engine_.scan_period();
+    rebase(Clock::now());
+    arm();
+}
+
+void ScanDriver::stop() {
+    running_ = false;
+    timer_.cancel();
+}
+
+void ScanDriver::rebase(Clock::time_point real_now) {
+    base_real_ = real_now;
+    base_sim_ = next_sim_;
+}
+
+ScanDriver::Clock::time_point ScanDriver::deadline(engine::Duration sim) const {
+    const auto real = std::chrono::duration<double, std::nano>(
+        static_cast<double>((sim - base_sim_).count()) / scale_);
+    return base_real_ + std::chrono::duration_cast<Clock::duration>(real);
+}
+
+void ScanDriver::set_time_scale(double scale) {
+    rebase(Clock::now());
+    scale_ = scale;
+    if (running_ && !frozen_) arm();
+}
+
+void ScanDriver::set_frozen(bool frozen) {
+    if (frozen == frozen_) return;
+    frozen_ = frozen;
+    if (frozen_) {
+        timer_.cancel();
+    } else {
+        rebase(Clock::now());
+        if (running_) arm();
+    }
+}
+
+void ScanDriver::step(std::uint64_t n) {
+    for (std::uint64_t i = 0; i < n; ++i) {
+        run_one(next_sim_);
+        next_sim_ += engine_.scan_period();
+    }
+    rebase(Clock::now());
+}
+
+void ScanDriver::run_one(engine::Duration sim) {
+    const auto wall = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+    if (wall != calendar_second_) {
+        calendar_second_ = wall;
+        std::tm tm{};
+        localtime_r(&wall, &tm);
+        calendar_ = {tm.tm_sec,  tm.tm_min,         tm.tm_hour, tm.tm_mday,
+                     tm.tm_mon + 1, tm.tm_year + 1900, tm.tm_wday};
+    }
+    engine_.step(sim, calendar_);
+    if (on_scan_) on_scan_();
+}
+
+void ScanDriver::arm() {
+    if (!running_ || frozen_) return;
+    timer_.expires_at(deadline(next_sim_));
+    timer_.async_wait([this](const asio::error_code& ec) {
+        if (!ec) tick();
+    });
+}
+
+void ScanDriver::tick() {
+    const auto start = Clock::now();
+    auto now = start;
+    while (!frozen_ && deadline(next_sim_) <= now) {
+        const auto late = now - deadline(next_sim_);
+        ++lateness_.scans;
+        if (late > lateness_.max) lateness_.max = late;
+        if (late > std::chrono::milliseconds(1)) ++lateness_.over_1ms;
+        run_one(next_sim_);
+        next_sim_ += engine_.scan_period();
+        now = Clock::now();
+        if (now - start > kBudget) break;
+    }
+    if (now - deadline(next_sim_) > kMaxBehind) {
+        spdlog::warn("scan: more than {} s behind real time at time scale {}; skipping ahead",
+                     std::chrono::duration_cast<std::chrono::seconds>(kMaxBehind).count(), scale_);
+        rebase(now);
+    }
+    arm();
+}
+
+}  // namespace plcemu::daemon

@@ -1,0 +1,154 @@
+#include "operands.hpp"
+
+#include <cstdlib>
+
+namespace plcemu::instructions {
+
+namespace {
+
+bool parse_constant(std::string s, long long& out) {
+    if (s.empty()) return false;
+    if (s[0] == 'K' || s[0] == 'k') s.erase(0, 1);
+    int base = 10;
+    if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) {
+        base = 16;
+        s.erase(0, 2);
+    } else if (s.size() > 1 && (s.back() == 'h' || s.back() == 'H')) {
+        base = 16;
+        s.pop_back();
+    }
+    if (s.empty()) return false;
+    char* end = nullptr;
+    out = std::strtoll(s.c_str(), &end, base);
+    return end != nullptr && *end == '\0';
+}
+
+}  // namespace
+
+Operands::Operands(const config::InstructionConfig& ic, const image::Layout& layout)
+    : ic_(ic),
+      layout_(layout) {}
+
+const config::Operand* Operands::find(const char* key) const {
+    for (const auto& [k, v] : ic_.operands) {
+        if (k == key) return &v;
+    }
+    return nullptr;
+}
+
+bool Operands::has(const char* key) const { return find(key) != nullptr; }
+
+void Operands::fail(const char* key, const std::string& message) const {
+    const config::Operand* op = find(key);
+    throw config::ConfigError(op ? op->pos : ic_.pos, ic_.mnemonic + "." + key + ": " + message);
+}
+
+const config::Operand& Operands::require(const char* key) {
+    used_.insert(key);
+    const config::Operand* op = find(key);
+    if (!op) fail(key, "operand is required");
+    return *op;
+}
+
+BitSource Operands::bit_source(const char* key, bool fallback) {
+    used_.insert(key);
+    const config::Operand* op = find(key);
+    if (!op) return {true, fallback, {}};
+    long long v = 0;
+    if (parse_constant(op->text, v) && op->text.find_first_of("XYMSTCRDxymstcrd") == std::string::npos) {
+        if (v != 0 && v != 1) fail(key, "a constant enable must be 0 or 1");
+        return {true, v == 1, {}};
+    }
+    auto d = image::parse_device(op->text);
+    if (!d || d->word_of_bits || !layout_.contains({d->area, d->index, 1})) {
+        fail(key, "expected a bit device (X, Y, M, S, T, C) or 0/1, got '" + op->text + "'");
+    }
+    if (!image::is_bit_area(d->area)) fail(key, "expected a bit device, got '" + op->text + "'");
+    return {false, false, *d};
+}
+
+image::Device Operands::bit_output(const char* key) {
+    const auto& op = require(key);
+    auto d = image::parse_device(op.text);
+    if (!d || d->word_of_bits ||
+        !(d->area == image::Area::Y || d->area == image::Area::M || d->area == image::Area::S) ||
+        !layout_.contains({d->area, d->index, 1})) {
+        fail(key, "expected a Y, M or S output, got '" + op.text + "'");
+    }
+    return *d;
+}
+
+WordSource Operands::word_source(const char* key) {
+    const auto& op = require(key);
+    long long v = 0;
+    if (parse_constant(op.text, v) && op.text.find_first_of("XYMSTRDxymstrd") == std::string::npos) {
+        if (v < -32768 || v > 65535) fail(key, "constant out of 16-bit range");
+        return {true, static_cast<std::uint16_t>(v & 0xFFFF), {}};
+    }
+    auto d = image::parse_device(op.text);
+    if (!d) fail(key, "expected a register (R, D), WMn-style bits or a constant, got '" + op.text + "'");
+    const std::uint32_t span = d->word_of_bits ? 16 : 1;
+    if ((!d->word_of_bits && image::is_bit_area(d->area)) || !layout_.contains({d->area, d->index, span})) {
+        fail(key, "'" + op.text + "' is not a word operand of this PLC");
+    }
+    return {false, 0, *d};
+}
+
+image::Device Operands::word_device(const char* key, std::uint32_t span,
+                                    std::initializer_list<image::Area> areas) {
+    const auto& op = require(key);
+    auto d = image::parse_device(op.text);
+    bool ok = d.has_value();
+    if (ok) {
+        bool in_areas = false;
+        for (auto a : areas) in_areas = in_areas || a == d->area;
+        const std::uint32_t n = d->word_of_bits ? 16 * span : span;
+        ok = in_areas && (d->word_of_bits || !image::is_bit_area(d->area)) &&
+             layout_.contains({d->area, d->index, n});
+    }
+    if (!ok) {
+        std::string names;
+        for (auto a : areas) names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
+        fail(key, "expected " + std::to_string(span) + " word(s) in " + names + ", got '" + op.text + "'");
+    }
+    return *d;
+}
+
+image::Device Operands::device(const char* key, std::uint32_t span,
+                               std::initializer_list<image::Area> areas) {
+    const auto& op = require(key);
+    auto d = image::parse_device(op.text);
+    bool ok = d.has_value() && !d->word_of_bits;
+    if (ok) {
+        bool in_areas = false;
+        for (auto a : areas) in_areas = in_areas || a == d->area;
+        ok = in_areas && layout_.contains({d->area, d->index, span});
+    }
+    if (!ok) {
+        std::string names;
+        for (auto a : areas) names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
+        fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names +
+                      ", got '" + op.text + "'");
+    }
+    return *d;
+}
+
+long long Operands::integer(const char* key, long long lo, long long hi) {
+    const auto& op = require(key);
+    long long v = 0;
+    if (!parse_constant(op.text, v)) fail(key, "expected an integer, got '" + op.text + "'");
+    if (v < lo || v > hi) {
+        fail(key, op.text + " is out of range " + std::to_string(lo) + ".." + std::to_string(hi));
+    }
+    return v;
+}
+
+void Operands::finish() const {
+    for (const auto& [k, v] : ic_.operands) {
+        if (!used_.count(k)) {
+            throw config::ConfigError(v.pos, ic_.mnemonic + ": unknown operand '" + k + "'");
+        }
+    }
+}
+
+}  // namespace plcemu::instructions

@@ -1,0 +1,74 @@
+#pragma once
+// Checked access to an instruction's operands while it binds: every error names the operand's
+// file, line and column.
+
+#include <cstdint>
+#include <initializer_list>
+#include <set>
+#include <string>
+
+#include "plcemu/config/config.hpp"
+#include "plcemu/image/image.hpp"
+#include "plcemu/image/layout.hpp"
+
+namespace plcemu::instructions {
+
+/// A bit input: a device or a constant (an enable such as `en: 1`).
+struct BitSource {
+    bool constant = true;   ///< true: `value` is the bit
+    bool value = true;      ///< the constant
+    image::Device device;   ///< the device otherwise
+
+    /// The current value.
+    bool read(const image::Image& img) const { return constant ? value : img.read_bit(device); }
+};
+
+/// A word input: a device (R100, WM800) or a constant (K100, 100).
+struct WordSource {
+    bool constant = false;       ///< true: `value` is the word
+    std::uint16_t value = 0;     ///< the constant
+    image::Device device;        ///< the device otherwise
+
+    /// The current value.
+    std::uint16_t read(const image::Image& img) const {
+        return constant ? value : img.read_word(device);
+    }
+};
+
+/// The operands of one instruction entry.
+class Operands {
+public:
+    Operands(const config::InstructionConfig& ic, const image::Layout& layout);
+
+    /// True when the operand is present.
+    bool has(const char* key) const;
+    /// A bit input; absent gives `fallback`.
+    BitSource bit_source(const char* key, bool fallback);
+    /// A bit output device (Y, M, S).
+    image::Device bit_output(const char* key);
+    /// A word input.
+    WordSource word_source(const char* key);
+    /// A word device whose `span` consecutive words (or bits, for WMn: 16·span) must exist,
+    /// in one of `areas`.
+    image::Device word_device(const char* key, std::uint32_t span,
+                              std::initializer_list<image::Area> areas);
+    /// A device in one of `areas` with `span` consecutive elements.
+    image::Device device(const char* key, std::uint32_t span,
+                         std::initializer_list<image::Area> areas);
+    /// An integer constant in lo..hi.
+    long long integer(const char* key, long long lo, long long hi);
+    /// Fails on operands nobody asked for (typos).
+    void finish() const;
+    /// Throws a ConfigError at the operand (or at the mnemonic when absent).
+    [[noreturn]] void fail(const char* key, const std::string& message) const;
+
+private:
+    const config::Operand* find(const char* key) const;
+    const config::Operand& require(const char* key);
+
+    const config::InstructionConfig& ic_;
+    const image::Layout& layout_;
+    std::set<std::string> used_;
+};
+
+}  // namespace plcemu::instructions

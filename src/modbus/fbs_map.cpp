@@ -1,0 +1,147 @@
+// The FBs Modbus slave map (SPEC §2, FBs manual 13-50/51).
+
+#include <algorithm>
+
+#include "plcemu/modbus/address_map.hpp"
+
+namespace plcemu::modbus {
+
+namespace {
+
+using image::Area;
+using image::Range;
+
+// FATEK user remap registers (manual 13-50/51).
+constexpr std::uint32_t kRemapKey = 3968;      // = A55Ah enables the coil/holding remap
+constexpr std::uint16_t kRemapMagic = 0xA55A;
+constexpr std::uint32_t kCoilRemap = 3969;     // wire start, M start, count
+constexpr std::uint32_t kDiscreteMap = 3972;   // wire start, M start, count
+constexpr std::uint32_t kInputRegMap = 3975;   // wire start, R start, count
+constexpr std::uint32_t kHoldingRemap = 3978;  // wire start, R start, count
+
+// R4168–R4999 exist in the image only to keep R numbers equal to indices.
+constexpr Range kRGap{Area::R, 4168, 5000 - 4168};
+
+class FbsMap final : public AddressMap {
+public:
+    FbsMap() {
+        rows_ = {
+            {Table::Coils, 0, 256, {Area::Y, 0, 256}, "01 05 15", "Y0-Y255"},
+            {Table::Coils, 1000, 256, {Area::X, 0, 256}, "01", "X0-X255"},
+            {Table::Coils, 2000, 2002, {Area::M, 0, 2002}, "01 05 15", "M0-M2001"},
+            {Table::Coils, 6000, 1000, {Area::S, 0, 1000}, "01 05 15", "S0-S999"},
+            {Table::Coils, 9000, 256, {Area::T, 0, 256}, "01 05 15", "T0-T255 status"},
+            {Table::Coils, 9500, 256, {Area::C, 0, 256}, "01 05 15", "C0-C255 status"},
+            {Table::HoldingRegisters, 0, 4168, {Area::R, 0, 4168}, "03 06 16 22 23", "R0-R4167"},
+            {Table::HoldingRegisters, 5000, 999, {Area::R, 5000, 999}, "03 06 16 22 23",
+             "R5000-R5998"},
+            {Table::HoldingRegisters, 6000, 2999, {Area::D, 0, 2999}, "03 06 16 22 23", "D0-D2998"},
+            {Table::HoldingRegisters, 9000, 256, {Area::TV, 0, 256}, "03 06 16 22 23",
+             "T0-T255 current value"},
+            {Table::HoldingRegisters, 9500, 200, {Area::CV, 0, 200}, "03 06 16 22 23",
+             "C0-C199 current value"},
+            {Table::HoldingRegisters, 9700, 112, {Area::CV, 200, 112}, "03 06 16 22 23",
+             "C200-C255 current value, 2 words each, low word first"},
+        };
+        read_only_ = {
+            {Area::X, 0, 256},      // inputs come from the simulator
+            {Area::R, 3840, 64},    // IR
+            {Area::M, 1920, 8},     // clocks, first scan, RUN…
+            {Area::R, 4136, 3},     // scan times
+        };
+    }
+
+    const std::vector<MapRow>& rows() const override { return rows_; }
+
+    std::vector<std::string> dynamic_notes() const override {
+        return {
+            "coils (01 05 15) when R3968=A55Ah: wire R3969.., count R3971 -> M(R3970)..",
+            "holding registers (03 06 16 22 23) when R3968=A55Ah: wire R3978.., count R3980 -> "
+            "R(R3979)..",
+            "discrete inputs (02): wire R3972.., count R3974 -> M(R3973)..; count 0: exception 01",
+            "input registers (04): wire R3975.., count R3977 -> R(R3976)..; count 0: exception 01",
+        };
+    }
+
+    const std::vector<Range>& read_only() const override { return read_only_; }
+
+    Resolution resolve(const image::Image& img, Table table, std::uint16_t addr,
+                       std::uint16_t qty) const noexcept override {
+        const std::uint16_t* r = img.words(Area::R);
+        switch (table) {
+            case Table::Coils:
+                if (r[kRemapKey] == kRemapMagic) {
+                    return user(img, kCoilRemap, Area::M, addr, qty, Status::IllegalDataAddress);
+                }
+                return fixed(img, table, addr, qty);
+            case Table::HoldingRegisters:
+                if (r[kRemapKey] == kRemapMagic) {
+                    return user(img, kHoldingRemap, Area::R, addr, qty, Status::IllegalDataAddress);
+                }
+                return fixed(img, table, addr, qty);
+            // SPEC §2: FC02/FC04 with a count of 0 are not served at all.
+            case Table::DiscreteInputs:
+                return user(img, kDiscreteMap, Area::M, addr, qty, Status::IllegalFunction);
+            case Table::InputRegisters:
+                return user(img, kInputRegMap, Area::R, addr, qty, Status::IllegalFunction);
+        }
+        return {};
+    }
+
+private:
+    // The manual's table; a request may run across rows that continue the same device range.
+    Resolution fixed(const image::Image& img, Table table, std::uint16_t addr,
+                     std::uint16_t qty) const noexcept {
+        std::uint32_t wire = addr;
+        std::uint32_t left = qty;
+        Resolution res;
+        bool started = false;
+        for (const auto& row : rows_) {
+            if (row.table != table) continue;
+            const std::uint32_t row_end = std::uint32_t{row.wire_start} + row.count;
+            if (wire < row.wire_start || wire >= row_end) continue;
+            const std::uint32_t dev = row.devices.start + (wire - row.wire_start);
+            if (!started) {
+                res.devices = {row.devices.area, dev, 0};
+                started = true;
+            } else if (row.devices.area != res.devices.area || dev != res.devices.end()) {
+                return {};
+            }
+            const std::uint32_t n = std::min(left, row_end - wire);
+            res.devices.count += n;
+            left -= n;
+            wire += n;
+            if (left == 0) break;
+        }
+        if (!started || left != 0 || !img.layout().contains(res.devices)) return {};
+        res.status = Status::Ok;
+        return res;
+    }
+
+    // A map held in three registers: wire start, device start, count. `empty` is the answer
+    // when the count is 0.
+    static Resolution user(const image::Image& img, std::uint32_t reg, Area area,
+                           std::uint16_t addr, std::uint16_t qty, Status empty) noexcept {
+        const std::uint16_t* r = img.words(Area::R);
+        const std::uint32_t wire_start = r[reg];
+        const std::uint32_t dev_start = r[reg + 1];
+        const std::uint32_t count = r[reg + 2];
+        if (count == 0) return {empty, {}};
+        if (addr < wire_start || std::uint32_t{addr} + qty > wire_start + count) return {};
+        const Range dev{area, dev_start + (addr - wire_start), qty};
+        if (!img.layout().contains(dev) || dev.overlaps(kRGap)) return {};
+        return {Status::Ok, dev};
+    }
+
+    std::vector<MapRow> rows_;
+    std::vector<Range> read_only_;
+};
+
+}  // namespace
+
+const AddressMap& fbs_map() {
+    static const FbsMap map;
+    return map;
+}
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,35 @@
+#include "plcemu/modbus/plc_unit.hpp"
+
+namespace plcemu::modbus {
+
+PlcUnit::PlcUnit(image::Image& image, const AddressMap& map, WritePolicy policy)
+    : image_(image),
+      map_(map) {
+    set_policy(std::move(policy));
+}
+
+void PlcUnit::set_policy(WritePolicy policy) {
+    read_only_ = policy.read_only;
+    protected_ = map_.read_only();
+    protected_.insert(protected_.end(), policy.write_protect.begin(), policy.write_protect.end());
+}
+
+Window PlcUnit::resolve(Table table, std::uint16_t addr, std::uint16_t qty, bool write) noexcept {
+    const Resolution res = map_.resolve(image_, table, addr, qty);
+    if (res.status != Status::Ok) return {res.status};
+    if (write) {
+        if (read_only_) return {Status::IllegalDataAddress};
+        for (const auto& p : protected_) {
+            if (p.overlaps(res.devices)) return {Status::IllegalDataAddress};
+        }
+    }
+    Window w{Status::Ok};
+    if (image::is_bit_area(res.devices.area)) {
+        w.bits = image_.bits(res.devices.area) + res.devices.start;
+    } else {
+        w.words = image_.words(res.devices.area) + res.devices.start;
+    }
+    return w;
+}
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,61 @@
+#pragma once
+// Modbus TCP transport: MBAP framing on an Asio event loop. Many clients, one thread; a client
+// that stalls mid-frame only holds its own buffer.
+
+#include <asio.hpp>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plcemu/modbus/dispatcher.hpp"
+
+namespace plcemu::modbus {
+
+/// An IPv4/IPv6 network in CIDR notation.
+struct Cidr {
+    asio::ip::address network; ///< network address
+    unsigned prefix = 0;       ///< prefix length
+
+    /// Parses "192.168.1.0/24", "10.0.0.1", "::1/128". Returns false when malformed.
+    static bool parse(const std::string& text, Cidr& out);
+    /// True when `a` lies inside the network (IPv4-mapped IPv6 peers match IPv4 networks).
+    bool contains(const asio::ip::address& a) const;
+};
+
+/// Listener settings.
+struct TcpOptions {
+    std::string bind = "0.0.0.0"; ///< address
+    std::uint16_t port = 502;     ///< port (0 = any free port)
+    int max_clients = 64;         ///< connections beyond this are closed at accept
+    int idle_timeout_s = 0;       ///< close a connection silent this long (0 = never)
+    std::vector<Cidr> allow;      ///< peers allowed (empty = all)
+};
+
+/// The TCP listener and its connections.
+class TcpServer {
+public:
+    /// Opens the listener; throws std::system_error when the address cannot be bound.
+    TcpServer(asio::io_context& io, Dispatcher& dispatcher, TcpOptions options);
+    ~TcpServer();
+    TcpServer(const TcpServer&) = delete;
+    TcpServer& operator=(const TcpServer&) = delete;
+
+    /// The port actually bound.
+    std::uint16_t port() const;
+    /// The listening endpoint as text.
+    std::string endpoint() const;
+    /// Open connections.
+    std::size_t connections() const;
+    /// Updates limits that do not need a new listener (reload).
+    void set_limits(int max_clients, int idle_timeout_s, std::vector<Cidr> allow);
+    /// Closes the listener and every connection.
+    void stop();
+
+    struct State;
+
+private:
+    std::shared_ptr<State> state_;
+};
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,47 @@
+#pragma once
+// Test support: drives a Dispatcher through a real socket pair, the way the TCP and RTU
+// transports do, and returns the reply bytes.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "plcemu/modbus/dispatcher.hpp"
+
+namespace plcemu::testing {
+
+/// Sends requests to a dispatcher and reads what it writes back.
+class Wire {
+public:
+    explicit Wire(modbus::Dispatcher& d);
+    ~Wire();
+
+    /// Serves a TCP request with unit `unit` and PDU `pdu`; returns the reply PDU (without
+    /// MBAP), empty when nothing was sent. Checks the MBAP header of the reply.
+    std::vector<std::uint8_t> tcp(std::uint8_t unit, const std::vector<std::uint8_t>& pdu);
+    /// Serves an RTU frame (address, PDU, CRC added here); returns the reply PDU (without
+    /// address and CRC, both checked), empty when nothing was sent.
+    std::vector<std::uint8_t> rtu(std::uint8_t unit, const std::vector<std::uint8_t>& pdu);
+
+private:
+    std::vector<std::uint8_t> drain();
+
+    modbus::Dispatcher& d_;
+    int fds_[2] = {-1, -1};
+    std::uint16_t tid_ = 0x1234;
+};
+
+/// PDU builders.
+std::vector<std::uint8_t> read_pdu(std::uint8_t fc, std::uint16_t addr, std::uint16_t qty);
+std::vector<std::uint8_t> write_single_pdu(std::uint8_t fc, std::uint16_t addr, std::uint16_t v);
+std::vector<std::uint8_t> write_registers_pdu(std::uint16_t addr,
+                                              const std::vector<std::uint16_t>& values);
+std::vector<std::uint8_t> write_coils_pdu(std::uint16_t addr, const std::vector<bool>& values);
+/// Words of a FC03/04 reply PDU.
+std::vector<std::uint16_t> reply_words(const std::vector<std::uint8_t>& pdu);
+/// Bits of a FC01/02 reply PDU.
+std::vector<bool> reply_bits(const std::vector<std::uint8_t>& pdu, std::size_t qty);
+/// The exception code of a reply, or 0 when it is not an exception.
+std::uint8_t exception_of(const std::vector<std::uint8_t>& pdu);
+
+}  // namespace plcemu::testing

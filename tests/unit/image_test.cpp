@@ -1,0 +1,99 @@
+// Register image (SPEC §1): areas, device names, word/bit access, retentive ranges.
+
+#include <gtest/gtest.h>
+
+#include "plcemu/image/image.hpp"
+
+namespace plcemu::image {
+namespace {
+
+TEST(Image, FbsAreasHaveTheManualsSizes) {
+    const Layout l = fbs_layout();
+    EXPECT_EQ(l.size_of(Area::X), 256u);
+    EXPECT_EQ(l.size_of(Area::Y), 256u);
+    EXPECT_EQ(l.size_of(Area::M), 2002u);
+    EXPECT_EQ(l.size_of(Area::S), 1000u);
+    EXPECT_EQ(l.size_of(Area::T), 256u);
+    EXPECT_EQ(l.size_of(Area::C), 256u);
+    EXPECT_EQ(l.size_of(Area::R), 8072u);  // R0-R8071
+    EXPECT_EQ(l.size_of(Area::D), 4000u);
+    EXPECT_EQ(l.size_of(Area::TV), 256u);
+    EXPECT_EQ(l.size_of(Area::CV), 200u + 56u * 2u);  // C200-C255 are 32-bit
+}
+
+TEST(Image, ParsesDeviceNames) {
+    EXPECT_EQ(parse_device("R100"), (Device{Area::R, 100, false}));
+    EXPECT_EQ(parse_device("d0"), (Device{Area::D, 0, false}));
+    EXPECT_EQ(parse_device("WM800"), (Device{Area::M, 800, true}));
+    EXPECT_EQ(parse_device("TMR5"), (Device{Area::TV, 5, false}));
+    EXPECT_EQ(parse_device("CTR200"), (Device{Area::CV, 200, false}));
+    EXPECT_EQ(parse_device("T5"), (Device{Area::T, 5, false}));
+    EXPECT_FALSE(parse_device("WR100"));  // a word of bits needs a bit area
+    EXPECT_FALSE(parse_device("Q1"));
+    EXPECT_FALSE(parse_device("R"));
+    EXPECT_FALSE(parse_device("R1x"));
+    EXPECT_EQ(parse_range("D100-D199"), (Range{Area::D, 100, 100}));
+    EXPECT_EQ(parse_range("M5"), (Range{Area::M, 5, 1}));
+    EXPECT_FALSE(parse_range("D100-R199"));
+    EXPECT_FALSE(parse_range("D199-D100"));
+}
+
+TEST(Image, WordOfBitsIsLowBitFirst) {
+    Image img(fbs_layout());
+    img.write_word({Area::M, 800, true}, 0x8005);
+    EXPECT_TRUE(img.bit(Area::M, 800));
+    EXPECT_FALSE(img.bit(Area::M, 801));
+    EXPECT_TRUE(img.bit(Area::M, 802));
+    EXPECT_TRUE(img.bit(Area::M, 815));
+    EXPECT_EQ(img.read_word({Area::M, 800, true}), 0x8005);
+}
+
+TEST(Image, ClearNonRetentiveKeepsOnlyRetentiveRanges) {
+    // SPEC §1: M800-M1399, S500-S999, R0-R2999, D0-D3999, R5000-R8071, C100-C139 and
+    // C200-C239 current values are retentive by default.
+    const Layout l = fbs_layout();
+    Image img(l);
+    img.set_bit(Area::M, 799, true);
+    img.set_bit(Area::M, 800, true);
+    img.set_bit(Area::M, 1399, true);
+    img.set_bit(Area::M, 1400, true);
+    img.set_word(Area::R, 2999, 7);
+    img.set_word(Area::R, 3000, 7);
+    img.set_word(Area::CV, 139, 7);
+    img.set_word(Area::CV, 140, 7);
+    img.set_word(Area::CV, 200 + 2 * 39 + 1, 7);  // C239 high word
+    img.set_word(Area::CV, 200 + 2 * 40, 7);      // C240 low word
+    img.set_bit(Area::Y, 0, true);
+    img.clear_non_retentive(l.retentive);
+    EXPECT_FALSE(img.bit(Area::M, 799));
+    EXPECT_TRUE(img.bit(Area::M, 800));
+    EXPECT_TRUE(img.bit(Area::M, 1399));
+    EXPECT_FALSE(img.bit(Area::M, 1400));
+    EXPECT_EQ(img.word(Area::R, 2999), 7);
+    EXPECT_EQ(img.word(Area::R, 3000), 0);
+    EXPECT_EQ(img.word(Area::CV, 139), 7);
+    EXPECT_EQ(img.word(Area::CV, 140), 0);
+    EXPECT_EQ(img.word(Area::CV, 279), 7);
+    EXPECT_EQ(img.word(Area::CV, 280), 0);
+    EXPECT_FALSE(img.bit(Area::Y, 0));
+}
+
+TEST(Image, RetentiveRangesAreContiguousInOneBlock) {
+    // Persistence maps the whole block: each area (and so each retentive range) is one
+    // contiguous run of the storage.
+    const Layout l = fbs_layout();
+    Image img(l);
+    auto* base = reinterpret_cast<std::uint8_t*>(img.storage().data());
+    for (const auto& r : l.retentive) {
+        const std::size_t off = Image::area_offset(l, r.area);
+        if (is_bit_area(r.area)) {
+            EXPECT_EQ(img.bits(r.area), base + off);
+        } else {
+            EXPECT_EQ(reinterpret_cast<std::uint8_t*>(img.words(r.area)), base + off);
+        }
+        EXPECT_LE(off + (r.end()) * (is_bit_area(r.area) ? 1u : 2u), img.storage().size());
+    }
+}
+
+}  // namespace
+}  // namespace plcemu::image
