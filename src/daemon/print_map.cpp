@@ -43,9 +43,15 @@ std::string access_of(const modbus::AddressMap& map, const image::Range& r) {
     std::string ro;
     for (const auto& p : map.read_only()) {
         if (p.contains(r)) return "read-only";
-        if (p.overlaps(r)) ro += (ro.empty() ? "" : " ") + image::format_range(p);
+        if (!p.overlaps(r)) continue;
+        if (!ro.empty()) ro += ' ';
+        ro += image::format_range(p);
     }
-    return ro.empty() ? "read/write" : "read/write except " + ro + " (read-only)";
+    if (ro.empty()) return "read/write";
+    std::string access = "read/write except ";
+    access += ro;
+    access += " (read-only)";
+    return access;
 }
 
 std::vector<Row> rows_of(const config::Config& config) {
