@@ -1,0 +1,231 @@
+#include "rtu_server.hpp"
+
+#include <fcntl.h>
+#include <spdlog/spdlog.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <chrono>
+#include <system_error>
+
+namespace plcemu::modbus {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// After a read error (a pty whose other end went away reads EIO at once), retry this much later
+// instead of spinning.
+constexpr auto kRetryAfterError = std::chrono::seconds(1);
+
+speed_t speed_of(int baud) {
+    switch (baud) {
+        case 300:
+            return B300;
+        case 600:
+            return B600;
+        case 1200:
+            return B1200;
+        case 2400:
+            return B2400;
+        case 4800:
+            return B4800;
+        case 9600:
+            return B9600;
+        case 19200:
+            return B19200;
+        case 38400:
+            return B38400;
+        case 57600:
+            return B57600;
+        case 115200:
+            return B115200;
+        case 230400:
+            return B230400;
+        case 460800:
+            return B460800;
+        case 921600:
+            return B921600;
+        default:
+            throw std::system_error(EINVAL, std::generic_category(),
+                                    "rtu: unsupported baud rate " + std::to_string(baud));
+    }
+}
+
+[[noreturn]] void fail(int fd, const std::string& what) {
+    const int err = errno;
+    if (fd >= 0) ::close(fd);
+    throw std::system_error(err, std::generic_category(), what);
+}
+
+// Opens the device non-blocking and sets the line: raw bytes, no flow control, no modem lines.
+int open_line(const RtuOptions& o) {
+    const int fd = ::open(o.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) fail(fd, "rtu: cannot open " + o.device);
+    termios tio{};
+    if (::tcgetattr(fd, &tio) != 0) fail(fd, "rtu: " + o.device + " is not a serial device");
+    ::cfmakeraw(&tio);
+    tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS);
+    tio.c_cflag |= CLOCAL | CREAD | (o.data_bits == 7 ? CS7 : CS8);
+    if (o.stop_bits == 2) tio.c_cflag |= CSTOPB;
+    tio.c_iflag &= ~static_cast<tcflag_t>(INPCK | IGNPAR | PARMRK | IXON | IXOFF | IXANY);
+    if (o.parity != 'N') {
+        tio.c_cflag |= PARENB;
+        if (o.parity == 'O') tio.c_cflag |= PARODD;
+        // A character with a parity error is dropped; the frame's CRC then fails: silence.
+        tio.c_iflag |= INPCK | IGNPAR;
+    }
+    tio.c_cc[VMIN] = 1;
+    tio.c_cc[VTIME] = 0;
+    const speed_t speed = speed_of(o.baud);
+    if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0) {
+        fail(fd, "rtu: " + o.device + ": cannot set " + std::to_string(o.baud) + " baud");
+    }
+    if (::tcsetattr(fd, TCSANOW, &tio) != 0) fail(fd, "rtu: cannot configure " + o.device);
+    // tcsetattr succeeds when any part of the request was applied: say what was not.
+    termios now{};
+    constexpr tcflag_t kLine = CSIZE | PARENB | PARODD | CSTOPB;
+    if (::tcgetattr(fd, &now) == 0 &&
+        ((now.c_cflag & kLine) != (tio.c_cflag & kLine) || ::cfgetispeed(&now) != speed)) {
+        spdlog::warn("rtu: {} did not take every line setting of {} {}{}{} (a pty ignores them)",
+                     o.device, o.baud, o.data_bits, o.parity, o.stop_bits);
+    }
+    // Whatever was waiting from before we opened the line is not a request to us.
+    ::tcflush(fd, TCIOFLUSH);
+    return fd;
+}
+
+const char* verdict_name(RtuVerdict v) {
+    switch (v) {
+        case RtuVerdict::Ok:
+            return "ok";
+        case RtuVerdict::BadCrc:
+            return "bad CRC";
+        case RtuVerdict::TooShort:
+            return "too short";
+        case RtuVerdict::TooLong:
+            return "too long";
+        case RtuVerdict::Gap:
+            return "pause longer than t1.5 inside the frame";
+    }
+    return "?";
+}
+
+}  // namespace
+
+std::string describe(const RtuOptions& o) {
+    return o.device + " " + std::to_string(o.baud) + " " + std::to_string(o.data_bits) + o.parity +
+           std::to_string(o.stop_bits);
+}
+
+struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
+    State(asio::io_context& io, Dispatcher& d, RtuOptions o)
+        : dispatcher(d),
+          options(std::move(o)),
+          line(io),
+          frame_end(io),
+          framer(RtuTiming::for_line(
+              options.baud, options.parity, options.data_bits, options.stop_bits)) {}
+
+    void read() {
+        if (stopped) return;
+        line.async_read_some(asio::buffer(buf),
+                             [self = shared_from_this()](const asio::error_code& ec,
+                                                         std::size_t n) { self->on_read(ec, n); });
+    }
+
+    void on_read(const asio::error_code& ec, std::size_t n) {
+        if (stopped || ec == asio::error::operation_aborted) return;
+        if (ec) {
+            if (!read_failing) {
+                spdlog::warn("rtu: {}: read failed ({}); retrying every second", options.device,
+                             ec.message());
+            }
+            read_failing = true;
+            framer.clear();  // what came before the error is not a frame to answer
+            retry_after_error();
+            return;
+        }
+        if (read_failing) spdlog::info("rtu: {}: reading again", options.device);
+        read_failing = false;
+        // The silence before these bytes may have ended the previous frame even if its timer
+        // has not fired yet (the loop was busy): serve that frame first.
+        if (auto f = framer.receive({buf.data(), n}, Clock::now())) serve(*f);
+        arm();
+        read();
+    }
+
+    void arm() {
+        const auto deadline = framer.deadline();
+        if (!deadline) return;
+        frame_end.expires_at(*deadline);
+        frame_end.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+            // A wait overtaken by a newer deadline may still run: expire() checks the time.
+            if (ec || self->stopped) return;
+            if (auto f = self->framer.expire(Clock::now())) {
+                self->serve(*f);
+            } else {
+                self->arm();
+            }
+        });
+    }
+
+    void serve(const RtuFrame& f) noexcept {
+        if (f.verdict != RtuVerdict::Ok) {
+            spdlog::debug("rtu: {}: {}-byte frame dropped: {}", options.device, f.bytes.size(),
+                          verdict_name(f.verdict));
+            return;
+        }
+        // The dispatcher filters the station and broadcasts and writes the reply to the
+        // non-blocking descriptor: a reply that does not fit in the tty's buffer is dropped,
+        // never waited for (no tcdrain).
+        dispatcher.serve_rtu(line.native_handle(), f.bytes);
+    }
+
+    void retry_after_error() {
+        frame_end.expires_after(kRetryAfterError);
+        frame_end.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+            if (ec || self->stopped) return;
+            self->read();
+        });
+    }
+
+    Dispatcher& dispatcher;
+    RtuOptions options;
+    asio::posix::stream_descriptor line;
+    asio::steady_timer frame_end;
+    RtuFramer framer;
+    std::array<std::uint8_t, 512> buf{};
+    bool read_failing = false;
+    bool stopped = false;
+};
+
+RtuServer::RtuServer(asio::io_context& io, Dispatcher& dispatcher, RtuOptions options)
+    : state_(std::make_shared<State>(io, dispatcher, std::move(options))) {
+    state_->line.assign(open_line(state_->options));
+    state_->read();
+}
+
+RtuServer::~RtuServer() { stop(); }
+
+std::string RtuServer::description() const { return describe(state_->options); }
+
+const RtuFramerStats& RtuServer::stats() const { return state_->framer.stats(); }
+
+void RtuServer::stop() {
+    if (state_->stopped) return;
+    state_->stopped = true;
+    const RtuFramerStats& st = state_->framer.stats();
+    spdlog::info(
+        "rtu: {}: {} frames with a good CRC; dropped: {} bad CRC, {} t1.5 pauses, {} too short, "
+        "{} too long",
+        state_->options.device, st.frames, st.bad_crc, st.gaps, st.too_short, st.too_long);
+    asio::error_code ec;
+    state_->frame_end.cancel();
+    state_->line.cancel(ec);
+    state_->line.close(ec);
+}
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,365 @@
+"""Modbus RTU slave (SPEC §2 "Unit IDs and transports") through a socat pty pair made by
+scripts/rtu-pty.sh, with pymodbus' serial client, mbpoll, and exact raw frames.
+
+The pty ignores the baud rate, but plcemud times frames by it: the tests that depend on gaps run
+the line at 300 baud (t1.5 = 55 ms, t3.5 = 128 ms) so that a busy test machine cannot blur them.
+"""
+
+import re
+import struct
+import subprocess
+import time
+
+import pytest
+from conftest import run_plcemud
+from pymodbus.client import ModbusSerialClient
+from pymodbus.diag_message import ReturnBusMessageCountRequest
+from pymodbus.mei_message import ReadDeviceInformationRequest
+from pymodbus.other_message import ReportSlaveIdRequest
+from pymodbus.pdu import ExceptionResponse
+from rtu_pty import PtyPair, RawLine, crc16, frame, rtu_config
+
+# FC02 and FC04 need the user maps of SPEC §2: DI 0.. -> M100.., IR 0.. -> R200...
+USER_MAPS = "init:\n  R3972: [0, 100, 16]\n  R3975: [0, 200, 8]\n"
+
+
+@pytest.fixture
+def pty(tmp_path):
+    pair = PtyPair(tmp_path)
+    yield pair
+    pair.stop()
+
+
+@pytest.fixture
+def start_rtu(start_plcemud, pty):
+    """start_rtu(extra_rtu="", extra="") -> Daemon serving RTU on pty.slave (and TCP)."""
+
+    def start(extra_rtu: str = "", extra: str = USER_MAPS):
+        d = start_plcemud(rtu_config(pty.slave, extra_rtu, extra))
+        assert d.wait_log("listening on rtu"), d.log_text()
+        return d
+
+    return start
+
+
+@pytest.fixture
+def line(pty):
+    raw = RawLine(pty.master)
+    yield raw
+    raw.close()
+
+
+def serial_client(path, **kw) -> ModbusSerialClient:
+    # A pty carries bytes whatever the parity, and pyserial's tcsetattr with parity on a pty
+    # fails (EINVAL) on some kernels: the client end stays N, the daemon's end says E.
+    kw.setdefault("baudrate", 9600)
+    kw["parity"] = "N"
+    c = ModbusSerialClient(path, bytesize=8, stopbits=kw.pop("stopbits", 1), timeout=1,
+                           retries=1, **kw)
+    assert c.connect()
+    return c
+
+
+def ok(r):
+    assert not r.isError(), f"unexpected error reply: {r}"
+    return r
+
+
+def exception_code(r) -> int:
+    assert isinstance(r, ExceptionResponse), f"expected an exception, got {r}"
+    return r.exception_code
+
+
+def version() -> str:
+    return run_plcemud("--version").stdout.split()[-1]
+
+
+def mbpoll(device, *args, write=(), baud=9600, parity="even"):
+    """Runs mbpoll once; values to write come after the device, as mbpoll wants them."""
+    cmd = ["mbpoll", "-m", "rtu", "-b", str(baud), "-P", parity, "-o", "1", *map(str, args),
+           device, *map(str, write)]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=20)
+
+
+def mbpoll_values(out: str) -> dict:
+    return {int(a): int(v) for a, v in re.findall(r"^\[(\d+)\]:\s+(-?\d+)", out, re.M)}
+
+
+def read_words_pdu(addr, qty, fc=3):
+    return struct.pack(">BHH", fc, addr, qty)
+
+
+# --------------------------------------------------------------------------- line settings
+
+
+def test_default_line_is_9600_8e1_and_logged(start_rtu, pty):
+    d = start_rtu()
+    assert f"listening on rtu {pty.slave} 9600 8E1" in d.log_text()
+    c = serial_client(pty.master)
+    assert ok(c.read_holding_registers(4055, 1, slave=1)).registers == [1]  # R4055 station
+    c.close()
+
+
+@pytest.mark.parametrize("baud,parity,stop,text", [(19200, "O", 2, "19200 8O2"),
+                                                   (115200, "N", 1, "115200 8N1")])
+def test_other_line_settings(start_rtu, pty, baud, parity, stop, text):
+    d = start_rtu(f"baud: {baud}, parity: {parity}, stop_bits: {stop}")
+    assert f"listening on rtu {pty.slave} {text}" in d.log_text()
+    c = serial_client(pty.master, baudrate=baud, parity=parity, stopbits=stop)
+    assert ok(c.write_register(30, 777, slave=1))
+    assert ok(c.read_holding_registers(30, 1, slave=1)).registers == [777]
+    c.close()
+
+
+def test_missing_device_is_a_clear_startup_error(tmp_path):
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text(rtu_config(str(tmp_path / "no-such-tty")))
+    r = run_plcemud("-c", cfg, "--port", "0", timeout=10)
+    assert r.returncode != 0
+    assert "no-such-tty" in r.stderr
+
+
+# --------------------------------------------------------------------------- function codes
+
+
+def test_pymodbus_serial_every_function_code(start_rtu, pty):
+    start_rtu()
+    c = serial_client(pty.master)
+    # 06 / 03: R10
+    ok(c.write_register(10, 0x1234, slave=1))
+    assert ok(c.read_holding_registers(10, 1, slave=1)).registers == [0x1234]
+    # 16 / 03: D0-D2 (register 6000)
+    ok(c.write_registers(6000, [1, 2, 3], slave=1))
+    assert ok(c.read_holding_registers(6000, 3, slave=1)).registers == [1, 2, 3]
+    # 05 / 01: M0 (coil 2000)
+    ok(c.write_coil(2000, True, slave=1))
+    assert ok(c.read_coils(2000, 2, slave=1)).bits[:2] == [True, False]
+    # 15 / 01: Y0-Y2
+    ok(c.write_coils(0, [True, False, True], slave=1))
+    assert ok(c.read_coils(0, 3, slave=1)).bits[:3] == [True, False, True]
+    # 22 mask write: (0x1234 AND 00FFh) OR (5600h AND NOT 00FFh)
+    # (pymodbus rc1: these two take the request's own `unit=`, not `slave=`)
+    ok(c.mask_write_register(10, 0x00FF, 0x5600, unit=1))
+    assert ok(c.read_holding_registers(10, 1, slave=1)).registers == [0x5634]
+    # 23 read/write: the write happens first
+    r = ok(c.readwrite_registers(read_address=10, read_count=2, write_address=11,
+                                 write_registers=[0x0BAD], unit=1))
+    assert r.registers == [0x5634, 0x0BAD]
+    # 02: DI 0.. -> M100..
+    ok(c.write_coil(2100, True, slave=1))
+    assert ok(c.read_discrete_inputs(0, 3, slave=1)).bits[:3] == [True, False, False]
+    # 04: IR 0.. -> R200..
+    ok(c.write_registers(200, [42, 43], slave=1))
+    assert ok(c.read_input_registers(0, 2, slave=1)).registers == [42, 43]
+    # 08 subfunction 00: the data comes back
+    # (pymodbus rc1's RTU framer expects exactly one data word back for FC08)
+    r = ok(c.diag_query_data(0xA55A, slave=1))
+    assert list(r.message) == [0xA55A]
+    # 11h: slave ID (the station), run indicator FFh, then the identification text
+    r = ok(c.execute(ReportSlaveIdRequest(unit=1)))
+    assert r.identifier[0] == 1 and r.identifier[1] == 0xFF
+    assert b"FATEK FBs-24MC" in r.identifier
+    # 2Bh/0Eh basic, regular and individual
+    r = ok(c.execute(ReadDeviceInformationRequest(read_code=1, object_id=0, unit=1)))
+    assert r.information == {0: b"FATEK", 1: b"FBs-24MC", 2: version().encode()}
+    r = ok(c.execute(ReadDeviceInformationRequest(read_code=2, object_id=0, unit=1)))
+    assert r.information[5] == b"FBs-24MC"  # ModelName, a regular object
+    r = ok(c.execute(ReadDeviceInformationRequest(read_code=4, object_id=1, unit=1)))
+    assert r.information == {1: b"FBs-24MC"}
+    c.close()
+
+
+def test_pymodbus_serial_exceptions(start_rtu, pty):
+    start_rtu(extra="")  # no user maps: FC02/FC04 are not served
+    c = serial_client(pty.master)
+    assert exception_code(c.read_holding_registers(4500, 1, slave=1)) == 2  # unmapped
+    assert exception_code(c.write_register(3850, 1, slave=1)) == 2  # IR is read-only
+    assert exception_code(c.read_holding_registers(0, 126, slave=1)) == 3  # > 125
+    assert exception_code(c.read_discrete_inputs(0, 1, slave=1)) == 1  # no user map
+    assert exception_code(c.read_input_registers(0, 1, slave=1)) == 1  # no user map
+    assert exception_code(c.read_exception_status(slave=1)) == 1  # FC07 not implemented
+    assert exception_code(c.execute(ReturnBusMessageCountRequest(unit=1))) == 1  # FC08 sub 0Bh
+    c.close()
+
+
+def test_raw_exceptions_for_other_function_codes(start_rtu, line):
+    start_rtu()
+    # FC08/00 echoes any amount of data
+    echo = b"\x08\x00\x00" + bytes(range(50))
+    assert line.request(1, echo, len(echo) + 3) == echo
+    for pdu in (b"\x41", b"\x2b\x0d\x00\x00", b"\x14\x00"):
+        assert line.request(1, pdu, 5) == bytes([pdu[0] | 0x80, 1]), pdu.hex()
+    # 2Bh/0Eh with an unknown read code: 03; an unknown individual object: 02
+    assert line.request(1, b"\x2b\x0e\x05\x00", 5) == b"\xab\x03"
+    assert line.request(1, b"\x2b\x0e\x04\x42", 5) == b"\xab\x02"
+    # FC05 with a value other than 0000h/FF00h: 03
+    assert line.request(1, b"\x05\x07\xd0\x12\x34", 5) == b"\x85\x03"
+
+
+def test_mbpoll_rtu(start_rtu, pty):
+    start_rtu()
+    dev = pty.master
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 6010, "-t", 4, write=(11, 22, 33))  # FC16
+    assert r.returncode == 0 and "Written 3 references" in r.stdout, r.stdout + r.stderr
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 6010, "-c", 3, "-1")  # FC03
+    assert mbpoll_values(r.stdout) == {6010: 11, 6011: 22, 6012: 33}, r.stdout
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 6013, "-t", 4, write=(44,))  # FC06
+    assert r.returncode == 0, r.stdout + r.stderr
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 6013, "-1")
+    assert mbpoll_values(r.stdout) == {6013: 44}, r.stdout
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 2000, "-t", 0, write=(1, 0, 1))  # FC15: M0-M2
+    assert r.returncode == 0, r.stdout + r.stderr
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 2001, "-t", 0, write=(1,))  # FC05: M1
+    assert r.returncode == 0, r.stdout + r.stderr
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 2000, "-c", 3, "-t", 0, "-1")  # FC01
+    assert mbpoll_values(r.stdout) == {2000: 1, 2001: 1, 2002: 1}, r.stdout
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 0, "-c", 2, "-t", 1, "-1")  # FC02: M100-M101
+    assert mbpoll_values(r.stdout) == {0: 0, 1: 0}, r.stdout
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 200, "-t", 4, write=(9,))
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 0, "-t", 3, "-1")  # FC04: R200
+    assert mbpoll_values(r.stdout) == {0: 9}, r.stdout
+    r = mbpoll(dev, "-a", 1, "-u")  # FC11h
+    assert re.search(r"Id\s*:\s*0x01", r.stdout) and re.search(r"Status\s*:\s*On", r.stdout)
+    assert "FATEK FBs-24MC" in r.stdout
+    r = mbpoll(dev, "-a", 1, "-0", "-r", 4500, "-1")  # exception 02
+    assert "Illegal data address" in r.stdout + r.stderr, r.stdout + r.stderr
+
+
+# --------------------------------------------------------------------------- unit IDs
+
+
+def test_broadcast_writes_apply_without_answer(start_rtu, line):
+    d = start_rtu()
+    line.send(frame(0, struct.pack(">BHH", 6, 20, 0x0B0B)))  # FC06 R20
+    assert line.silent(0.5)
+    line.send(frame(0, struct.pack(">BHHB3H", 16, 6020, 3, 6, 7, 8, 9)))  # FC16 D20-D22
+    assert line.silent(0.5)
+    line.send(frame(0, struct.pack(">BHH", 5, 2050, 0xFF00)))  # FC05 M50
+    assert line.silent(0.5)
+    # read back via unit 1 on the line, and over TCP
+    assert line.request(1, read_words_pdu(20, 1), 7) == b"\x03\x02\x0b\x0b"
+    assert line.request(1, read_words_pdu(6020, 3), 11) == b"\x03\x06\x00\x07\x00\x08\x00\x09"
+    t = d.client()
+    assert ok(t.read_coils(2050, 1, slave=1)).bits[0] is True
+
+
+def test_broadcast_reads_and_others_get_no_answer(start_rtu, line):
+    start_rtu()
+    for pdu in (read_words_pdu(0, 1), read_words_pdu(0, 1, fc=1), b"\x08\x00\x00\x12\x34",
+                b"\x11", b"\x2b\x0e\x01\x00", b"\x41", read_words_pdu(4500, 1)):
+        line.send(frame(0, pdu))
+        assert line.silent(0.4), pdu.hex()
+    # the line still works
+    assert line.request(1, read_words_pdu(4055, 1), 7) == b"\x03\x02\x00\x01"
+
+
+def test_other_stations_get_no_answer(start_rtu, line):
+    start_rtu(extra="station: 5\n")
+    for unit in (1, 2, 4, 6, 255, 246):
+        line.send(frame(unit, read_words_pdu(0, 1)))
+        assert line.silent(0.4), unit
+    # the simulator-control unit (SPEC §6, 247 by default) is served on the line too
+    line.send(frame(247, read_words_pdu(0, 1)))
+    r = line.receive(5, timeout=1)
+    assert r[:1] == b"\xf7", r.hex()
+    line.silent(0.2)
+    assert line.request(5, read_words_pdu(4055, 1), 7) == b"\x03\x02\x00\x05"
+
+
+def test_station_changed_through_r4055(start_rtu, line):
+    d = start_rtu()
+    t = d.client()
+    ok(t.write_register(4055, 0x5509, slave=1))  # SPEC §2: 55h in the high byte sets it
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline:
+        r = t.read_holding_registers(4055, 1, slave=9)
+        if not r.isError():
+            break
+        time.sleep(0.05)
+    line.send(frame(1, read_words_pdu(4055, 1)))
+    assert line.silent(0.4)
+    assert line.request(9, read_words_pdu(4055, 1), 7)[:2] == b"\x03\x02"
+
+
+def test_bad_crc_gets_no_answer(start_rtu, line):
+    start_rtu()
+    good = frame(1, read_words_pdu(0, 2))
+    for bad in (good[:-1] + bytes([good[-1] ^ 0x01]), good[:-2] + good[-1:] + good[-2:-1],
+                bytes([good[0], good[1] ^ 0x10]) + good[2:]):
+        line.send(bad)
+        assert line.silent(0.4), bad.hex()
+    assert line.request(1, read_words_pdu(0, 2), 9)[:2] == b"\x03\x04"
+
+
+# --------------------------------------------------------------------------- timing
+
+
+def test_frame_split_inside_t15_is_answered(start_rtu, line):
+    start_rtu("baud: 300")  # t1.5 = 55 ms, t3.5 = 128 ms
+    f = frame(1, read_words_pdu(4055, 1))
+    line.send(f[:3])
+    time.sleep(0.010)
+    line.send(f[3:])
+    r = line.receive(7, timeout=2)
+    assert r[:5] == b"\x01\x03\x02\x00\x01" and crc16(r[:5]) == r[5] | r[6] << 8, r.hex()
+
+
+def test_pause_longer_than_t15_inside_a_frame_drops_it(start_rtu, line):
+    start_rtu("baud: 300")
+    f = frame(1, read_words_pdu(4055, 1))
+    # The last byte follows a pause of about 105 - 37 = 68 ms > t1.5 (55 ms) on the wire; any
+    # longer pause (t3.5, 128 ms) splits the frame instead: no answer either way.
+    line.send(f[:-1])
+    time.sleep(0.105)
+    line.send(f[-1:])
+    assert line.silent(1.0)
+    assert line.request(1, read_words_pdu(4055, 1), 7) == b"\x03\x02\x00\x01"
+
+
+def test_two_frames_without_t35_between_are_not_answered(start_rtu, line):
+    start_rtu()
+    f = frame(1, read_words_pdu(4055, 1))
+    line.send(f + f)  # one frame of 16 bytes as far as the line can tell: bad CRC
+    assert line.silent(0.5)
+
+
+# --------------------------------------------------------------------------- both transports
+
+
+def test_rtu_and_tcp_share_the_image(start_rtu, pty):
+    d = start_rtu()
+    s = serial_client(pty.master)
+    t = d.client()
+    ok(t.write_registers(100, [5, 6, 7], slave=1))
+    assert ok(s.read_holding_registers(100, 3, slave=1)).registers == [5, 6, 7]
+    ok(s.write_registers(6100, [0xAAAA, 0x5555], slave=1))
+    assert ok(t.read_holding_registers(6100, 2, slave=1)).registers == [0xAAAA, 0x5555]
+    ok(s.write_coil(2200, True, slave=1))
+    assert ok(t.read_coils(2200, 1, slave=1)).bits[0] is True
+    ok(t.write_coil(2200, False, slave=1))
+    assert ok(s.read_coils(2200, 1, slave=1)).bits[0] is False
+    # interleaved, many times: each side sees the other's last write
+    for i in range(20):
+        ok(t.write_register(120, i, slave=1))
+        assert ok(s.read_holding_registers(120, 1, slave=1)).registers == [i]
+        ok(s.write_register(121, 1000 + i, slave=1))
+        assert ok(t.read_holding_registers(121, 1, slave=1)).registers == [1000 + i]
+    s.close()
+
+
+def test_unread_replies_never_block_tcp(start_rtu, line):
+    """A master that sends requests and never reads the replies fills the pty's buffers; the
+    replies are written without blocking (dropped or cut short when they do not fit), so TCP
+    goes on."""
+    d = start_rtu("baud: 115200")
+    t = d.client()
+    req = frame(1, read_words_pdu(6000, 125))  # 255-byte replies
+    for _ in range(600):  # 150 kB of replies; a pty pair holds about 40 kB
+        line.send(req)
+        time.sleep(0.003)  # more than t3.5 (1.75 ms): separate frames
+    assert ok(t.read_holding_registers(4055, 1, slave=1)).registers == [1]
+    assert d.proc.poll() is None
+    # drain what did get through, then the line answers again
+    while not line.silent(0.3):
+        pass
+    assert line.request(1, read_words_pdu(4055, 1), 7) == b"\x03\x02\x00\x01"
