@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mov.hpp"
+#include "tpctl.hpp"
 #include "plcemu/instructions/instructions.hpp"
 
 namespace plcemu::instructions {
@@ -16,6 +17,7 @@ using Builder = std::unique_ptr<engine::Instruction> (*)(const config::Instructi
 const std::map<std::string, Builder>& builders() {
     static const std::map<std::string, Builder> kBuilders{
         {"MOV", &make_mov},
+        {"TPCTL", &make_tpctl},
     };
     return kBuilders;
 }
