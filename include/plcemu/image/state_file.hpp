@@ -1,0 +1,114 @@
+#pragma once
+// The state file: the whole register image in one memory-mapped file, so that every value
+// written into the image is in the kernel's page cache the moment it is written and survives the
+// process being killed at any instant. See README ("Retentive memory") for the format.
+
+#include <cstddef>
+#include <cstdint>
+#include <ctime>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "plcemu/image/layout.hpp"
+
+namespace plcemu::image {
+
+/// On-disk header of a state file (little-endian, at offset 0; the image starts at kDataOffset).
+struct StateFileHeader {
+    char magic[8];                     ///< "PLCEMUST"
+    std::uint32_t version;             ///< format version (kStateFileVersion)
+    std::uint32_t header_size;         ///< bytes before the image (kDataOffset)
+    std::uint32_t profile;             ///< image::Profile
+    std::uint32_t area_count;          ///< kAreaCount
+    std::uint32_t area_size[16];       ///< devices per area, unused slots 0
+    std::uint64_t storage_size;        ///< bytes of the image block
+    std::uint64_t layout_checksum;     ///< FNV-1a 64 of profile, area count, sizes, storage size
+    std::uint32_t state;               ///< kStateOpen while a process uses it, kStateClosed after
+    std::uint32_t retentive_count;     ///< retentive ranges stored after the header fields
+    std::uint64_t retentive_checksum;  ///< FNV-1a 64 of the retentive range list
+    std::uint64_t data_checksum;       ///< FNV-1a 64 of the image block, valid when closed
+    std::uint64_t created;             ///< Unix time the file was created
+    std::uint64_t header_checksum;     ///< FNV-1a 64 of the header up to here plus the ranges
+};
+
+/// Current format version.
+inline constexpr std::uint32_t kStateFileVersion = 1;
+/// Offset of the image in the file (one page: the image is page-aligned).
+inline constexpr std::size_t kDataOffset = 4096;
+/// Retentive ranges a header can record.
+inline constexpr std::size_t kMaxRetentiveRanges = 256;
+/// `state` while a process has the file open (a crash leaves it so).
+inline constexpr std::uint32_t kStateOpen = 1;
+/// `state` after a clean close (the data checksum is then valid).
+inline constexpr std::uint32_t kStateClosed = 2;
+
+/// FNV-1a, 64 bits: the checksum of the header, the layout and the data.
+std::uint64_t fnv1a64(std::span<const std::byte> bytes, std::uint64_t seed = 0xcbf29ce484222325ULL);
+
+/// One thing opening found or did, for the log.
+struct StateNote {
+    bool warning = false;  ///< worth a warning (a file moved aside, a crash recovered)
+    std::string text;      ///< one line
+};
+
+/// How an open state file came to be.
+enum class StateOrigin : std::uint8_t {
+    Created,    ///< no usable file: a new one, all zero
+    Clean,      ///< reopened after a clean close (data checksum verified)
+    Recovered,  ///< reopened after a crash or SIGKILL (the page cache had every write)
+};
+
+/// One state file, open and mapped (MAP_SHARED). Not thread-safe except sync().
+class StateFile {
+public:
+    /// Opens `path` for `profile` and `layout` (whose retentive ranges are recorded), or creates
+    /// it. A file that is corrupted or does not match is renamed to `path.bad-YYYYmmdd-HHMMSS`
+    /// (local time `now`) and a new one created; what happened is in notes(). Throws
+    /// std::system_error when the file cannot be created, locked or mapped (e.g. another process
+    /// has it open).
+    StateFile(const std::string& path, Profile profile, const Layout& layout, std::time_t now);
+    /// Closes cleanly (see close()).
+    ~StateFile();
+    StateFile(const StateFile&) = delete;
+    StateFile& operator=(const StateFile&) = delete;
+
+    /// The image block (page-aligned, `Image::storage_size(layout)` bytes).
+    std::span<std::byte> storage() { return storage_; }
+    /// The file's path.
+    const std::string& path() const { return path_; }
+    /// Where the contents came from.
+    StateOrigin origin() const { return origin_; }
+    /// True when the image holds values from an earlier run (origin is not Created).
+    bool retained() const { return origin_ != StateOrigin::Created; }
+    /// What opening found and did (moved aside, recovered, retentive ranges changed…).
+    const std::vector<StateNote>& notes() const { return notes_; }
+    /// Where a rejected file was moved ("" when none was).
+    const std::string& moved_aside() const { return moved_aside_; }
+
+    /// Records new retentive ranges in the header (config reload).
+    void set_retentive(const std::vector<Range>& retentive);
+    /// Writes the mapping to disk (msync MS_SYNC). Safe from another thread; noexcept.
+    void sync() noexcept;
+    /// Syncs, stores the data checksum, marks the file closed and unmaps it. Idempotent.
+    void close() noexcept;
+
+private:
+    bool try_open(Profile profile, const Layout& layout, std::string& why_bad);
+    void create(Profile profile, const Layout& layout, std::time_t now);
+    void map(std::size_t size);
+    void release() noexcept;
+    void move_aside(const std::string& why, std::time_t now);
+    void write_header_checksum() noexcept;
+
+    std::string path_;
+    int fd_ = -1;
+    std::byte* base_ = nullptr;
+    std::size_t mapped_ = 0;
+    std::span<std::byte> storage_;
+    StateOrigin origin_ = StateOrigin::Created;
+    std::vector<StateNote> notes_;
+    std::string moved_aside_;
+};
+
+}  // namespace plcemu::image

@@ -1,0 +1,49 @@
+#include "notify.hpp"
+
+#include <spdlog/spdlog.h>
+
+#ifdef PLCEMU_HAVE_SYSTEMD
+    #include <systemd/sd-daemon.h>
+#endif
+
+namespace plcemu::daemon {
+
+Notifier::Notifier() {
+#ifdef PLCEMU_HAVE_SYSTEMD
+    std::uint64_t usec = 0;
+    // 0 = the manager's environment asks for no pings (or names another PID).
+    if (sd_watchdog_enabled(0, &usec) > 0) interval_ = std::chrono::microseconds(usec);
+#endif
+    if (watchdog_enabled()) {
+        spdlog::info("systemd watchdog: {} ms, pinging every {} ms at most",
+                     interval_.count() / 1000, interval_.count() / 2000);
+    }
+}
+
+void Notifier::send(const std::string& text) noexcept {
+#ifdef PLCEMU_HAVE_SYSTEMD
+    const int r = sd_notify(0, text.c_str());
+    if (r < 0) spdlog::debug("sd_notify failed: {}", r);
+#else
+    (void)text;
+#endif
+}
+
+void Notifier::ready(const std::string& status) noexcept { send("READY=1\nSTATUS=" + status); }
+
+void Notifier::status(const std::string& status) noexcept { send("STATUS=" + status); }
+
+void Notifier::reloading() noexcept { send("RELOADING=1\nSTATUS=reloading the configuration"); }
+
+void Notifier::stopping() noexcept { send("STOPPING=1\nSTATUS=stopping"); }
+
+void Notifier::watchdog(Clock::time_point now) noexcept {
+    if (!watchdog_enabled()) return;
+    // Half the interval: one late ping still lands in time.
+    if (pings_ > 0 && now - last_ping_ < interval_ / 2) return;
+    last_ping_ = now;
+    ++pings_;
+    send("WATCHDOG=1");
+}
+
+}  // namespace plcemu::daemon

@@ -1,0 +1,45 @@
+#pragma once
+// systemd service notifications (sd_notify): READY, STATUS, RELOADING, STOPPING and watchdog
+// pings. Built without libsystemd (PLCEMU_HAVE_SYSTEMD undefined) every call does nothing.
+
+#include <chrono>
+#include <string>
+
+namespace plcemu::daemon {
+
+/// Talks to the service manager that started the daemon, if any (NOTIFY_SOCKET).
+class Notifier {
+public:
+    using Clock = std::chrono::steady_clock;
+
+    /// Reads the watchdog interval the manager asked for (WatchdogSec=, WATCHDOG_USEC).
+    Notifier();
+
+    /// READY=1 with a status line: every listener is open.
+    void ready(const std::string& status) noexcept;
+    /// STATUS=…
+    void status(const std::string& status) noexcept;
+    /// RELOADING=1: a SIGHUP reload has begun (ready() ends it).
+    void reloading() noexcept;
+    /// STOPPING=1: shutting down.
+    void stopping() noexcept;
+
+    /// True when the manager expects watchdog pings.
+    bool watchdog_enabled() const { return interval_.count() > 0; }
+    /// The manager's watchdog interval (0 when disabled).
+    std::chrono::microseconds watchdog_interval() const { return interval_; }
+    /// Sends WATCHDOG=1 if half the interval has passed since the last ping (called after every
+    /// scan: a scan loop that stops turning stops the pings, and systemd restarts the service).
+    void watchdog(Clock::time_point now) noexcept;
+    /// Pings sent so far.
+    unsigned long pings() const { return pings_; }
+
+private:
+    void send(const std::string& text) noexcept;
+
+    std::chrono::microseconds interval_{0};
+    Clock::time_point last_ping_{};
+    unsigned long pings_ = 0;
+};
+
+}  // namespace plcemu::daemon

@@ -1,0 +1,58 @@
+#include "persistence.hpp"
+
+namespace plcemu::daemon {
+
+std::string state_file_path(const config::Config& config, const std::string& state_directory) {
+    std::string name = config.persistence.file;
+    if (name.empty()) {
+        const auto slash = config.path.rfind('/');
+        std::string stem = slash == std::string::npos ? config.path : config.path.substr(slash + 1);
+        const auto dot = stem.rfind('.');
+        if (dot != std::string::npos && dot > 0) stem.erase(dot);
+        if (stem.empty()) stem = "plcemud";
+        name = stem + ".state";
+    }
+    if (name.front() == '/') return name;
+    std::string dir = state_directory.substr(0, state_directory.find(':'));
+    if (dir.empty()) {
+        const auto slash = config.path.rfind('/');
+        dir = slash == std::string::npos ? "." : config.path.substr(0, slash);
+        if (dir.empty()) dir = "/";
+    }
+    return dir.back() == '/' ? dir + name : dir + "/" + name;
+}
+
+SyncThread::SyncThread(image::StateFile& file, std::chrono::milliseconds period)
+    : file_(file),
+      period_(period),
+      thread_([this] { run(); }) {}
+
+SyncThread::~SyncThread() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+}
+
+void SyncThread::set_period(std::chrono::milliseconds period) {
+    {
+        std::lock_guard lock(mutex_);
+        period_ = period;
+    }
+    cv_.notify_all();
+}
+
+void SyncThread::run() {
+    std::unique_lock lock(mutex_);
+    while (!stop_) {
+        const auto period = period_;
+        if (cv_.wait_for(lock, period, [&] { return stop_ || period_ != period; })) continue;
+        lock.unlock();
+        file_.sync();
+        lock.lock();
+    }
+}
+
+}  // namespace plcemu::daemon

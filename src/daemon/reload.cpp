@@ -1,0 +1,135 @@
+#include "reload.hpp"
+
+#include <sstream>
+
+namespace plcemu::daemon {
+
+namespace {
+
+template <typename T>
+std::string text(const T& v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+}
+
+std::string text(bool v) { return v ? "true" : "false"; }
+
+std::string text(const std::vector<std::string>& v) {
+    std::string s = "[";
+    for (const auto& e : v) s += (s.size() > 1 ? ", " : "") + e;
+    return s + "]";
+}
+
+std::string text(const std::vector<image::Range>& v) {
+    std::string s = "[";
+    for (const auto& r : v) s += (s.size() > 1 ? ", " : "") + image::format_range(r);
+    return s + "]";
+}
+
+std::string text(const std::optional<config::RtuConfig>& r) {
+    if (!r) return "none";
+    return r->device + " " + std::to_string(r->baud) + " " + std::string(1, r->parity) +
+           std::to_string(r->data_bits) + std::to_string(r->stop_bits);
+}
+
+bool same_program(const std::vector<config::InstructionConfig>& a,
+                  const std::vector<config::InstructionConfig>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a[i].mnemonic != b[i].mnemonic || a[i].operands.size() != b[i].operands.size()) {
+            return false;
+        }
+        for (std::size_t k = 0; k < a[i].operands.size(); ++k) {
+            if (a[i].operands[k].first != b[i].operands[k].first ||
+                a[i].operands[k].second.text != b[i].operands[k].second.text) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+bool same_init(const std::vector<config::InitEntry>& a, const std::vector<config::InitEntry>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (!(a[i].device == b[i].device) || a[i].values != b[i].values) return false;
+    }
+    return true;
+}
+
+bool same_temperature(const config::TemperatureConfig& a, const config::TemperatureConfig& b) {
+    if (a.table != b.table || a.fast != b.fast || a.modules.size() != b.modules.size())
+        return false;
+    for (std::size_t i = 0; i < a.modules.size(); ++i) {
+        if (a.modules[i].name_code != b.modules[i].name_code ||
+            a.modules[i].sensor_type != b.modules[i].sensor_type) {
+            return false;
+        }
+    }
+    return true;
+}
+
+}  // namespace
+
+std::vector<std::string> config_changes(const config::Config& a, const config::Config& b) {
+    std::vector<std::string> out;
+    auto cmp = [&](const std::string& key, const auto& x, const auto& y) {
+        if (!(x == y)) out.push_back(key + ": " + text(x) + " -> " + text(y));
+    };
+    cmp("model", a.model, b.model);
+    cmp("station", int(a.station), int(b.station));
+    cmp("scan_ms", a.scan_ms, b.scan_ms);
+    cmp("time_scale", a.time_scale, b.time_scale);
+    cmp("modbus.tcp.enabled", a.modbus.tcp.enabled, b.modbus.tcp.enabled);
+    cmp("modbus.tcp.bind", a.modbus.tcp.bind, b.modbus.tcp.bind);
+    cmp("modbus.tcp.port", a.modbus.tcp.port, b.modbus.tcp.port);
+    cmp("modbus.tcp.unknown_unit",
+        std::string(a.modbus.tcp.unknown_unit == config::UnknownUnit::Silent ? "silent"
+                                                                             : "exception"),
+        std::string(b.modbus.tcp.unknown_unit == config::UnknownUnit::Silent ? "silent"
+                                                                             : "exception"));
+    cmp("modbus.tcp.allow", a.modbus.tcp.allow, b.modbus.tcp.allow);
+    cmp("modbus.tcp.max_clients", a.modbus.tcp.max_clients, b.modbus.tcp.max_clients);
+    cmp("modbus.tcp.idle_timeout_s", a.modbus.tcp.idle_timeout_s, b.modbus.tcp.idle_timeout_s);
+    if (rtu_changed(a, b)) {
+        out.push_back("modbus.rtu: " + text(a.modbus.rtu) + " -> " + text(b.modbus.rtu));
+    }
+    cmp("modbus.read_only", a.modbus.read_only, b.modbus.read_only);
+    cmp("modbus.write_protect", a.modbus.write_protect, b.modbus.write_protect);
+    if (!same_init(a.init, b.init)) {
+        out.push_back("init: changed (" + std::to_string(b.init.size()) + " entries)");
+    }
+    if (!same_program(a.program, b.program)) {
+        out.push_back("program: changed (" + std::to_string(b.program.size()) + " instructions)");
+    }
+    if (!same_temperature(a.temperature, b.temperature)) out.push_back("temperature: changed");
+    cmp("simulator.unit", a.simulator.unit, b.simulator.unit);
+    cmp("persistence.enabled", a.persistence.enabled, b.persistence.enabled);
+    cmp("persistence.file", a.persistence.file, b.persistence.file);
+    if (a.persistence.retentive != b.persistence.retentive) {
+        out.push_back("persistence.retentive: changed");
+    }
+    cmp("persistence.sync_ms", a.persistence.sync_ms, b.persistence.sync_ms);
+    cmp("persistence.init",
+        std::string(a.persistence.init == config::InitPolicy::Always ? "always" : "fresh"),
+        std::string(b.persistence.init == config::InitPolicy::Always ? "always" : "fresh"));
+    cmp("log.level", a.log.level, b.log.level);
+    return out;
+}
+
+bool tcp_listener_changed(const config::Config& a, const config::Config& b) {
+    return a.modbus.tcp.enabled != b.modbus.tcp.enabled || a.modbus.tcp.bind != b.modbus.tcp.bind ||
+           a.modbus.tcp.port != b.modbus.tcp.port;
+}
+
+bool rtu_changed(const config::Config& a, const config::Config& b) {
+    const auto& x = a.modbus.rtu;
+    const auto& y = b.modbus.rtu;
+    if (x.has_value() != y.has_value()) return true;
+    if (!x) return false;
+    return x->device != y->device || x->baud != y->baud || x->parity != y->parity ||
+           x->data_bits != y->data_bits || x->stop_bits != y->stop_bits;
+}
+
+}  // namespace plcemu::daemon

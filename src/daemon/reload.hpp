@@ -1,0 +1,21 @@
+#pragma once
+// What a reload changes: the differences between two configs, as log lines.
+
+#include <string>
+#include <vector>
+
+#include "plcemu/config/config.hpp"
+
+namespace plcemu::daemon {
+
+/// One line per setting that differs ("station: 1 -> 5"), in config order. Sections compared as a
+/// whole say only that they changed ("program: changed (3 instructions)").
+std::vector<std::string> config_changes(const config::Config& before, const config::Config& after);
+
+/// True when the TCP listener must be opened anew (enabled, bind or port differ).
+bool tcp_listener_changed(const config::Config& before, const config::Config& after);
+
+/// True when the serial port settings differ.
+bool rtu_changed(const config::Config& before, const config::Config& after);
+
+}  // namespace plcemu::daemon

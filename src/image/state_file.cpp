@@ -1,0 +1,368 @@
+#include "plcemu/image/state_file.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <system_error>
+
+#include "plcemu/image/image.hpp"
+
+namespace plcemu::image {
+
+namespace {
+
+constexpr char kMagic[8] = {'P', 'L', 'C', 'E', 'M', 'U', 'S', 'T'};
+constexpr std::size_t kPage = 4096;
+// Bytes of the header covered by header_checksum (everything before the field itself).
+constexpr std::size_t kHeaderSummed = offsetof(StateFileHeader, header_checksum);
+constexpr std::size_t kRangesOffset = sizeof(StateFileHeader);
+
+static_assert(sizeof(StateFileHeader) == 144, "the on-disk header has a fixed size");
+static_assert(kRangesOffset + kMaxRetentiveRanges * 12 <= kDataOffset);
+
+struct RangeRecord {
+    std::uint32_t area;
+    std::uint32_t start;
+    std::uint32_t count;
+};
+static_assert(sizeof(RangeRecord) == 12);
+
+std::size_t round_up(std::size_t n) { return (n + kPage - 1) / kPage * kPage; }
+
+[[noreturn]] void throw_errno(const std::string& what) {
+    throw std::system_error(errno, std::generic_category(), what);
+}
+
+std::uint64_t layout_checksum(std::uint32_t profile,
+                              std::uint32_t area_count,
+                              const std::uint32_t (&sizes)[16],
+                              std::uint64_t storage_size) {
+    std::byte buf[4 + 4 + 64 + 8];
+    std::memcpy(buf, &profile, 4);
+    std::memcpy(buf + 4, &area_count, 4);
+    std::memcpy(buf + 8, sizes, 64);
+    std::memcpy(buf + 72, &storage_size, 8);
+    return fnv1a64(buf);
+}
+
+std::vector<RangeRecord> records_of(const std::vector<Range>& ranges) {
+    std::vector<RangeRecord> v;
+    v.reserve(ranges.size());
+    for (const auto& r : ranges)
+        v.push_back({static_cast<std::uint32_t>(r.area), r.start, r.count});
+    return v;
+}
+
+std::uint64_t records_checksum(const std::vector<RangeRecord>& v) {
+    return fnv1a64(std::as_bytes(std::span(v)));
+}
+
+// The header a layout calls for (state, checksums of data and header left to the caller).
+StateFileHeader expected_header(Profile profile, const Layout& layout) {
+    StateFileHeader h{};
+    std::memcpy(h.magic, kMagic, sizeof kMagic);
+    h.version = kStateFileVersion;
+    h.header_size = kDataOffset;
+    h.profile = static_cast<std::uint32_t>(profile);
+    h.area_count = kAreaCount;
+    for (std::size_t i = 0; i < kAreaCount; ++i) h.area_size[i] = layout.size[i];
+    h.storage_size = Image::storage_size(layout);
+    h.layout_checksum = layout_checksum(h.profile, h.area_count, h.area_size, h.storage_size);
+    return h;
+}
+
+std::string describe_layout_difference(const StateFileHeader& file, const StateFileHeader& want) {
+    if (file.profile != want.profile) {
+        return "it is for profile " +
+               std::string(profile_name(static_cast<Profile>(file.profile))) + ", not " +
+               std::string(profile_name(static_cast<Profile>(want.profile)));
+    }
+    if (file.area_count != want.area_count) {
+        return "it has " + std::to_string(file.area_count) + " device areas, not " +
+               std::to_string(want.area_count);
+    }
+    for (std::size_t i = 0; i < kAreaCount; ++i) {
+        if (file.area_size[i] != want.area_size[i]) {
+            return "its " + std::string(area_name(static_cast<Area>(i))) + " area has " +
+                   std::to_string(file.area_size[i]) + " devices, not " +
+                   std::to_string(want.area_size[i]);
+        }
+    }
+    if (file.storage_size != want.storage_size) {
+        return "its image is " + std::to_string(file.storage_size) + " bytes, not " +
+               std::to_string(want.storage_size);
+    }
+    return "its layout checksum differs";
+}
+
+std::string timestamp(std::time_t now) {
+    std::tm tm{};
+    localtime_r(&now, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y%m%d-%H%M%S", &tm);
+    return buf;
+}
+
+}  // namespace
+
+std::uint64_t fnv1a64(std::span<const std::byte> bytes, std::uint64_t seed) {
+    std::uint64_t h = seed;
+    for (std::byte b : bytes) {
+        h ^= static_cast<std::uint64_t>(b);
+        h *= 0x100000001b3ULL;
+    }
+    return h;
+}
+
+StateFile::StateFile(const std::string& path,
+                     Profile profile,
+                     const Layout& layout,
+                     std::time_t now)
+    : path_(path) {
+    if (layout.retentive.size() > kMaxRetentiveRanges) {
+        throw std::invalid_argument("state file: at most " + std::to_string(kMaxRetentiveRanges) +
+                                    " retentive ranges");
+    }
+    try {
+        std::string why;
+        if (!try_open(profile, layout, why)) {
+            if (!why.empty()) move_aside(why, now);
+            create(profile, layout, now);
+        }
+        set_retentive(layout.retentive);
+    } catch (...) {
+        release();
+        throw;
+    }
+    StateFileHeader h;
+    std::memcpy(&h, base_, sizeof h);
+    h.state = kStateOpen;
+    std::memcpy(base_, &h, sizeof h);
+    write_header_checksum();
+    // The header says "open" on disk before anything else happens, so a crash is recognised.
+    ::msync(base_, kPage, MS_SYNC);
+}
+
+StateFile::~StateFile() { close(); }
+
+bool StateFile::try_open(Profile profile, const Layout& layout, std::string& why_bad) {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
+    if (fd_ < 0) {
+        if (errno == ENOENT) return false;
+        throw_errno("state file " + path_ + ": cannot open");
+    }
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+        const int e = errno;
+        ::close(fd_);
+        fd_ = -1;
+        throw std::system_error(e, std::generic_category(),
+                                "state file " + path_ + ": in use by another process");
+    }
+    auto reject = [&](std::string why) {
+        why_bad = std::move(why);
+        release();
+        return false;
+    };
+
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0) throw_errno("state file " + path_ + ": cannot stat");
+    const auto file_size = static_cast<std::size_t>(st.st_size);
+    StateFileHeader h{};
+    if (file_size < kDataOffset) {
+        return reject("corrupted: truncated to " + std::to_string(file_size) + " bytes");
+    }
+    if (::pread(fd_, &h, sizeof h, 0) != static_cast<ssize_t>(sizeof h)) {
+        return reject("corrupted: cannot read its header");
+    }
+    if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) {
+        return reject("corrupted: not a plcemu state file (bad magic)");
+    }
+    if (h.retentive_count > kMaxRetentiveRanges) {
+        return reject("corrupted: bad retentive range count " + std::to_string(h.retentive_count));
+    }
+    std::vector<RangeRecord> old(h.retentive_count);
+    const auto ranges_bytes = static_cast<ssize_t>(old.size() * sizeof(RangeRecord));
+    if (::pread(fd_, old.data(), old.size() * sizeof(RangeRecord), kRangesOffset) != ranges_bytes) {
+        return reject("corrupted: cannot read its retentive ranges");
+    }
+    std::uint64_t sum = fnv1a64(std::as_bytes(std::span(&h, 1)).first(kHeaderSummed));
+    sum = fnv1a64(std::as_bytes(std::span(old)), sum);
+    if (sum != h.header_checksum) return reject("corrupted: header checksum mismatch");
+    if (h.version != kStateFileVersion) {
+        return reject("does not match: format version " + std::to_string(h.version) +
+                      ", this plcemud reads version " + std::to_string(kStateFileVersion));
+    }
+    if (h.header_size != kDataOffset) return reject("corrupted: bad header size");
+    const StateFileHeader want = expected_header(profile, layout);
+    if (h.profile != want.profile || h.area_count != want.area_count ||
+        std::memcmp(h.area_size, want.area_size, sizeof want.area_size) != 0 ||
+        h.storage_size != want.storage_size || h.layout_checksum != want.layout_checksum) {
+        return reject("does not match the configuration: " + describe_layout_difference(h, want));
+    }
+    if (records_checksum(old) != h.retentive_checksum) {
+        return reject("corrupted: retentive range checksum mismatch");
+    }
+    if (file_size < kDataOffset + h.storage_size) {
+        return reject("corrupted: truncated to " + std::to_string(file_size) + " bytes");
+    }
+    if (h.state != kStateOpen && h.state != kStateClosed) {
+        return reject("corrupted: bad state " + std::to_string(h.state));
+    }
+    map(kDataOffset + round_up(h.storage_size));
+    if (h.state == kStateClosed && fnv1a64(storage_) != h.data_checksum) {
+        return reject("corrupted: data checksum mismatch (closed cleanly, changed since)");
+    }
+    if (h.state == kStateClosed) {
+        origin_ = StateOrigin::Clean;
+        notes_.push_back({false, "state file " + path_ + ": reopened (closed cleanly last time)"});
+    } else {
+        origin_ = StateOrigin::Recovered;
+        notes_.push_back({true, "state file " + path_ +
+                                    ": its last user did not close it (crash, SIGKILL or power "
+                                    "loss); values are those the kernel had"});
+    }
+
+    // Only devices retentive both then and now keep their values: the rest held live data when
+    // the file was last used, which nobody asked to keep.
+    std::vector<Range> before;
+    for (const auto& r : old) {
+        if (r.area >= kAreaCount) return reject("corrupted: bad retentive range");
+        before.push_back({static_cast<Area>(r.area), r.start, r.count});
+    }
+    if (before != layout.retentive) {
+        Layout then = layout;
+        then.retentive = before;
+        Image(then, storage_).clear_non_retentive(before);
+        notes_.push_back({true, "state file " + path_ +
+                                    ": the retentive ranges changed; only devices retentive "
+                                    "before and now keep their values"});
+    }
+    return true;
+}
+
+void StateFile::create(Profile profile, const Layout& layout, std::time_t now) {
+    const std::string tmp = path_ + ".new";
+    const int fd = ::open(tmp.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd < 0) throw_errno("state file " + tmp + ": cannot create");
+    fd_ = fd;
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) throw_errno("state file " + tmp + ": cannot lock");
+    StateFileHeader h = expected_header(profile, layout);
+    h.state = kStateOpen;
+    h.created = static_cast<std::uint64_t>(now);
+    const std::size_t total = kDataOffset + round_up(h.storage_size);
+    if (::ftruncate(fd_, static_cast<off_t>(total)) != 0) {
+        throw_errno("state file " + tmp + ": cannot size");
+    }
+    if (::pwrite(fd_, &h, sizeof h, 0) != static_cast<ssize_t>(sizeof h)) {
+        throw_errno("state file " + tmp + ": cannot write");
+    }
+    map(total);
+    write_header_checksum();
+    // Whole and on disk under its temporary name before it takes the real one.
+    if (::msync(base_, mapped_, MS_SYNC) != 0 || ::fsync(fd_) != 0) {
+        throw_errno("state file " + tmp + ": cannot sync");
+    }
+    if (::rename(tmp.c_str(), path_.c_str()) != 0)
+        throw_errno("state file " + path_ + ": cannot create");
+    const auto slash = path_.rfind('/');
+    const std::string dir = slash == std::string::npos ? "." : path_.substr(0, slash + 1);
+    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+        ::fsync(dfd);
+        ::close(dfd);
+    }
+    origin_ = StateOrigin::Created;
+    notes_.push_back({false, "state file " + path_ + ": created"});
+}
+
+void StateFile::release() noexcept {
+    if (base_) ::munmap(base_, mapped_);
+    base_ = nullptr;
+    mapped_ = 0;
+    storage_ = {};
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+}
+
+void StateFile::map(std::size_t size) {
+    void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
+    if (p == MAP_FAILED) throw_errno("state file " + path_ + ": cannot map");
+    base_ = static_cast<std::byte*>(p);
+    mapped_ = size;
+    StateFileHeader h;
+    std::memcpy(&h, base_, sizeof h);
+    storage_ = std::span<std::byte>(base_ + kDataOffset, h.storage_size);
+}
+
+void StateFile::move_aside(const std::string& why, std::time_t now) {
+    std::string target = path_ + ".bad-" + timestamp(now);
+    struct stat st {};
+    for (int n = 1; ::stat(target.c_str(), &st) == 0; ++n) {
+        target = path_ + ".bad-" + timestamp(now) + "-" + std::to_string(n);
+    }
+    if (::rename(path_.c_str(), target.c_str()) != 0) {
+        throw_errno("state file " + path_ + " " + why + ", and it cannot be moved aside");
+    }
+    moved_aside_ = target;
+    notes_.push_back({true, "state file " + path_ + " " + why + "; moved to " + target +
+                                ", starting with a fresh one"});
+}
+
+void StateFile::set_retentive(const std::vector<Range>& retentive) {
+    if (!base_) return;
+    if (retentive.size() > kMaxRetentiveRanges) {
+        throw std::invalid_argument("state file: at most " + std::to_string(kMaxRetentiveRanges) +
+                                    " retentive ranges");
+    }
+    const auto rec = records_of(retentive);
+    StateFileHeader h;
+    std::memcpy(&h, base_, sizeof h);
+    h.retentive_count = static_cast<std::uint32_t>(rec.size());
+    h.retentive_checksum = records_checksum(rec);
+    std::memcpy(base_, &h, sizeof h);
+    if (!rec.empty()) std::memcpy(base_ + kRangesOffset, rec.data(), rec.size() * sizeof rec[0]);
+    write_header_checksum();
+}
+
+void StateFile::write_header_checksum() noexcept {
+    StateFileHeader h;
+    std::memcpy(&h, base_, sizeof h);
+    std::uint64_t sum = fnv1a64(std::span<const std::byte>(base_, kHeaderSummed));
+    sum = fnv1a64(
+        std::span<const std::byte>(base_ + kRangesOffset, h.retentive_count * sizeof(RangeRecord)),
+        sum);
+    h.header_checksum = sum;
+    std::memcpy(base_, &h, sizeof h);
+}
+
+void StateFile::sync() noexcept {
+    if (base_) ::msync(base_, mapped_, MS_SYNC);
+}
+
+void StateFile::close() noexcept {
+    if (fd_ < 0) return;
+    if (base_) {
+        StateFileHeader h;
+        std::memcpy(&h, base_, sizeof h);
+        h.data_checksum = fnv1a64(storage_);
+        h.state = kStateClosed;
+        std::memcpy(base_, &h, sizeof h);
+        write_header_checksum();
+        ::msync(base_, mapped_, MS_SYNC);
+        ::munmap(base_, mapped_);
+        base_ = nullptr;
+        mapped_ = 0;
+        storage_ = {};
+    }
+    ::fsync(fd_);
+    ::close(fd_);
+    fd_ = -1;
+}
+
+}  // namespace plcemu::image

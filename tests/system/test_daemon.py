@@ -1,0 +1,312 @@
+"""plcemud as a service: sd_notify (READY, STATUS, RELOADING, STOPPING, watchdog pings), reload on
+SIGHUP, and the systemd units (README, "Running as a service")."""
+
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+import pytest
+
+from conftest import PLCEMUD, REPO, port_open
+
+D0 = 6000
+R3000 = 3000  # not retentive
+R4057 = 4057  # power-up counter
+
+
+class NotifySocket:
+    """A datagram socket standing in for systemd's NOTIFY_SOCKET."""
+
+    def __init__(self):
+        # sun_path is short: keep the socket out of pytest's long tmp paths.
+        self.dir = tempfile.mkdtemp(prefix="plcemu-notify-", dir="/tmp")
+        self.path = os.path.join(self.dir, "notify")
+        self.sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        self.sock.bind(self.path)
+        self.messages = []
+
+    def collect(self, seconds):
+        """Every message received within `seconds`."""
+        deadline = time.monotonic() + seconds
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return self.messages
+            self.sock.settimeout(left)
+            try:
+                self.messages.append(self.sock.recv(4096).decode())
+            except socket.timeout:
+                return self.messages
+
+    def wait_for(self, text, timeout=5.0):
+        """Waits for a message containing `text`; returns it (or None)."""
+        deadline = time.monotonic() + timeout
+        seen = len(self.messages)
+        while time.monotonic() < deadline:
+            for m in self.messages[seen:]:
+                if text in m:
+                    return m
+            seen = len(self.messages)
+            self.collect(min(0.1, max(0.0, deadline - time.monotonic())))
+        return next((m for m in self.messages if text in m), None)
+
+    def close(self):
+        self.sock.close()
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def built_with_libsystemd() -> bool:
+    r = subprocess.run(["ldd", PLCEMUD], capture_output=True, text=True, timeout=30)
+    return "libsystemd" in r.stdout
+
+
+@pytest.fixture
+def notify(monkeypatch):
+    if not built_with_libsystemd():
+        pytest.skip("plcemud was built without libsystemd (libsystemd-dev): no sd_notify")
+    n = NotifySocket()
+    monkeypatch.setenv("NOTIFY_SOCKET", n.path)
+    monkeypatch.delenv("WATCHDOG_PID", raising=False)
+    yield n
+    n.close()
+
+
+def config(tmp_path, station=1, extra=""):
+    return (
+        "profile: fbs\n"
+        f"station: {station}\n"
+        "modbus: {tcp: {bind: 127.0.0.1}}\n"
+        f"persistence: {{file: '{tmp_path / 'plc.state'}'}}\n" + extra
+    )
+
+
+# --- sd_notify
+
+
+def test_ready_is_sent_once_the_listener_is_open(start_plcemud, notify, tmp_path):
+    d = start_plcemud(config(tmp_path))
+    ready = notify.wait_for("READY=1")
+    assert ready is not None, d.log_text()
+    # READY=1 is sent after the listener opened; by now it must accept connections.
+    assert port_open(d.port)
+    assert "STATUS=station 1, tcp 127.0.0.1:" in ready
+
+
+def test_watchdog_pings_come_from_the_scan_loop_at_half_the_interval(start_plcemud, notify,
+                                                                     monkeypatch, tmp_path):
+    monkeypatch.setenv("WATCHDOG_USEC", "1000000")  # WatchdogSec=1s
+    start_plcemud(config(tmp_path))
+    assert notify.wait_for("READY=1")
+    notify.messages.clear()
+    msgs = notify.collect(2.0)
+    pings = [m for m in msgs if m == "WATCHDOG=1"]
+    # One ping per 0.5 s (not one per 10 ms scan): about 4 in 2 s.
+    assert 2 <= len(pings) <= 6, msgs
+
+
+def test_watchdog_pings_go_on_while_the_simulation_is_frozen(start_plcemud, notify, monkeypatch,
+                                                             tmp_path):
+    """A frozen simulation (simulator unit 247, register 1) runs no scans but is not stuck."""
+    monkeypatch.setenv("WATCHDOG_USEC", "1000000")
+    d = start_plcemud(config(tmp_path))
+    assert notify.wait_for("READY=1")
+    c = d.client()
+    assert not c.write_register(1, 1, slave=247).isError()
+    # Simulated time (registers 3-4) stands still: no scans, so no pings from the scan loop.
+    t0 = c.read_holding_registers(3, 2, slave=247).registers
+    time.sleep(0.3)
+    assert c.read_holding_registers(3, 2, slave=247).registers == t0
+    notify.messages.clear()
+    pings = [m for m in notify.collect(2.0) if m == "WATCHDOG=1"]
+    assert 2 <= len(pings) <= 6, notify.messages
+    assert c.read_holding_registers(1, 1, slave=247).registers == [1]  # still frozen
+
+
+def test_no_watchdog_pings_unless_asked(start_plcemud, notify, monkeypatch, tmp_path):
+    monkeypatch.delenv("WATCHDOG_USEC", raising=False)
+    start_plcemud(config(tmp_path))
+    assert notify.wait_for("READY=1")
+    assert "WATCHDOG=1" not in notify.collect(0.7)
+
+
+def test_reload_and_stop_are_announced(start_plcemud, notify, tmp_path):
+    d = start_plcemud(config(tmp_path))
+    assert notify.wait_for("READY=1")
+    notify.messages.clear()
+    d.proc.send_signal(signal.SIGHUP)
+    assert notify.wait_for("RELOADING=1")
+    assert notify.wait_for("READY=1")
+    notify.messages.clear()
+    assert d.stop() == 0
+    assert notify.wait_for("STOPPING=1")
+
+
+# --- SIGHUP
+
+
+def rewrite(d, text):
+    Path(d.config_path).write_text(text)
+
+
+def test_sighup_with_a_broken_config_keeps_serving_the_old_one(start_plcemud, tmp_path):
+    d = start_plcemud(config(tmp_path, station=1))
+    c = d.client()
+    assert not c.write_register(D0, 1234, slave=1).isError()
+    rewrite(d, config(tmp_path, station=1) + "scan_ms: 5000\n")  # out of range 1..1000
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("configuration rejected"), d.log_text()
+    log = d.log_text()
+    # The error names file, line and column (SPEC §8).
+    assert f"{d.config_path}:5:10: scan_ms" in log, log
+    assert d.proc.poll() is None
+    rr = c.read_holding_registers(D0, 1, slave=1)
+    assert not rr.isError() and rr.registers == [1234]
+    assert not c.read_holding_registers(R4057, 1, slave=1).isError()
+
+    # A program operand only the PLC build can reject (not the YAML reader): same outcome.
+    rewrite(d, config(tmp_path, station=9) + "program:\n  - MOV: {en: M1926, s: R0, d: R99999}\n")
+    d.proc.send_signal(signal.SIGHUP)
+    deadline = time.monotonic() + 5
+    while d.log_text().count("configuration rejected") < 2 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert d.log_text().count("configuration rejected") == 2, d.log_text()
+    assert not c.read_holding_registers(D0, 1, slave=1).isError()  # still station 1
+    rr = c.read_holding_registers(D0, 1, slave=9)
+    assert rr.isError() and rr.exception_code == 0x0B
+
+
+def test_sighup_with_a_new_station_keeps_connections_and_data(start_plcemud, tmp_path):
+    d = start_plcemud(config(tmp_path, station=1))
+    c = d.client()
+    assert not c.write_register(D0, 1234, slave=1).isError()   # retentive
+    assert not c.write_register(R3000, 77, slave=1).isError()  # not retentive
+    sock = c.socket
+    connections = d.log_text().count(" connected")
+    disconnections = d.log_text().count(" disconnected")  # the fixture's readiness probe
+
+    rewrite(d, config(tmp_path, station=5))
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: done"), d.log_text()
+    assert "reload: station: 1 -> 5" in d.log_text()
+
+    # Same socket, no new connection: the listener did not change, so connections were kept.
+    rr = c.read_holding_registers(D0, 1, slave=5)
+    assert not rr.isError(), rr
+    assert rr.registers == [1234]
+    assert c.socket is sock
+    assert d.log_text().count(" connected") == connections
+    assert d.log_text().count(" disconnected") == disconnections
+    rr = c.read_holding_registers(D0, 1, slave=1)
+    assert rr.isError() and rr.exception_code == 0x0B  # SPEC §2: unknown unit on TCP
+    # A reload is not a power-up: nothing cleared, R4057 not counted.
+    assert c.read_holding_registers(R3000, 1, slave=5).registers == [77]
+    assert c.read_holding_registers(R4057, 1, slave=5).registers == [1]
+    assert c.read_holding_registers(4055, 1, slave=5).registers == [5]
+
+
+def test_sighup_that_changes_the_bind_address_moves_the_listener(start_plcemud, tmp_path):
+    """Same port (--port), 127.0.0.1 -> 0.0.0.0: the old listener is closed first, the new one
+    also answers on 127.0.0.2."""
+    d = start_plcemud(config(tmp_path))
+    with pytest.raises(OSError):
+        socket.create_connection(("127.0.0.2", d.port), timeout=1).close()
+    rewrite(d, config(tmp_path).replace("bind: 127.0.0.1", "bind: 0.0.0.0"))
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: done"), d.log_text()
+    assert "reload: modbus.tcp.bind: 127.0.0.1 -> 0.0.0.0" in d.log_text()
+    assert f"listening on tcp 0.0.0.0:{d.port}" in d.log_text()
+    s = socket.create_connection(("127.0.0.2", d.port), timeout=2)
+    s.sendall(bytes.fromhex("000100000006" "01" "03" "1770" "0001"))  # D0
+    assert s.recv(64)[:9] == bytes.fromhex("000100000005" "01" "0302")
+    s.close()
+
+
+def test_sighup_applies_access_policy_to_open_connections(start_plcemud, tmp_path):
+    d = start_plcemud(config(tmp_path))
+    c = d.client()
+    assert not c.write_register(D0 + 1, 11, slave=1).isError()
+    rewrite(d, config(tmp_path).replace("modbus: {tcp: {bind: 127.0.0.1}}",
+                                                   "modbus: {tcp: {bind: 127.0.0.1}, read_only: true}"))
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: done"), d.log_text()
+    assert "reload: modbus.read_only: false -> true" in d.log_text()
+    rr = c.write_register(D0 + 1, 12, slave=1)
+    assert rr.isError() and rr.exception_code == 2
+    assert c.read_holding_registers(D0 + 1, 1, slave=1).registers == [11]
+
+
+# --- the systemd units
+
+
+def test_units_pass_systemd_analyze_verify(tmp_path):
+    """Both units, with ExecStart pointed at the built binary (verify checks it exists)."""
+    if shutil.which("systemd-analyze") is None:
+        pytest.skip("systemd-analyze is not installed (scripts/install-deps.sh test installs it)")
+    probe = tmp_path / "probe"
+    probe.mkdir()
+    (probe / "probe.service").write_text("[Service]\nExecStart=/bin/true\n")
+    r = subprocess.run(["systemd-analyze", "verify", str(probe / "probe.service")],
+                       capture_output=True, text=True, timeout=60)
+    if r.returncode != 0:
+        pytest.skip(f"systemd-analyze verify cannot run here: {r.stderr.strip()}")
+
+    units = tmp_path / "units"
+    units.mkdir()
+    for name in ("plcemud.service", "plcemud@.service"):
+        text = (REPO / "systemd" / name).read_text().replace("/usr/local/bin/plcemud", PLCEMUD)
+        (units / name).write_text(text)
+    shutil.copy(units / "plcemud@.service", units / "plcemud@line1.service")
+    for name in ("plcemud.service", "plcemud@line1.service"):
+        r = subprocess.run(["systemd-analyze", "verify", str(units / name)],
+                           capture_output=True, text=True, timeout=60, cwd=units)
+        assert r.returncode == 0, r.stderr
+        # verify exits 0 on unknown keys and bad values: any word from it is a finding.
+        assert r.stderr.strip() == "", r.stderr
+
+    # The check above can fail: a bad value is reported.
+    bad = units / "bad.service"
+    bad.write_text((units / "plcemud.service").read_text().replace("ProtectSystem=strict",
+                                                                    "ProtectSystem=bogus"))
+    r = subprocess.run(["systemd-analyze", "verify", str(bad)], capture_output=True, text=True,
+                       timeout=60, cwd=units)
+    assert "ProtectSystem" in r.stderr or "protect system" in r.stderr
+
+
+def test_units_say_what_the_service_needs():
+    for name in ("plcemud.service", "plcemud@.service"):
+        text = (REPO / "systemd" / name).read_text()
+        keys = {line.split("=", 1)[0] for line in text.splitlines() if "=" in line and not line.startswith("#")}
+        for key in ("Type", "WatchdogSec", "ExecReload", "Restart", "DynamicUser", "StateDirectory",
+                    "AmbientCapabilities", "NoNewPrivileges", "ProtectSystem", "ProtectHome",
+                    "PrivateTmp", "PrivateDevices", "SystemCallFilter", "CapabilityBoundingSet"):
+            assert key in keys, f"{name}: {key}"
+        assert "Type=notify" in text
+    assert "-c /etc/plcemu/%i.yaml" in (REPO / "systemd" / "plcemud@.service").read_text()
+
+
+def test_install_script_installs_into_destdir(tmp_path):
+    dest = tmp_path / "root"
+    r = subprocess.run([str(REPO / "scripts" / "install.sh"), "--binary", PLCEMUD],
+                       env={**os.environ, "DESTDIR": str(dest)}, capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert os.access(dest / "usr/local/bin/plcemud", os.X_OK)
+    for f in ("etc/systemd/system/plcemud.service", "etc/systemd/system/plcemud@.service",
+              "etc/plcemu/plcemud.yaml", "etc/plcemu/example.yaml"):
+        assert (dest / f).is_file(), f
+    # The installed example config is valid as it stands.
+    r = subprocess.run([PLCEMUD, "-c", str(dest / "etc/plcemu/plcemud.yaml"), "--check-config"],
+                       capture_output=True, text=True, timeout=30)
+    assert r.returncode == 0, r.stderr
+    # An existing config is never overwritten.
+    (dest / "etc/plcemu/plcemud.yaml").write_text("profile: fbs\n# mine\n")
+    r = subprocess.run([str(REPO / "scripts" / "install.sh"), "--binary", PLCEMUD],
+                       env={**os.environ, "DESTDIR": str(dest)}, capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert "# mine" in (dest / "etc/plcemu/plcemud.yaml").read_text()

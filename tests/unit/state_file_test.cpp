@@ -1,0 +1,430 @@
+// The state file (retentive memory, SPEC §1 "Retentive … kept across restart"), the start modes
+// of a Plc over it (R4057 power-up counter, SPEC §3), its default location, and the config keys
+// of persistence and access control.
+
+#include "plcemu/image/state_file.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "daemon/persistence.hpp"
+#include "daemon/reload.hpp"
+#include "plcemu/config/config.hpp"
+#include "plcemu/daemon/plc.hpp"
+#include "plcemu/engine/special.hpp"
+#include "plcemu/image/image.hpp"
+
+namespace plcemu {
+namespace {
+
+namespace fs = std::filesystem;
+using image::Area;
+using image::Image;
+using image::StateFile;
+using image::StateOrigin;
+
+constexpr image::Profile kFbs = image::Profile::Fbs;
+
+// 2026-03-04 05:06:07 local time, for the moved-aside name.
+std::time_t fixed_now() {
+    std::tm tm{};
+    tm.tm_year = 126;
+    tm.tm_mon = 2;
+    tm.tm_mday = 4;
+    tm.tm_hour = 5;
+    tm.tm_min = 6;
+    tm.tm_sec = 7;
+    tm.tm_isdst = -1;
+    return std::mktime(&tm);
+}
+
+class StateFileTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::string tmpl = (fs::temp_directory_path() / "plcemu-state-XXXXXX").string();
+        ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
+        dir_ = tmpl;
+        path_ = (dir_ / "plc.state").string();
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    static image::Layout layout() { return image::fbs_layout(); }
+
+    // Bytes of the file, for corrupting it.
+    std::vector<char> read_file() const {
+        std::ifstream in(path_, std::ios::binary);
+        return {std::istreambuf_iterator<char>(in), {}};
+    }
+    void write_file(const std::vector<char>& bytes) const {
+        std::ofstream out(path_, std::ios::binary | std::ios::trunc);
+        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    }
+    image::StateFileHeader header() const {
+        image::StateFileHeader h{};
+        const auto bytes = read_file();
+        std::memcpy(&h, bytes.data(), sizeof h);
+        return h;
+    }
+    // Rewrites the header with a correct header checksum (a well-formed file that differs).
+    void write_header(image::StateFileHeader h) const {
+        auto bytes = read_file();
+        std::memcpy(bytes.data(), &h, sizeof h);
+        std::uint64_t sum = image::fnv1a64(std::as_bytes(
+            std::span(bytes.data(), offsetof(image::StateFileHeader, header_checksum))));
+        sum = image::fnv1a64(
+            std::as_bytes(std::span(bytes.data() + sizeof h, h.retentive_count * 12)), sum);
+        h.header_checksum = sum;
+        std::memcpy(bytes.data(), &h, sizeof h);
+        write_file(bytes);
+    }
+    std::vector<fs::path> bad_files() const {
+        std::vector<fs::path> v;
+        for (const auto& e : fs::directory_iterator(dir_)) {
+            if (e.path().filename().string().find(".bad-") != std::string::npos)
+                v.push_back(e.path());
+        }
+        std::sort(v.begin(), v.end());
+        return v;
+    }
+
+    fs::path dir_;
+    std::string path_;
+};
+
+TEST_F(StateFileTest, NewFileIsCreatedZeroedWithItsHeader) {
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Created);
+    EXPECT_FALSE(f.retained());
+    EXPECT_EQ(f.storage().size(), Image::storage_size(layout()));
+    for (std::byte b : f.storage()) ASSERT_EQ(b, std::byte{0});
+    // Page-aligned, so the image's own alignment holds.
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(f.storage().data()) % 4096, 0u);
+    const auto h = header();
+    EXPECT_EQ(std::string(h.magic, 8), "PLCEMUST");
+    EXPECT_EQ(h.version, image::kStateFileVersion);
+    EXPECT_EQ(h.state, image::kStateOpen);
+    EXPECT_EQ(h.area_size[static_cast<int>(Area::R)], 8072u);
+    EXPECT_EQ(h.retentive_count, layout().retentive.size());
+    EXPECT_FALSE(fs::exists(path_ + ".new"));
+}
+
+// SPEC §1: retentive values are kept across a (clean) restart.
+TEST_F(StateFileTest, ValuesSurviveCleanCloseAndReopen) {
+    {
+        StateFile f(path_, kFbs, layout(), fixed_now());
+        Image img(layout(), f.storage());
+        img.set_word(Area::D, 100, 4242);
+        img.set_bit(Area::M, 900, true);
+    }
+    EXPECT_EQ(header().state, image::kStateClosed);
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Clean);
+    Image img(layout(), f.storage());
+    EXPECT_EQ(img.word(Area::D, 100), 4242);
+    EXPECT_TRUE(img.bit(Area::M, 900));
+    EXPECT_TRUE(bad_files().empty());
+}
+
+// Every value written into the mapping is the kernel's the moment it is written: a process that
+// dies without closing or syncing (as under SIGKILL) loses nothing.
+TEST_F(StateFileTest, WritesSurviveAProcessThatDiesWithoutClosing) {
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        auto* f = new StateFile(path_, kFbs, layout(), fixed_now());
+        Image img(layout(), f->storage());
+        for (std::uint32_t i = 0; i < 4000; ++i)
+            img.set_word(Area::D, i, static_cast<std::uint16_t>(i * 7));
+        ::_exit(0);  // no close, no msync, no destructors
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(header().state, image::kStateOpen);
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Recovered);
+    ASSERT_FALSE(f.notes().empty());
+    EXPECT_TRUE(f.notes().front().warning);
+    Image img(layout(), f.storage());
+    for (std::uint32_t i = 0; i < 4000; ++i) {
+        ASSERT_EQ(img.word(Area::D, i), static_cast<std::uint16_t>(i * 7)) << "D" << i;
+    }
+}
+
+TEST_F(StateFileTest, GarbageIsMovedAsideWithATimestampAndAFreshFileCreated) {
+    write_file(std::vector<char>(10000, 'x'));
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Created);
+    EXPECT_EQ(f.moved_aside(), path_ + ".bad-20260304-050607");
+    const auto bad = bad_files();
+    ASSERT_EQ(bad.size(), 1u);
+    EXPECT_EQ(fs::file_size(bad[0]), 10000u);  // kept as it was, for a look
+    bool logged = false;
+    for (const auto& n : f.notes())
+        logged = logged || (n.warning && n.text.find("bad magic") != std::string::npos);
+    EXPECT_TRUE(logged);
+    for (std::byte b : f.storage()) ASSERT_EQ(b, std::byte{0});
+}
+
+TEST_F(StateFileTest, TruncatedFileIsMovedAside) {
+    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    auto bytes = read_file();
+    bytes.resize(6000);
+    write_file(bytes);
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Created);
+    EXPECT_NE(f.notes().front().text.find("truncated"), std::string::npos);
+}
+
+TEST_F(StateFileTest, HeaderBitFlipIsCaughtByTheHeaderChecksum) {
+    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    auto bytes = read_file();
+    bytes[128] ^= 0x01;  // inside `created`: nothing else would notice
+    write_file(bytes);
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Created);
+    EXPECT_NE(f.notes().front().text.find("header checksum"), std::string::npos);
+}
+
+TEST_F(StateFileTest, DataChangedAfterACleanCloseIsCaughtByTheDataChecksum) {
+    {
+        StateFile f(path_, kFbs, layout(), fixed_now());
+        Image(layout(), f.storage()).set_word(Area::D, 5, 55);
+    }
+    auto bytes = read_file();
+    bytes[image::kDataOffset + Image::area_offset(layout(), Area::D) + 10] ^= 0x40;
+    write_file(bytes);
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Created);
+    EXPECT_NE(f.notes().front().text.find("data checksum"), std::string::npos);
+    EXPECT_EQ(Image(layout(), f.storage()).word(Area::D, 5), 0);
+}
+
+TEST_F(StateFileTest, AnotherLayoutDoesNotMatchAndIsMovedAside) {
+    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    image::Layout other = layout();
+    other.size[static_cast<int>(Area::D)] = 8000;
+    StateFile f(path_, kFbs, other, fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Created);
+    const std::string& t = f.notes().front().text;
+    EXPECT_NE(t.find("does not match"), std::string::npos) << t;
+    EXPECT_NE(t.find("D area has 4000 devices, not 8000"), std::string::npos) << t;
+    EXPECT_EQ(bad_files().size(), 1u);
+}
+
+TEST_F(StateFileTest, AnotherFormatVersionDoesNotMatch) {
+    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    auto h = header();
+    h.version = 99;
+    write_header(h);
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Created);
+    EXPECT_NE(f.notes().front().text.find("format version 99"), std::string::npos);
+}
+
+TEST_F(StateFileTest, SecondBadFileInTheSameSecondGetsItsOwnName) {
+    write_file(std::vector<char>(100, 'a'));
+    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    write_file(std::vector<char>(200, 'b'));
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    const auto bad = bad_files();
+    ASSERT_EQ(bad.size(), 2u);
+    EXPECT_EQ(bad[0].filename().string(), "plc.state.bad-20260304-050607");
+    EXPECT_EQ(bad[1].filename().string(), "plc.state.bad-20260304-050607-1");
+    EXPECT_EQ(fs::file_size(bad[1]), 200u);
+}
+
+TEST_F(StateFileTest, ASecondUserIsRefusedAndTheFileLeftAlone) {
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_THROW(StateFile(path_, kFbs, layout(), fixed_now()), std::system_error);
+    EXPECT_TRUE(bad_files().empty());
+}
+
+TEST_F(StateFileTest, ChangedRetentiveRangesKeepOnlyDevicesRetentiveBeforeAndNow) {
+    image::Layout before = layout();
+    before.retentive = {{Area::D, 0, 100}};
+    {
+        StateFile f(path_, kFbs, before, fixed_now());
+        Image img(before, f.storage());
+        img.set_word(Area::D, 50, 1);   // retentive then and now
+        img.set_word(Area::D, 150, 2);  // retentive now only: held live data then
+    }
+    image::Layout now = layout();
+    now.retentive = {{Area::D, 0, 200}};
+    StateFile f(path_, kFbs, now, fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Clean);
+    Image img(now, f.storage());
+    EXPECT_EQ(img.word(Area::D, 50), 1);
+    EXPECT_EQ(img.word(Area::D, 150), 0);
+    EXPECT_EQ(header().retentive_count, 1u);
+    EXPECT_TRUE(bad_files().empty());
+}
+
+// ---- Plc over a state file: start modes, R4057, init policy
+
+config::Config plc_config(const std::string& extra = "") {
+    return config::parse_config("profile: fbs\n" + extra, "test.yaml");
+}
+
+std::uint16_t power_ups(daemon::Plc& plc) {
+    return plc.image().word(Area::R, engine::special::kPowerUps);
+}
+
+// SPEC §1 "the rest is cleared at start"; SPEC §3 "R4057 power-up counter (retentive)".
+TEST_F(StateFileTest, EachStartCountsInR4057AndClearsNonRetentiveDevices) {
+    const auto cfg = plc_config();
+    for (int start = 1; start <= 3; ++start) {
+        StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+        daemon::Plc plc(cfg, f.storage(),
+                        f.retained() ? daemon::Start::Retained : daemon::Start::Fresh);
+        EXPECT_EQ(power_ups(plc), start);
+        EXPECT_EQ(plc.image().word(Area::R, 3000), 0) << "R3000 is not retentive";
+        EXPECT_EQ(plc.image().word(Area::D, 7), start == 1 ? 0 : 70 + start - 1);
+        plc.image().set_word(Area::R, 3000, 9);
+        plc.image().set_word(Area::D, 7, static_cast<std::uint16_t>(70 + start));
+    }
+}
+
+TEST_F(StateFileTest, R4057StaysRetentiveWhenTheConfigNamesOtherRanges) {
+    const auto cfg = plc_config("persistence: {retentive: [D0-D9]}\n");
+    const auto l = daemon::plc_layout(cfg);
+    ASSERT_EQ(l.retentive.size(), 2u);
+    EXPECT_EQ(l.retentive[1], (image::Range{Area::R, 4057, 1}));
+}
+
+// Decision (README): init presets reach retentive devices only on a fresh state file, unless
+// persistence.init is `always`; non-retentive devices get them at every start.
+TEST_F(StateFileTest, InitPresetsDoNotOverwriteRetainedValuesByDefault) {
+    const auto cfg = plc_config("init: {R10: 111, R3000: 7, WM792: 0xFFFF}\n");
+    {
+        StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+        daemon::Plc plc(cfg, f.storage(), daemon::Start::Fresh);
+        EXPECT_EQ(plc.image().word(Area::R, 10), 111);
+        EXPECT_TRUE(plc.image().bit(Area::M, 800));
+        plc.image().set_word(Area::R, 10, 222);  // a SCADA's retained write
+        plc.image().set_word(Area::R, 3000, 9);
+        plc.image().set_bit(Area::M, 800, false);  // M800 retentive, M792-M799 not
+        plc.image().set_bit(Area::M, 795, false);
+    }
+    StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+    daemon::Plc plc(cfg, f.storage(), daemon::Start::Retained);
+    EXPECT_EQ(plc.image().word(Area::R, 10), 222);
+    EXPECT_EQ(plc.image().word(Area::R, 3000), 7);
+    EXPECT_FALSE(plc.image().bit(Area::M, 800));
+    EXPECT_TRUE(plc.image().bit(Area::M, 795));
+}
+
+TEST_F(StateFileTest, InitAlwaysOverwritesRetainedValues) {
+    const auto cfg = plc_config("init: {R10: 111}\npersistence: {init: always}\n");
+    {
+        StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+        daemon::Plc plc(cfg, f.storage(), daemon::Start::Fresh);
+        plc.image().set_word(Area::R, 10, 222);
+    }
+    StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+    daemon::Plc plc(cfg, f.storage(), daemon::Start::Retained);
+    EXPECT_EQ(plc.image().word(Area::R, 10), 111);
+}
+
+TEST_F(StateFileTest, ReloadKeepsTheWholeImageAndDoesNotCountAPowerUp) {
+    const auto cfg = plc_config();
+    StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+    auto plc = std::make_unique<daemon::Plc>(cfg, f.storage(), daemon::Start::Fresh);
+    plc->image().set_word(Area::R, 3000, 9);  // not retentive
+    plc->image().set_word(Area::R, 4005, 0x0203);
+    plc.reset();
+    const auto next = plc_config("station: 5\n");
+    daemon::Plc reloaded(next, f.storage(), daemon::Start::Reload);
+    EXPECT_EQ(power_ups(reloaded), 1);
+    EXPECT_EQ(reloaded.image().word(Area::R, 3000), 9);
+    EXPECT_EQ(reloaded.image().word(Area::R, 4005), 0x0203);
+    EXPECT_EQ(reloaded.engine().station(), 5);
+}
+
+// ---- where the state file lives
+
+TEST(StateFilePath, DefaultIsBesideTheConfigNamedAfterIt) {
+    auto cfg = plc_config();
+    cfg.path = "/etc/plcemu/line1.yaml";
+    EXPECT_EQ(daemon::state_file_path(cfg, ""), "/etc/plcemu/line1.state");
+    cfg.path = "plc.yaml";
+    EXPECT_EQ(daemon::state_file_path(cfg, ""), "./plc.state");
+}
+
+TEST(StateFilePath, SystemdStateDirectoryWinsForRelativeNames) {
+    auto cfg = plc_config();
+    cfg.path = "/etc/plcemu/plcemud.yaml";
+    EXPECT_EQ(daemon::state_file_path(cfg, "/var/lib/plcemu"), "/var/lib/plcemu/plcemud.state");
+    EXPECT_EQ(daemon::state_file_path(cfg, "/var/lib/a:/var/lib/b"), "/var/lib/a/plcemud.state");
+    cfg.persistence.file = "other.state";
+    EXPECT_EQ(daemon::state_file_path(cfg, "/var/lib/plcemu"), "/var/lib/plcemu/other.state");
+    cfg.persistence.file = "/srv/x.state";
+    EXPECT_EQ(daemon::state_file_path(cfg, "/var/lib/plcemu"), "/srv/x.state");
+}
+
+// ---- config keys
+
+std::string config_error(const std::string& text) {
+    try {
+        config::parse_config(text, "c.yaml");
+    } catch (const config::ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(PersistenceConfig, KeysAndDefaults) {
+    const auto d = plc_config();
+    EXPECT_TRUE(d.persistence.enabled);
+    EXPECT_EQ(d.persistence.init, config::InitPolicy::Fresh);
+    const auto c = plc_config("persistence: {enabled: false, init: always, sync_ms: 250}\n");
+    EXPECT_FALSE(c.persistence.enabled);
+    EXPECT_EQ(c.persistence.init, config::InitPolicy::Always);
+    EXPECT_EQ(c.persistence.sync_ms, 250);
+    EXPECT_EQ(
+        config_error("profile: fbs\npersistence: {init: sometimes}\n").rfind("c.yaml:2:21:", 0),
+        0u);
+}
+
+TEST(AccessConfig, BadEntriesNameTheirPosition) {
+    EXPECT_EQ(config_error("profile: fbs\nmodbus:\n  tcp:\n    allow: [127.0.0.0/8, 10.0.0.0/33]\n")
+                  .rfind("c.yaml:4:26: modbus.tcp.allow", 0),
+              0u);
+    EXPECT_EQ(
+        config_error("profile: fbs\nmodbus: {tcp: {allow: [bogus]}}\n").rfind("c.yaml:2:24:", 0),
+        0u);
+    EXPECT_EQ(
+        config_error("profile: fbs\nmodbus: {tcp: {bind: localhost}}\n").rfind("c.yaml:2:22:", 0),
+        0u);
+    EXPECT_NE(
+        config_error("profile: fbs\nmodbus: {write_protect: [D3990-D4010]}\n").find("outside"),
+        std::string::npos);
+    EXPECT_NE(
+        config_error("profile: fbs\npersistence: {retentive: [M2000-M2100]}\n").find("outside"),
+        std::string::npos);
+    EXPECT_EQ(config_error("profile: fbs\nmodbus: {tcp: {allow: ['::1/128', 10.1.2.3]}}\n"), "");
+}
+
+TEST(Reload, ChangesAreListedAndListenerChangesDetected) {
+    const auto a = plc_config("station: 1\nmodbus: {tcp: {port: 5020, allow: [127.0.0.1]}}\n");
+    const auto b = plc_config("station: 7\nmodbus: {tcp: {port: 5020, max_clients: 2}}\n");
+    const auto changes = daemon::config_changes(a, b);
+    ASSERT_EQ(changes.size(), 3u);
+    EXPECT_EQ(changes[0], "station: 1 -> 7");
+    EXPECT_EQ(changes[1], "modbus.tcp.allow: [127.0.0.1] -> []");
+    EXPECT_EQ(changes[2], "modbus.tcp.max_clients: 64 -> 2");
+    EXPECT_FALSE(daemon::tcp_listener_changed(a, b));
+    EXPECT_TRUE(daemon::tcp_listener_changed(a, plc_config("modbus: {tcp: {port: 5021}}\n")));
+    EXPECT_TRUE(daemon::config_changes(a, a).empty());
+}
+
+}  // namespace
+}  // namespace plcemu
