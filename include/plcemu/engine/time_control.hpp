@@ -1,0 +1,29 @@
+#pragma once
+// Run-time control of simulated time (SPEC §6 simulator unit): implemented by the daemon's scan
+// driver, and by a fake in tests.
+
+#include <cstdint>
+
+#include "plcemu/engine/engine.hpp"
+
+namespace plcemu::engine {
+
+/// Time scale, freeze and single-stepping of the scan loop.
+class TimeControl {
+public:
+    virtual ~TimeControl() = default;
+    /// Simulated seconds per real second.
+    virtual double time_scale() const noexcept = 0;
+    /// Changes the time scale without a jump in simulated time.
+    virtual void set_time_scale(double scale) noexcept = 0;
+    /// True while scans are stopped.
+    virtual bool frozen() const noexcept = 0;
+    /// Stops (true) or resumes (false) the scans.
+    virtual void set_frozen(bool frozen) noexcept = 0;
+    /// Runs `n` scans at once, back to back in simulated time.
+    virtual void step(std::uint64_t n) noexcept = 0;
+    /// Simulated time of the last scan.
+    virtual Duration simulated_time() const noexcept = 0;
+};
+
+}  // namespace plcemu::engine

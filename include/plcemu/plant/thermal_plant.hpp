@@ -1,0 +1,193 @@
+#pragma once
+// The simulated thermal plant of SPEC §6: one first-order-plus-dead-time process per temperature
+// channel, heated (or cooled) by the duty of its Y output or by an OR value.
+//
+// How to build a PLC with plant and measurement in a test: the easy way is the whole PLC,
+// `config::Config cfg = config::parse_config(yaml, "test.yaml"); daemon::Plc plc(cfg);`, which
+// builds the image, the program (TPCTL, MOV), the plant and, when `temperature.table` is set, the
+// temperature measurement, in the scan order of SPEC §3; then `plc.engine().run_scans(n)` runs n
+// scans of virtual time (scan_ms each) and `plc.plant().true_temperature(0)` /
+// `plc.image().word(image::Area::R, 0)` show the process and its reading. Without a Plc, build an
+// `image::Image` and an `engine::Engine` with the program, call `engine.power_up()`, preset the
+// table in the image, then `plant::attach(engine, cfg)`, which adds the plant and the measurement
+// to the engine and returns them. Plant time is the engine's simulated time: nothing here reads a
+// clock. Channel c of the plant is temperature channel c of the configuration table (SPEC §4
+// numbering), and by default it is heated by the Y output of the TPCTL point that controls it.
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+
+#include "plcemu/config/config.hpp"
+#include "plcemu/engine/engine.hpp"
+#include "plcemu/image/area.hpp"
+
+namespace plcemu::plant {
+
+/// Channels of the plant: as many as the temperature measurement can number (SPEC §4).
+inline constexpr int kChannels = 32;
+
+/// The fault switches of a channel (SPEC §6), as in the config.
+using Faults = config::Faults;
+
+/// Process parameters of one channel (SPEC §6), in engineering units.
+struct ChannelParams {
+    double ambient_c = 25.0;   ///< T_amb, °C
+    double k_c = 400.0;        ///< full-power rise K, °C (cooling: full-power fall)
+    double tau_s = 120.0;      ///< time constant τ, s (> 0)
+    double dead_time_s = 5.0;  ///< dead time θ, s (≥ 0)
+    double noise_c = 0.0;      ///< standard deviation of the sensor noise, °C
+    bool cooling = false;      ///< the actuator pulls T down instead of up
+
+    bool operator==(const ChannelParams&) const = default;
+};
+
+/// What drives a channel's actuator.
+struct Drive {
+    /// Where u comes from.
+    enum class Kind : std::uint8_t {
+        None,     ///< nothing: u = 0
+        Output,   ///< a Y output: u is the duty of the bit over time (PWM)
+        Register  ///< an R/D register: u = value / 16383, clamped to 0–1
+    };
+    Kind kind = Kind::None;  ///< the source
+    image::Device device;    ///< the Y bit or the R/D word
+
+    bool operator==(const Drive&) const = default;
+};
+
+/// One sample of a channel's sensor, as the temperature module sees it.
+struct SensorSample {
+    bool broken = false;   ///< open circuit: no temperature
+    double celsius = 0.0;  ///< sensed temperature (true temperature + noise), °C
+};
+
+/// Where the temperature measurement takes its samples from (the plant, or a fake in tests).
+class SensorSource {
+public:
+    virtual ~SensorSource() = default;
+    /// Samples channel `channel` (0–31) once; called by the measurement each time the module
+    /// converts that channel.
+    virtual SensorSample sense(int channel) noexcept = 0;
+};
+
+/// A piecewise-constant signal over simulated time (nanoseconds), kept as its running integral
+/// at the points where it changed: the dead-time line and the heater-power window of a channel.
+/// Means over any interval are exact, whatever the scan period, and a PWM output costs two
+/// points per cycle.
+class History {
+public:
+    /// Records that the signal was `value` over [t0, t1) (t0 = the end of the last record).
+    void add(std::int64_t t0, std::int64_t t1, double value) noexcept;
+    /// The mean of the signal over [t0, t1). Times before anything was recorded count as 0;
+    /// times already forgotten as the value the signal had when it was forgotten.
+    double mean(std::int64_t t0, std::int64_t t1) const noexcept;
+    /// Forgets what lies wholly before `t`.
+    void forget_before(std::int64_t t) noexcept;
+    /// Points kept.
+    std::size_t size() const { return pts_.size(); }
+
+private:
+    struct Point {
+        std::int64_t t;  // time
+        double c;        // integral of the signal up to t, value·ns
+    };
+    double at(std::int64_t t) const noexcept;  // running integral at t
+
+    std::deque<Point> pts_;
+    double last_ = 0.0;    // value of the last segment
+    bool extend_ = false;  // the last segment may be extended
+    double before_ = 0.0;  // value before the first point
+};
+
+/// The thermal plant: an engine subsystem with up to 32 channels.
+///
+/// Each scan, `inputs()` advances every channel from the previous scan to this one with the
+/// drive that was latched by the previous scan's `outputs()` (a Y bit holds for the whole scan
+/// interval, which is what makes PWM duty the average power); `outputs()` latches the drives the
+/// program has just written. Per channel: dT/dt = (±K·u(t−θ) − (T − T_amb)) / τ, integrated
+/// exactly for a drive that is constant over the step, so any scan period is stable.
+class ThermalPlant final : public engine::Subsystem, public SensorSource {
+public:
+    /// A plant from `plant:` with the drives given (index = channel; missing = none).
+    ThermalPlant(const config::PlantConfig& config, const std::array<Drive, kChannels>& drives);
+
+    /// A plant for a whole config: drives from `plant.*.drive`, else the Y output of the TPCTL
+    /// point whose Sn + i is the channel (first TPCTL of the program wins), else none.
+    static std::unique_ptr<ThermalPlant> from_config(const config::Config& config);
+    /// The default drives of a config (see from_config).
+    static std::array<Drive, kChannels> drives_of(const config::Config& config);
+
+    /// Advances the processes to this scan's time.
+    void inputs(engine::ScanContext& ctx) noexcept override;
+    /// Latches the drives the program wrote.
+    void outputs(engine::ScanContext& ctx) noexcept override;
+    /// Samples a sensor (noise, faults): see SensorSource.
+    SensorSample sense(int channel) noexcept override;
+
+    /// True temperature of a channel, °C (no noise, no sensor fault).
+    double true_temperature(int channel) const noexcept;
+    /// Heater power actually applied (after faults), mean over the last 8 s, 0–1.
+    double heater_power(int channel) const noexcept;
+    /// The drive u latched by the last scan (after faults), 0–1.
+    double drive_now(int channel) const noexcept;
+    /// Fault switches of a channel.
+    Faults faults(int channel) const noexcept;
+    /// Sets the fault switches of a channel (run time; takes effect at the next scan).
+    void set_faults(int channel, const Faults& f) noexcept;
+    /// Process parameters of a channel.
+    const ChannelParams& params(int channel) const noexcept;
+    /// Sets the process parameters of a channel (values out of range are clamped: τ ≥ 0.1 s,
+    /// θ 0–3600 s, K 0–3000, noise ≥ 0). T itself is kept.
+    void set_params(int channel, const ChannelParams& p) noexcept;
+    /// Sets a channel's true temperature (test set-up).
+    void set_temperature(int channel, double celsius) noexcept;
+    /// What drives a channel.
+    const Drive& drive(int channel) const noexcept;
+    /// Changes what drives a channel.
+    void set_drive(int channel, const Drive& d) noexcept;
+    /// Takes over the process temperatures of `old` (a config reload: the heaters and their
+    /// loads do not cool down because the PLC was reconfigured).
+    void continue_from(const ThermalPlant& old) noexcept;
+    /// Simulated time the plant has reached.
+    engine::Duration now() const { return engine::Duration{now_ns_}; }
+
+private:
+    struct Channel {
+        ChannelParams p;
+        Faults faults;
+        Drive drive;
+        double t = 25.0;             // true temperature, °C
+        double u = 0.0;              // drive latched by the last outputs(), after faults
+        History delay;               // applied power, for the dead time
+        History window;              // applied power, for heater_power()
+        std::optional<double> held;  // reading kept while the reading is frozen
+        double last = 25.0;          // last sensed value
+        std::uint64_t samples = 0;   // sensor samples taken, for the noise sequence
+    };
+
+    static bool valid(int channel) { return channel >= 0 && channel < kChannels; }
+    double read_drive(const image::Image& img, const Channel& c) const noexcept;
+    void advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcept;
+    double noise(int channel, std::uint64_t n) const noexcept;
+
+    std::array<Channel, kChannels> ch_;
+    std::uint64_t seed_;
+    std::int64_t now_ns_ = 0;
+    bool started_ = false;
+};
+
+/// What `attach` added to an engine (owned by the engine).
+struct Attached {
+    ThermalPlant* plant = nullptr;             ///< always added
+    engine::Subsystem* measurement = nullptr;  ///< added when temperature.table is set
+};
+
+/// Adds the plant and, when the config has a temperature table, the SPEC §4 measurement to an
+/// engine, in the order that makes readings come before the program and the plant see the
+/// outputs after it. Call after `engine.power_up()`.
+Attached attach(engine::Engine& engine, const config::Config& config);
+
+}  // namespace plcemu::plant

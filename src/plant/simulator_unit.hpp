@@ -1,0 +1,64 @@
+#pragma once
+// The simulator-control unit (SPEC §6, unit 247 by default): time control, plant parameters and
+// fault switches, and read-only plant state, as holding registers on the PLC's listeners.
+
+#include <array>
+#include <cstdint>
+
+#include "plcemu/engine/time_control.hpp"
+#include "plcemu/modbus/unit.hpp"
+#include "plcemu/plant/thermal_plant.hpp"
+
+namespace plcemu::plant {
+
+/// Wire addresses of the simulator unit's holding registers (README, "Simulator-control unit").
+namespace sim {
+inline constexpr std::uint16_t kTimeScale = 0;       ///< 1–10000 simulated s per real s
+inline constexpr std::uint16_t kFreeze = 1;          ///< 1 = scans stopped
+inline constexpr std::uint16_t kStep = 2;            ///< write N: run N scans now
+inline constexpr std::uint16_t kSimSecondsLo = 3;    ///< simulated seconds, low word (read-only)
+inline constexpr std::uint16_t kSimSecondsHi = 4;    ///< simulated seconds, high word (read-only)
+inline constexpr std::uint16_t kChannelBase = 100;   ///< channel c at 100 + 10·c
+inline constexpr std::uint16_t kChannelStride = 10;  ///< words per channel block
+/// Offsets in a channel block.
+enum Offset : std::uint16_t {
+    kFaults = 0,       ///< b0 sensor broken, b1 heater open, b2 heater shorted, b3 reading frozen
+    kAmbient = 1,      ///< 0.1 °C, signed
+    kGain = 2,         ///< K, 0.1 °C
+    kTau = 3,          ///< τ, s
+    kDeadTime = 4,     ///< θ, s
+    kNoise = 5,        ///< σ, 0.01 °C
+    kTrueTemp = 6,     ///< 0.1 °C, signed, read-only
+    kHeaterPower = 7,  ///< 0.1 %, read-only
+};
+inline constexpr std::uint16_t kEnd = kChannelBase + kChannelStride * kChannels;  ///< 420
+}  // namespace sim
+
+/// The unit. Reads show the live state; writes are applied after they land, clamped to the
+/// ranges of the table (the reply is already on the wire, so no exception 03 is possible).
+class SimulatorUnit final : public modbus::Unit {
+public:
+    /// `plant` and `time` must outlive the unit.
+    SimulatorUnit(ThermalPlant& plant, engine::TimeControl& time);
+
+    modbus::Window resolve(modbus::Table table,
+                           std::uint16_t addr,
+                           std::uint16_t qty,
+                           bool write) noexcept override;
+    void written(modbus::Table table, std::uint16_t addr, std::uint16_t qty) noexcept override;
+
+    /// True for a wire address of the map (read access).
+    static bool mapped(std::uint16_t addr);
+    /// True for a wire address a master may write.
+    static bool writable(std::uint16_t addr);
+
+private:
+    void refresh() noexcept;
+    void apply(std::uint16_t addr, std::uint16_t v) noexcept;
+
+    ThermalPlant& plant_;
+    engine::TimeControl& time_;
+    std::array<std::uint16_t, sim::kEnd> regs_{};
+};
+
+}  // namespace plcemu::plant

@@ -1,0 +1,301 @@
+#include "plcemu/plant/thermal_plant.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace plcemu::plant {
+
+namespace {
+
+constexpr std::int64_t kNsPerS = 1'000'000'000;
+// Heater power is shown as the mean over this window: a whole number of PWM cycles for the
+// 1, 2, 4 and 8 s cycles of R4005, so the value does not ripple with the PWM.
+constexpr std::int64_t kPowerWindowNs = 8 * kNsPerS;
+std::int64_t to_ns(double seconds) {
+    return static_cast<std::int64_t>(std::llround(seconds * 1e9));
+}
+
+ChannelParams clamp_params(ChannelParams p) {
+    // Ranges of the config loader, so a run-time write cannot make the model meaningless.
+    p.ambient_c = std::clamp(p.ambient_c, -200.0, 1000.0);
+    p.k_c = std::clamp(p.k_c, 0.0, 3000.0);
+    p.tau_s = std::clamp(p.tau_s, 0.1, 100000.0);
+    p.dead_time_s = std::clamp(p.dead_time_s, 0.0, 3600.0);
+    p.noise_c = std::clamp(p.noise_c, 0.0, 100.0);
+    return p;
+}
+
+ChannelParams params_of(const config::ChannelConfig& c) {
+    return clamp_params({c.ambient_c, c.k_c, c.tau_s, c.dead_time_s, c.noise_c, c.cooling});
+}
+
+Drive drive_of(const image::Device& d) {
+    return {d.area == image::Area::Y ? Drive::Kind::Output : Drive::Kind::Register, d};
+}
+
+// splitmix64: a counter-based generator, so sample n of channel c is the same in every run.
+std::uint64_t mix(std::uint64_t x) {
+    x += 0x9E3779B97F4A7C15ULL;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+    return x ^ (x >> 31);
+}
+
+double unit_interval(std::uint64_t x) {
+    // 53 random bits in (0, 1].
+    return (static_cast<double>(x >> 11) + 1.0) / 9007199254740992.0;
+}
+
+// An operand of a TPCTL entry as an integer ("0", "K10"), or -1.
+long long operand_integer(const config::InstructionConfig& ic, const char* key) {
+    for (const auto& [k, v] : ic.operands) {
+        if (k != key) continue;
+        std::string s = v.text;
+        if (!s.empty() && (s[0] == 'K' || s[0] == 'k')) s.erase(0, 1);
+        if (s.empty() || s.size() > 6) return -1;
+        for (char c : s) {
+            if (!std::isdigit(static_cast<unsigned char>(c))) return -1;
+        }
+        return std::stoll(s);
+    }
+    return -1;
+}
+
+std::optional<image::Device> operand_device(const config::InstructionConfig& ic, const char* key) {
+    for (const auto& [k, v] : ic.operands) {
+        if (k == key) return image::parse_device(v.text);
+    }
+    return std::nullopt;
+}
+
+bool is_tpctl(const std::string& mnemonic) {
+    std::string u;
+    for (char c : mnemonic) u += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return u == "TPCTL";
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+void History::add(std::int64_t t0, std::int64_t t1, double value) noexcept {
+    if (t1 <= t0) return;
+    if (pts_.empty() || pts_.back().t != t0) {
+        // First record, or a gap (the signal was 0 in it).
+        pts_.push_back({t0, pts_.empty() ? 0.0 : pts_.back().c});
+        extend_ = false;
+    }
+    const double inc = value * static_cast<double>(t1 - t0);
+    if (extend_ && value == last_) {
+        pts_.back().t = t1;
+        pts_.back().c += inc;
+    } else {
+        pts_.push_back({t1, pts_.back().c + inc});
+        last_ = value;
+        extend_ = true;
+    }
+    // A signal that changes every scan over a very long dead time: keep every other point (the
+    // integral stays exact at the points kept; the memory stays bounded).
+    constexpr std::size_t kMaxPoints = 1u << 18;
+    if (pts_.size() > kMaxPoints) {
+        std::deque<Point> kept;
+        for (std::size_t i = 0; i < pts_.size(); i += 2) kept.push_back(pts_[i]);
+        if (kept.back().t != pts_.back().t) kept.push_back(pts_.back());
+        pts_ = std::move(kept);
+        extend_ = false;
+    }
+}
+
+double History::at(std::int64_t t) const noexcept {
+    const Point& first = pts_.front();
+    if (t <= first.t) return first.c - before_ * static_cast<double>(first.t - t);
+    if (t >= pts_.back().t) return pts_.back().c;  // nothing recorded yet past the end
+    // The last point at or before t.
+    auto it = std::upper_bound(pts_.begin(), pts_.end(), t,
+                               [](std::int64_t x, const Point& p) { return x < p.t; });
+    const Point& b = *it;
+    const Point& a = *(it - 1);
+    return a.c + (b.c - a.c) * static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
+}
+
+double History::mean(std::int64_t t0, std::int64_t t1) const noexcept {
+    if (t1 <= t0) return 0.0;
+    if (pts_.empty()) return before_;
+    return (at(t1) - at(t0)) / static_cast<double>(t1 - t0);
+}
+
+void History::forget_before(std::int64_t t) noexcept {
+    while (pts_.size() >= 2 && pts_[1].t <= t) {
+        before_ = (pts_[1].c - pts_[0].c) / static_cast<double>(pts_[1].t - pts_[0].t);
+        pts_.pop_front();
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+ThermalPlant::ThermalPlant(const config::PlantConfig& config,
+                           const std::array<Drive, kChannels>& drives)
+    : seed_(config.seed) {
+    for (int i = 0; i < kChannels; ++i) {
+        config::ChannelConfig cc = config.defaults;
+        for (const auto& [idx, c] : config.channels) {
+            if (idx == i) cc = c;
+        }
+        Channel& c = ch_[static_cast<std::size_t>(i)];
+        c.p = params_of(cc);
+        c.faults = cc.faults;
+        c.drive = cc.drive ? drive_of(*cc.drive) : drives[static_cast<std::size_t>(i)];
+        c.t = c.p.ambient_c;
+        c.last = c.t;
+    }
+}
+
+std::array<Drive, kChannels> ThermalPlant::drives_of(const config::Config& config) {
+    std::array<Drive, kChannels> d{};
+    for (const auto& ic : config.program) {
+        if (!is_tpctl(ic.mnemonic)) continue;
+        const auto yn = operand_device(ic, "yn");
+        const long long sn = operand_integer(ic, "sn");
+        const long long zn = operand_integer(ic, "zn");
+        if (!yn || yn->area != image::Area::Y || yn->word_of_bits || sn < 0 || zn < 1) continue;
+        for (long long i = 0; i < zn; ++i) {
+            const long long ch = sn + i;
+            const long long y = yn->index + i;
+            if (ch >= kChannels || y > 255) break;
+            auto& slot = d[static_cast<std::size_t>(ch)];
+            if (slot.kind != Drive::Kind::None) continue;  // the first TPCTL wins
+            slot = {Drive::Kind::Output, {image::Area::Y, static_cast<std::uint32_t>(y), false}};
+        }
+    }
+    return d;
+}
+
+std::unique_ptr<ThermalPlant> ThermalPlant::from_config(const config::Config& config) {
+    return std::make_unique<ThermalPlant>(config.plant, drives_of(config));
+}
+
+double ThermalPlant::read_drive(const image::Image& img, const Channel& c) const noexcept {
+    const auto& d = c.drive.device;
+    if (c.drive.kind == Drive::Kind::None || d.index >= img.layout().size_of(d.area)) return 0.0;
+    if (c.drive.kind == Drive::Kind::Output) return img.bit(d.area, d.index) ? 1.0 : 0.0;
+    const double v = static_cast<double>(img.word(d.area, d.index));
+    return std::min(v, 16383.0) / 16383.0;
+}
+
+void ThermalPlant::advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcept {
+    // Faults act on the power actually applied: open = no power, shorted = full power.
+    const double u = c.faults.heater_open ? 0.0 : (c.faults.heater_shorted ? 1.0 : c.u);
+    c.delay.add(t0, t1, u);
+    c.window.add(t0, t1, u);
+    const std::int64_t theta = to_ns(c.p.dead_time_s);
+    const double ud = c.delay.mean(t0 - theta, t1 - theta);
+    const double rise = (c.p.cooling ? -c.p.k_c : c.p.k_c) * ud;
+    const double target = c.p.ambient_c + rise;
+    // Exact solution of dT/dt = (target − T)/τ over the step: stable for any step length.
+    const double dt = static_cast<double>(t1 - t0) / 1e9;
+    c.t = target + (c.t - target) * std::exp(-dt / c.p.tau_s);
+    c.delay.forget_before(t1 - theta);
+    c.window.forget_before(t1 - kPowerWindowNs);
+}
+
+void ThermalPlant::inputs(engine::ScanContext& ctx) noexcept {
+    const std::int64_t now = ctx.now.count();
+    if (!started_) {
+        started_ = true;
+        now_ns_ = now;
+        return;
+    }
+    if (now <= now_ns_) return;
+    for (auto& c : ch_) advance(c, now_ns_, now);
+    now_ns_ = now;
+}
+
+void ThermalPlant::outputs(engine::ScanContext& ctx) noexcept {
+    for (auto& c : ch_) c.u = read_drive(ctx.image, c);
+}
+
+double ThermalPlant::noise(int channel, std::uint64_t n) const noexcept {
+    const std::uint64_t base = mix(seed_ ^ mix(static_cast<std::uint64_t>(channel) << 40 ^ n));
+    const double u1 = unit_interval(mix(base));
+    const double u2 = unit_interval(mix(base + 1));
+    // Box–Muller: a standard normal deviate.
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
+SensorSample ThermalPlant::sense(int channel) noexcept {
+    if (!valid(channel)) return {true, 0.0};
+    Channel& c = ch_[static_cast<std::size_t>(channel)];
+    if (c.faults.sensor_broken) return {true, 0.0};
+    if (c.faults.reading_frozen) {
+        if (!c.held) c.held = c.last;
+        return {false, *c.held};
+    }
+    c.held.reset();
+    double v = c.t;
+    if (c.p.noise_c > 0.0) v += c.p.noise_c * noise(channel, c.samples++);
+    c.last = v;
+    return {false, v};
+}
+
+double ThermalPlant::true_temperature(int channel) const noexcept {
+    return valid(channel) ? ch_[static_cast<std::size_t>(channel)].t : 0.0;
+}
+
+double ThermalPlant::heater_power(int channel) const noexcept {
+    if (!valid(channel)) return 0.0;
+    const Channel& c = ch_[static_cast<std::size_t>(channel)];
+    const std::int64_t from = std::max<std::int64_t>(0, now_ns_ - kPowerWindowNs);
+    if (now_ns_ <= from) return drive_now(channel);
+    return c.window.mean(from, now_ns_);
+}
+
+double ThermalPlant::drive_now(int channel) const noexcept {
+    if (!valid(channel)) return 0.0;
+    const Channel& c = ch_[static_cast<std::size_t>(channel)];
+    return c.faults.heater_open ? 0.0 : (c.faults.heater_shorted ? 1.0 : c.u);
+}
+
+Faults ThermalPlant::faults(int channel) const noexcept {
+    return valid(channel) ? ch_[static_cast<std::size_t>(channel)].faults : Faults{};
+}
+
+void ThermalPlant::set_faults(int channel, const Faults& f) noexcept {
+    if (valid(channel)) ch_[static_cast<std::size_t>(channel)].faults = f;
+}
+
+const ChannelParams& ThermalPlant::params(int channel) const noexcept {
+    return ch_[static_cast<std::size_t>(std::clamp(channel, 0, kChannels - 1))].p;
+}
+
+void ThermalPlant::set_params(int channel, const ChannelParams& p) noexcept {
+    if (!valid(channel)) return;
+    Channel& c = ch_[static_cast<std::size_t>(channel)];
+    const ChannelParams np = clamp_params(p);
+    // A longer dead time looks further back than was kept: that stretch counts as the power
+    // applied when it was forgotten (History::mean).
+    c.p = np;
+}
+
+void ThermalPlant::set_temperature(int channel, double celsius) noexcept {
+    if (valid(channel)) ch_[static_cast<std::size_t>(channel)].t = celsius;
+}
+
+void ThermalPlant::continue_from(const ThermalPlant& old) noexcept {
+    for (std::size_t i = 0; i < ch_.size(); ++i) {
+        ch_[i].t = old.ch_[i].t;
+        ch_[i].last = old.ch_[i].last;
+    }
+}
+
+const Drive& ThermalPlant::drive(int channel) const noexcept {
+    return ch_[static_cast<std::size_t>(std::clamp(channel, 0, kChannels - 1))].drive;
+}
+
+void ThermalPlant::set_drive(int channel, const Drive& d) noexcept {
+    if (valid(channel)) ch_[static_cast<std::size_t>(channel)].drive = d;
+}
+
+}  // namespace plcemu::plant
