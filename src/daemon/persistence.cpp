@@ -16,10 +16,17 @@ std::string state_file_path(const config::Config& config, const std::string& sta
     std::string dir = state_directory.substr(0, state_directory.find(':'));
     if (dir.empty()) {
         const auto slash = config.path.rfind('/');
-        dir = slash == std::string::npos ? "." : config.path.substr(0, slash);
-        if (dir.empty()) dir = "/";
+        if (slash == std::string::npos) {
+            dir.assign(1, '.');
+        } else if (slash == 0) {
+            dir.assign(1, '/');
+        } else {
+            dir.assign(config.path, 0, slash);
+        }
     }
-    return dir.back() == '/' ? dir + name : dir + "/" + name;
+    if (dir.back() != '/') dir += '/';
+    dir += name;
+    return dir;
 }
 
 SyncThread::SyncThread(image::StateFile& file, std::chrono::milliseconds period)
