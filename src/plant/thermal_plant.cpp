@@ -113,9 +113,11 @@ double History::at(std::int64_t t) const noexcept {
     const Point& first = pts_.front();
     if (t <= first.t) return first.c - before_ * static_cast<double>(first.t - t);
     if (t >= pts_.back().t) return pts_.back().c;  // nothing recorded yet past the end
-    // The last point at or before t.
-    auto it = std::upper_bound(pts_.begin(), pts_.end(), t,
-                               [](std::int64_t x, const Point& p) { return x < p.t; });
+    // The first point after t. Queries come just after the forgotten part (the dead-time line
+    // is asked about t − θ right after forget_before(t − θ)), so a scan from the front beats a
+    // binary search over the deque.
+    auto it = pts_.begin() + 1;
+    while (it->t <= t) ++it;
     const Point& b = *it;
     const Point& a = *(it - 1);
     return a.c + (b.c - a.c) * static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
@@ -188,15 +190,27 @@ double ThermalPlant::read_drive(const image::Image& img, const Channel& c) const
 void ThermalPlant::advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcept {
     // Faults act on the power actually applied: open = no power, shorted = full power.
     const double u = c.faults.heater_open ? 0.0 : (c.faults.heater_shorted ? 1.0 : c.u);
+    const std::int64_t theta = to_ns(c.p.dead_time_s);
+    // At rest (no power now or within the dead time, at ambient): nothing would change. The
+    // histories then keep a gap, which they read as zero power.
+    if (u == 0.0 && c.powered_until <= t0 - theta && c.t == c.p.ambient_c) return;
+    if (u != 0.0) c.powered_until = t1;
     c.delay.add(t0, t1, u);
     c.window.add(t0, t1, u);
-    const std::int64_t theta = to_ns(c.p.dead_time_s);
     const double ud = c.delay.mean(t0 - theta, t1 - theta);
     const double rise = (c.p.cooling ? -c.p.k_c : c.p.k_c) * ud;
     const double target = c.p.ambient_c + rise;
     // Exact solution of dT/dt = (target − T)/τ over the step: stable for any step length.
     const double dt = static_cast<double>(t1 - t0) / 1e9;
-    c.t = target + (c.t - target) * std::exp(-dt / c.p.tau_s);
+    if (dt != c.decay_dt || c.p.tau_s != c.decay_tau) {
+        c.decay_dt = dt;
+        c.decay_tau = c.p.tau_s;
+        c.decay = std::exp(-dt / c.p.tau_s);
+    }
+    c.t = target + (c.t - target) * c.decay;
+    // Settled back to ambient with no power: snap, so the channel can rest (1e-6 °C is far
+    // below the 0.1° resolution of any reading).
+    if (ud == 0.0 && std::abs(c.t - target) < 1e-6) c.t = target;
     c.delay.forget_before(t1 - theta);
     c.window.forget_before(t1 - kPowerWindowNs);
 }
