@@ -193,13 +193,57 @@ for b in json.load(sys.stdin).get("benchmarks", []):
 # How late each scan starts against its absolute deadline (p50/p99/max), with the daemon idle
 # and under the 16-connection load.
 bench_scan_lateness() {
-    :
+    local port log=$TMP/lateness.log what c
+    if [[ $BUILD_OK != 1 || ! -x $BUILD/plcemud ]]; then
+        note "scan lateness: $BUILD/plcemud not built; skipped"
+        return 0
+    fi
+    for what in idle c16; do
+        port=$(free_port)
+        start_server lateness "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port" ||
+            return 0
+        if [[ $what == c16 ]]; then
+            "$BUILD/load_client" --port "$port" --connections 16 --seconds "$RUN_SECONDS" \
+                --warmup "$WARMUP_SECONDS" --label lateness >/dev/null || true
+        else
+            sleep "$((RUN_SECONDS + WARMUP_SECONDS))"
+        fi
+        stop_server
+        # plcemud logs the lateness of every scan start against its deadline when it stops.
+        cp "$TMP/lateness.log" "$log.$what"
+        emit < <(sed -n 's/.*scan lateness: \([0-9]*\) scans, p50 \([0-9]*\) us, p99 \([0-9]*\) us, max \([0-9]*\) us.*/\2 \3 \4/p' \
+            "$log.$what" | awk -v n="plcemud.scan_lateness.$what" \
+            '{ printf "%s.p50 %s us\n%s.p99 %s us\n%s.max %s us\n", n, $1, n, $2, n, $3 }')
+    done
+    c=${FIG[plcemud.scan_lateness.c16.p99]:-}
+    [[ -n $c ]] || note "scan lateness: no figures (see plcemud's log)"
 }
 
 # ---- Hook: RTU turnaround ---------------------------------------------------------------------
 # Request-to-reply time over a socat pty pair at a given baud rate, against the t3.5 silence.
 bench_rtu_turnaround() {
-    :
+    local a=$TMP/rtu-a b=$TMP/rtu-b pty_pid cfg=$TMP/rtu.yaml
+    if [[ $BUILD_OK != 1 || ! -x $BUILD/plcemud ]] || ! command -v socat >/dev/null; then
+        note "rtu turnaround: needs $BUILD/plcemud and socat; skipped"
+        return 0
+    fi
+    scripts/rtu-pty.sh "$a" "$b" >/dev/null &
+    pty_pid=$!
+    for _ in $(seq 100); do [[ -e $a && -e $b ]] && break; sleep 0.05; done
+    cat >"$cfg" <<YAML
+profile: fbs
+modbus:
+  tcp: {enabled: false}
+  rtu: {device: $a, baud: 115200, parity: N}
+persistence: {enabled: false}
+YAML
+    "$BUILD/plcemud" -c "$cfg" >"$TMP/rtu.log" 2>&1 &
+    SERVER_PID=$!
+    sleep 0.5
+    emit < <("$PY" bench/rtu_turnaround.py "$b" --label plcemud.rtu115200)
+    stop_server
+    kill "$pty_pid" 2>/dev/null || true
+    wait "$pty_pid" 2>/dev/null || true
 }
 
 install_packages

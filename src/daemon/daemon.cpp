@@ -4,8 +4,18 @@
 
 #include <asio.hpp>
 
-#include "plcemu/daemon/plc.hpp"
+#include <cstdlib>
+#include <ctime>
+
+#include "daemon/notify.hpp"
+#include "daemon/persistence.hpp"
+#include "daemon/reload.hpp"
 #include "daemon/scan_driver.hpp"
+#include "plcemu/daemon/plc.hpp"
+#include "plcemu/engine/special.hpp"
+#include "plcemu/image/state_file.hpp"
+#include "plant/simulator_unit.hpp"
+#include "modbus/rtu_server.hpp"
 #include "modbus/tcp_server.hpp"
 
 namespace plcemu::daemon {
@@ -33,42 +43,289 @@ modbus::TcpOptions tcp_options(const config::Config& c) {
     return o;
 }
 
+// The running daemon: the state file, the PLC, the transports and the scan loop, and what a
+// signal does to them. A reload builds the new PLC beside the running one and swaps it in only
+// when it validated (DESIGN principle 8).
+class Runtime {
+public:
+    Runtime(std::string config_path, Overrides overrides)
+        : config_path_(std::move(config_path)),
+          overrides_(overrides) {}
+
+    int run() {
+        cfg_ = config::load_config(config_path_);
+        apply_overrides(cfg_, overrides_);
+        spdlog::set_level(spdlog::level::from_str(cfg_.log.level));
+        // Everything the config can get wrong, found before any file or port is touched.
+        { Plc probe(cfg_); }
+        tcp_options(cfg_);
+
+        Start start = Start::Fresh;
+        if (cfg_.persistence.enabled) {
+            const char* dir = std::getenv("STATE_DIRECTORY");
+            const std::string path = state_file_path(cfg_, dir ? dir : "");
+            state_ = std::make_unique<image::StateFile>(path, cfg_.profile, plc_layout(cfg_),
+                                                        std::time(nullptr));
+            for (const auto& n : state_->notes()) {
+                if (n.warning) {
+                    spdlog::warn("{}", n.text);
+                } else {
+                    spdlog::info("{}", n.text);
+                }
+            }
+            sync_ = std::make_unique<SyncThread>(
+                *state_, std::chrono::milliseconds(cfg_.persistence.sync_ms));
+            if (state_->retained()) start = Start::Retained;
+        } else {
+            spdlog::info("persistence disabled: nothing is retained across restarts");
+            heap_.assign(image::Image::storage_size(plc_layout(cfg_)), std::byte{0});
+        }
+        plc_ = std::make_unique<Plc>(cfg_, storage(), start);
+
+        if (cfg_.modbus.tcp.enabled) {
+            tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(cfg_));
+        }
+        open_rtu();
+        start_scanning();
+
+        spdlog::info("plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
+                     version(), image::profile_name(cfg_.profile), cfg_.model,
+                     int(cfg_.station), cfg_.scan_ms, cfg_.time_scale);
+        spdlog::info("program: {} instruction(s); power-ups (R4057): {}", cfg_.program.size(),
+                     plc_->image().word(image::Area::R, engine::special::kPowerUps));
+        if (tcp_) spdlog::info("listening on tcp {}", tcp_->endpoint());
+
+        arm_signals();
+        arm_watchdog_timer();
+        notify_.ready(status_line());
+        io_.run();
+
+        spdlog::info("stopped after {} scans", plc_->engine().scans());
+        if (driver_) {
+            // Scan-start lateness against the real-time deadlines (scripts/bench.sh reads it).
+            const auto& l = driver_->lateness();
+            spdlog::info("scan lateness: {} scans, p50 {} us, p99 {} us, max {} us, {} over 1 ms",
+                         l.scans, l.percentile(0.50).count(), l.percentile(0.99).count(),
+                         std::chrono::duration_cast<std::chrono::microseconds>(l.max).count(),
+                         l.over_1ms);
+        }
+        tcp_.reset();
+        rtu_.reset();
+        sim_.reset();
+        driver_.reset();
+        plc_.reset();
+        sync_.reset();
+        if (state_) {
+            state_->close();
+            spdlog::info("state file {} closed", state_->path());
+        }
+        return 0;
+    }
+
+private:
+    std::span<std::byte> storage() { return state_ ? state_->storage() : std::span(heap_); }
+
+    // The serial slave shares the loop and the dispatcher: both transports see one image.
+    void open_rtu() {
+        if (!cfg_.modbus.rtu) return;
+        const config::RtuConfig& r = *cfg_.modbus.rtu;
+        rtu_ = std::make_unique<modbus::RtuServer>(
+            io_, plc_->dispatcher(),
+            modbus::RtuOptions{r.device, r.baud, r.parity, r.data_bits, r.stop_bits});
+        spdlog::info("listening on rtu {}", rtu_->description());
+    }
+
+    void start_scanning() {
+        // A frozen simulation stays frozen across a reload.
+        const bool frozen = driver_ && driver_->frozen();
+        driver_ = std::make_unique<ScanDriver>(io_, plc_->engine(), cfg_.time_scale);
+        if (frozen) driver_->set_frozen(true);
+        // SPEC §6: the simulator-control unit, on the same listeners as the PLC.
+        sim_ = std::make_unique<plant::SimulatorUnit>(plc_->plant(), *driver_);
+        plc_->dispatcher().set_simulator(sim_.get(),
+                                         static_cast<std::uint8_t>(cfg_.simulator.unit));
+        // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
+        driver_->on_scan([this] { notify_.watchdog(Notifier::Clock::now()); });
+        driver_->start();
+    }
+
+    // A frozen simulation runs no scans, but the loop is alive: ping for it.
+    void arm_watchdog_timer() {
+        if (!notify_.watchdog_enabled()) return;
+        watchdog_timer_.expires_after(notify_.watchdog_interval() / 2);
+        watchdog_timer_.async_wait([this](const asio::error_code& ec) {
+            if (ec) return;
+            if (driver_ && driver_->frozen()) notify_.watchdog(Notifier::Clock::now());
+            arm_watchdog_timer();
+        });
+    }
+
+    void arm_signals() {
+        signals_.async_wait([this](const asio::error_code& ec, int sig) {
+            if (ec) return;
+            if (sig == SIGHUP) {
+                reload();
+                arm_signals();
+                return;
+            }
+            spdlog::info("signal {}: stopping", sig == SIGINT ? "SIGINT" : "SIGTERM");
+            notify_.stopping();
+            watchdog_timer_.cancel();
+            if (driver_) driver_->stop();
+            if (tcp_) tcp_->stop();
+            if (rtu_) rtu_->stop();
+            io_.stop();
+        });
+    }
+
+    std::string status_line() const {
+        std::string s = "station " + std::to_string(plc_->engine().station());
+        if (tcp_) s += ", tcp " + tcp_->endpoint();
+        if (rtu_) s += ", rtu " + rtu_->description();
+        if (state_) s += ", state " + state_->path();
+        return s;
+    }
+
+    // SIGHUP: validate the whole new config off to the side; apply it only if it is good.
+    void reload() {
+        notify_.reloading();
+        spdlog::info("SIGHUP: reloading {}", config_path_);
+        config::Config next;
+        try {
+            next = config::load_config(config_path_);
+            apply_overrides(next, overrides_);
+            { Plc probe(next); }  // its own image: the live one is not touched
+            tcp_options(next);
+        } catch (const std::exception& e) {
+            spdlog::error("reload: {}", e.what());
+            spdlog::error("reload: configuration rejected; still running the previous one");
+            notify_.ready(status_line());
+            return;
+        }
+        const bool new_listener = tcp_listener_changed(cfg_, next);
+        std::unique_ptr<modbus::TcpServer> new_tcp;
+        if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_.profile) {
+            spdlog::error("reload: the profile's image layout changed; restart plcemud to "
+                          "apply it. Still running the previous configuration");
+            notify_.ready(status_line());
+            return;
+        }
+        if (next.persistence.enabled != cfg_.persistence.enabled ||
+            next.persistence.file != cfg_.persistence.file) {
+            spdlog::warn("reload: persistence.enabled and persistence.file take effect at the "
+                         "next start; the image stays in {}",
+                         state_ ? state_->path() : std::string("memory"));
+        }
+        // Open a new listener before anything changes, so a port in use rejects the reload.
+        if (new_listener && next.modbus.tcp.enabled) {
+            try {
+                new_tcp = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(),
+                                                              tcp_options(next));
+            } catch (const std::exception& e) {
+                // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
+                if (!tcp_ || next.modbus.tcp.port == 0 ||
+                    next.modbus.tcp.port != cfg_.modbus.tcp.port) {
+                    spdlog::error("reload: {}; still running the previous configuration",
+                                  e.what());
+                    notify_.ready(status_line());
+                    return;
+                }
+                // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the
+                // port, so it goes first; if the new one still fails, the old one comes back.
+                spdlog::info("reload: closing tcp {} to listen on {}:{}", tcp_->endpoint(),
+                             next.modbus.tcp.bind, next.modbus.tcp.port);
+                tcp_->stop();
+                try {
+                    new_tcp = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(),
+                                                                  tcp_options(next));
+                } catch (const std::exception& e2) {
+                    spdlog::error("reload: {}; still running the previous configuration",
+                                  e2.what());
+                    try {
+                        tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(),
+                                                                   tcp_options(cfg_));
+                    } catch (const std::exception& e3) {
+                        tcp_.reset();
+                        spdlog::error("tcp: cannot listen again: {}; serving no TCP", e3.what());
+                    }
+                    notify_.ready(status_line());
+                    return;
+                }
+            }
+        }
+
+        // A station a master set through R4055 stays, unless the config's station changed.
+        config::Config applied = next;
+        if (next.station == cfg_.station) applied.station = plc_->engine().station();
+        driver_->stop();
+        if (rtu_) rtu_->stop();
+        rtu_.reset();
+        std::unique_ptr<Plc> plc;
+        try {
+            plc = std::make_unique<Plc>(applied, storage(), Start::Reload);
+        } catch (const std::exception& e) {
+            spdlog::error("reload: {}; still running the previous configuration", e.what());
+            if (new_tcp) new_tcp->stop();
+            try {
+                open_rtu();
+            } catch (const std::exception& re) {
+                spdlog::error("rtu: {}", re.what());
+            }
+            driver_->start();
+            notify_.ready(status_line());
+            return;
+        }
+        const auto changes = config_changes(cfg_, next);
+        plc->plant().continue_from(plc_->plant());
+        plc_ = std::move(plc);
+        cfg_ = applied;
+
+        if (new_listener) {
+            if (tcp_) tcp_->stop();
+            tcp_ = std::move(new_tcp);
+            if (tcp_) spdlog::info("listening on tcp {}", tcp_->endpoint());
+        } else if (tcp_) {
+            const auto o = tcp_options(cfg_);
+            tcp_->set_limits(o.max_clients, o.idle_timeout_s, o.allow);
+        }
+        if (tcp_) tcp_->set_dispatcher(plc_->dispatcher());
+        try {
+            open_rtu();
+        } catch (const std::exception& e) {
+            spdlog::error("reload: rtu: {}; serving without the serial port", e.what());
+        }
+        start_scanning();
+        if (state_) state_->set_retentive(plc_layout(cfg_).retentive);
+        if (sync_) sync_->set_period(std::chrono::milliseconds(cfg_.persistence.sync_ms));
+        spdlog::set_level(spdlog::level::from_str(cfg_.log.level));
+
+        if (changes.empty()) spdlog::info("reload: no setting changed; program restarted");
+        for (const auto& c : changes) spdlog::info("reload: {}", c);
+        spdlog::info("reload: done; station {}, image kept", int(plc_->engine().station()));
+        notify_.ready(status_line());
+    }
+
+    std::string config_path_;
+    Overrides overrides_;
+    config::Config cfg_;
+    asio::io_context io_{1};
+    Notifier notify_;
+    std::unique_ptr<image::StateFile> state_;
+    std::unique_ptr<SyncThread> sync_;
+    std::vector<std::byte> heap_;  // the image when persistence is disabled
+    std::unique_ptr<Plc> plc_;
+    std::unique_ptr<modbus::TcpServer> tcp_;
+    std::unique_ptr<modbus::RtuServer> rtu_;
+    std::unique_ptr<ScanDriver> driver_;
+    std::unique_ptr<plant::SimulatorUnit> sim_;
+    asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
+    asio::steady_timer watchdog_timer_{io_};
+};
+
 }  // namespace
 
 int run_daemon(const std::string& config_path, const Overrides& overrides) {
-    config::Config cfg = config::load_config(config_path);
-    apply_overrides(cfg, overrides);
-    spdlog::set_level(spdlog::level::from_str(cfg.log.level));
-
-    Plc plc(cfg);
-    asio::io_context io(1);
-
-    std::unique_ptr<modbus::TcpServer> tcp;
-    if (cfg.modbus.tcp.enabled) {
-        tcp = std::make_unique<modbus::TcpServer>(io, plc.dispatcher(), tcp_options(cfg));
-    }
-
-    ScanDriver driver(io, plc.engine(), cfg.time_scale);
-
-    spdlog::info("plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
-                 version(), image::profile_name(cfg.profile), cfg.model, int(cfg.station),
-                 cfg.scan_ms, cfg.time_scale);
-    spdlog::info("program: {} instruction(s)", cfg.program.size());
-    if (tcp) spdlog::info("listening on tcp {}", tcp->endpoint());
-
-    asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](const asio::error_code& ec, int sig) {
-        if (ec) return;
-        spdlog::info("signal {}: stopping", sig == SIGINT ? "SIGINT" : "SIGTERM");
-        driver.stop();
-        if (tcp) tcp->stop();
-        io.stop();
-    });
-
-    driver.start();
-    io.run();
-    spdlog::info("stopped after {} scans", plc.engine().scans());
-    return 0;
+    return Runtime(config_path, overrides).run();
 }
 
 }  // namespace plcemu::daemon

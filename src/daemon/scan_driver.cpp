@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <ctime>
 
 namespace plcemu::daemon {
@@ -14,6 +15,28 @@ constexpr auto kBudget = std::chrono::milliseconds(2);
 constexpr auto kMaxBehind = std::chrono::seconds(1);
 
 }  // namespace
+
+void LatenessStats::record(std::chrono::nanoseconds late) noexcept {
+    ++scans;
+    if (late > max) max = late;
+    if (late > std::chrono::milliseconds(1)) ++over_1ms;
+    const auto bucket = static_cast<std::size_t>(late.count() < 0 ? 0 : late / kBucket);
+    ++histogram[std::min(bucket, kBuckets - 1)];
+}
+
+std::chrono::microseconds LatenessStats::percentile(double fraction) const noexcept {
+    const auto wanted = static_cast<std::uint64_t>(fraction * static_cast<double>(scans));
+    std::uint64_t seen = 0;
+    for (std::size_t i = 0; i < kBuckets; ++i) {
+        seen += histogram[i];
+        if (seen > wanted || seen == scans) {
+            // The bucket's upper edge, but never more than the worst seen.
+            return std::min(kBucket * static_cast<long>(i + 1),
+                            std::chrono::duration_cast<std::chrono::microseconds>(max));
+        }
+    }
+    return std::chrono::duration_cast<std::chrono::microseconds>(max);
+}
 
 ScanDriver::ScanDriver(asio::io_context& io, engine::Engine& engine, double time_scale)
     : io_(io),
@@ -45,13 +68,13 @@ ScanDriver::Clock::time_point ScanDriver::deadline(engine::Duration sim) const {
     return base_real_ + std::chrono::duration_cast<Clock::duration>(real);
 }
 
-void ScanDriver::set_time_scale(double scale) {
+void ScanDriver::set_time_scale(double scale) noexcept {
     rebase(Clock::now());
     scale_ = scale;
     if (running_ && !frozen_) arm();
 }
 
-void ScanDriver::set_frozen(bool frozen) {
+void ScanDriver::set_frozen(bool frozen) noexcept {
     if (frozen == frozen_) return;
     frozen_ = frozen;
     if (frozen_) {
@@ -62,7 +85,7 @@ void ScanDriver::set_frozen(bool frozen) {
     }
 }
 
-void ScanDriver::step(std::uint64_t n) {
+void ScanDriver::step(std::uint64_t n) noexcept {
     for (std::uint64_t i = 0; i < n; ++i) {
         run_one(next_sim_);
         next_sim_ += engine_.scan_period();
@@ -96,9 +119,7 @@ void ScanDriver::tick() {
     auto now = start;
     while (!frozen_ && deadline(next_sim_) <= now) {
         const auto late = now - deadline(next_sim_);
-        ++lateness_.scans;
-        if (late > lateness_.max) lateness_.max = late;
-        if (late > std::chrono::milliseconds(1)) ++lateness_.over_1ms;
+        lateness_.record(late);
         run_one(next_sim_);
         next_sim_ += engine_.scan_period();
         now = Clock::now();

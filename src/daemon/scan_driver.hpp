@@ -3,23 +3,35 @@
 // running `time_scale` times faster than real time. The engine itself never reads a clock.
 
 #include <asio.hpp>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
 
 #include "plcemu/engine/engine.hpp"
+#include "plcemu/engine/time_control.hpp"
 
 namespace plcemu::daemon {
 
 /// Lateness of scan starts against their real-time deadlines.
 struct LatenessStats {
+    /// Histogram resolution; the last bucket holds everything from 10 ms up.
+    static constexpr std::chrono::microseconds kBucket{10};
+    static constexpr std::size_t kBuckets = 1001;
+
     std::uint64_t scans = 0;               ///< scans run by the driver
     std::chrono::nanoseconds max{0};       ///< worst lateness
     std::uint64_t over_1ms = 0;            ///< scans started more than 1 ms late
+    std::array<std::uint32_t, kBuckets> histogram{}; ///< scans per 10 µs of lateness
+
+    /// Records one scan start `late` after its deadline.
+    void record(std::chrono::nanoseconds late) noexcept;
+    /// The lateness that `fraction` (e.g. 0.99) of the scans did not exceed, to 10 µs.
+    std::chrono::microseconds percentile(double fraction) const noexcept;
 };
 
 /// The real-time scan loop.
-class ScanDriver {
+class ScanDriver final : public engine::TimeControl {
 public:
     using Clock = std::chrono::steady_clock;
 
@@ -30,15 +42,17 @@ public:
     /// Stops the timer.
     void stop();
     /// Changes the time scale without a jump in simulated time.
-    void set_time_scale(double scale);
+    void set_time_scale(double scale) noexcept override;
     /// The time scale.
-    double time_scale() const { return scale_; }
+    double time_scale() const noexcept override { return scale_; }
     /// Freezes (no scans) or resumes.
-    void set_frozen(bool frozen);
+    void set_frozen(bool frozen) noexcept override;
     /// True while frozen.
-    bool frozen() const { return frozen_; }
+    bool frozen() const noexcept override { return frozen_; }
     /// Runs `n` scans at once (meant for a frozen engine).
-    void step(std::uint64_t n);
+    void step(std::uint64_t n) noexcept override;
+    /// Simulated time of the last scan.
+    engine::Duration simulated_time() const noexcept override { return engine_.now(); }
     /// Called after every scan (e.g. the systemd watchdog).
     void on_scan(std::function<void()> f) { on_scan_ = std::move(f); }
     /// Lateness figures.

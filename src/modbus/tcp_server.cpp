@@ -1,5 +1,7 @@
 #include "tcp_server.hpp"
 
+#include "mbap.hpp"
+
 #include <linux/sockios.h>
 #include <spdlog/spdlog.h>
 #include <sys/ioctl.h>
@@ -7,6 +9,7 @@
 #include <array>
 #include <chrono>
 #include <cstring>
+#include <system_error>
 #include <unordered_set>
 
 namespace plcemu::modbus {
@@ -16,11 +19,8 @@ namespace {
 using asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
-constexpr std::size_t kMbapHeader = 6;      // transaction, protocol, length
 constexpr std::size_t kMaxReply = 260;      // largest Modbus TCP ADU
 constexpr std::size_t kBufferSize = 4096;   // room for many pipelined requests
-
-std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] << 8 | p[1]); }
 
 std::string peer_name(const tcp::endpoint& ep) {
     return ep.address().to_string() + ":" + std::to_string(ep.port());
@@ -74,7 +74,7 @@ class Connection;
 struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
     State(asio::io_context& io_, Dispatcher& d, TcpOptions o)
         : io(io_),
-          dispatcher(d),
+          dispatcher(&d),
           options(std::move(o)),
           acceptor(io_),
           sweep(io_) {}
@@ -83,7 +83,7 @@ struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
     void arm_sweep();
 
     asio::io_context& io;
-    Dispatcher& dispatcher;
+    Dispatcher* dispatcher;  // replaced on reload; connections keep going
     TcpOptions options;
     tcp::acceptor acceptor;
     asio::steady_timer sweep;
@@ -106,7 +106,13 @@ public:
         }
     }
 
-    void start() { read(); }
+    void start() {
+        // Non-blocking for good: reads and the replies libmodbus sends on this descriptor never
+        // wait (replies are only sent when the send buffer has room, see room_for_reply).
+        asio::error_code ec;
+        socket_.non_blocking(true, ec);
+        read();
+    }
 
     void close(const char* why) {
         if (closed_) return;
@@ -119,21 +125,44 @@ public:
     }
 
     Clock::time_point last_activity() const { return last_activity_; }
+    /// The peer's address ("unspecified" when it could not be read).
+    asio::ip::address address() const {
+        asio::error_code ec;
+        const auto ep = socket_.remote_endpoint(ec);
+        return ec ? asio::ip::address() : ep.address();
+    }
 
 private:
     void read() {
         if (closed_) return;
-        socket_.async_read_some(
-            asio::buffer(buf_.data() + used_, buf_.size() - used_),
-            [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
-                if (ec) {
-                    self->close(ec == asio::error::eof ? "closed by peer" : "read error");
-                    return;
-                }
-                self->used_ += n;
-                self->last_activity_ = Clock::now();
-                self->serve_and_continue();
-            });
+        // Wait for readability, then one recv: a closed-loop client has nothing to send until
+        // it has our reply, so a speculative recv before waiting would only return EAGAIN.
+        socket_.async_wait(tcp::socket::wait_read,
+                           [self = shared_from_this()](const asio::error_code& ec) {
+                               if (ec) {
+                                   self->close("read error");
+                                   return;
+                               }
+                               self->receive();
+                           });
+    }
+
+    void receive() {
+        if (closed_) return;
+        asio::error_code ec;
+        const std::size_t n =
+            socket_.read_some(asio::buffer(buf_.data() + used_, buf_.size() - used_), ec);
+        if (ec == asio::error::would_block || ec == asio::error::try_again) {
+            read();
+            return;
+        }
+        if (ec) {
+            close(ec == asio::error::eof ? "closed by peer" : "read error");
+            return;
+        }
+        used_ += n;
+        last_activity_ = Clock::now();
+        serve_and_continue();
     }
 
     void serve_and_continue() {
@@ -147,26 +176,24 @@ private:
         auto server = server_.lock();
         if (!server || closed_) return false;
         std::size_t off = 0;
-        while (used_ - off >= kMbapHeader + 1) {
+        while (true) {
             const std::uint8_t* f = buf_.data() + off;
-            const std::uint16_t protocol = be16(f + 2);
-            const std::uint16_t length = be16(f + 4);
+            const MbapFrame frame = next_mbap_frame({f, used_ - off});
+            if (frame.status == MbapStatus::Incomplete) break;
             // SPEC §2: a bad MBAP header closes the connection (and only this one).
-            if (protocol != 0 || length < 2 || length > 254) {
-                spdlog::debug("tcp: {} bad MBAP header (protocol {}, length {})", peer_, protocol,
-                              length);
+            if (frame.status == MbapStatus::Bad) {
+                spdlog::debug("tcp: {} bad MBAP header (protocol {}, length {})", peer_,
+                              frame.protocol, frame.length);
                 close("bad MBAP header");
                 return false;
             }
-            const std::size_t total = kMbapHeader + length;
-            if (used_ - off < total) break;
             if (!room_for_reply()) {
                 wait_writable();
                 break;
             }
-            server->dispatcher.serve_tcp(socket_.native_handle(), {f, total});
+            server->dispatcher->serve_tcp(socket_.native_handle(), {f, frame.size});
             unacked_ += kMaxReply;
-            off += total;
+            off += frame.size;
         }
         if (off > 0) {
             std::memmove(buf_.data(), buf_.data() + off, used_ - off);
@@ -265,12 +292,18 @@ void TcpServer::State::arm_sweep() {
 
 TcpServer::TcpServer(asio::io_context& io, Dispatcher& dispatcher, TcpOptions options)
     : state_(std::make_shared<State>(io, dispatcher, std::move(options))) {
-    const auto addr = asio::ip::make_address(state_->options.bind);
+    // The error names the endpoint: "bind: Address already in use" alone does not say which.
+    const std::string where = "cannot listen on tcp " + state_->options.bind + ":" +
+                              std::to_string(state_->options.port);
+    asio::error_code ec;
+    const auto addr = asio::ip::make_address(state_->options.bind, ec);
+    if (ec) throw std::system_error(ec, where);
     const tcp::endpoint ep(addr, state_->options.port);
-    state_->acceptor.open(ep.protocol());
-    state_->acceptor.set_option(tcp::acceptor::reuse_address(true));
-    state_->acceptor.bind(ep);
-    state_->acceptor.listen(asio::socket_base::max_listen_connections);
+    state_->acceptor.open(ep.protocol(), ec);
+    if (!ec) state_->acceptor.set_option(tcp::acceptor::reuse_address(true), ec);
+    if (!ec) state_->acceptor.bind(ep, ec);
+    if (!ec) state_->acceptor.listen(asio::socket_base::max_listen_connections, ec);
+    if (ec) throw std::system_error(ec, where);
     state_->accept();
     state_->arm_sweep();
 }
@@ -295,7 +328,18 @@ void TcpServer::set_limits(int max_clients, int idle_timeout_s, std::vector<Cidr
     state_->options.idle_timeout_s = idle_timeout_s;
     state_->options.allow = std::move(allow);
     if (rearm) state_->arm_sweep();
+    // A peer taken off the allow list loses its connection now, not at its next reconnect.
+    if (state_->options.allow.empty()) return;
+    std::vector<std::shared_ptr<Connection>> refused;
+    for (const auto& c : state_->connections) {
+        bool ok = false;
+        for (const auto& net : state_->options.allow) ok = ok || net.contains(c->address());
+        if (!ok) refused.push_back(c);
+    }
+    for (const auto& c : refused) c->close("no longer in modbus.tcp.allow");
 }
+
+void TcpServer::set_dispatcher(Dispatcher& dispatcher) { state_->dispatcher = &dispatcher; }
 
 void TcpServer::stop() {
     if (state_->stopped) return;
