@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs, from Debian's packages, whatever the build and the tests need and is missing.
-# Usage: scripts/install-deps.sh [run|test|bench|fuzz]...   (default: run)
+# Usage: scripts/install-deps.sh [run|test|bench|fuzz|plot|trace]...   (default: run)
 set -euo pipefail
 
 want=(cmake g++ make pkg-config libmodbus-dev libasio-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
@@ -13,6 +13,7 @@ for what in "${@:-run}"; do
         bench) want+=(libbenchmark-dev python3-pymodbus socat) ;;
         fuzz) want+=(clang-14 libclang-rt-14-dev) ;;
         plot) want+=(python3-matplotlib) ;;
+        trace) want+=(python3-pymodbus python3-yaml) ;;
         *) echo "install-deps: unknown set '$what'" >&2; exit 2 ;;
     esac
 done

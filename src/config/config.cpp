@@ -1,8 +1,11 @@
 #include "plcemu/config/config.hpp"
 
+#include <arpa/inet.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -14,6 +17,8 @@ namespace plcemu::config {
 namespace {
 
 std::string format_error(const Position& p, const std::string& m) {
+    // Line 0: the error is about the file as a whole (e.g. it cannot be opened).
+    if (p.line <= 0) return p.file + ": " + m;
     return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": " + m;
 }
 
@@ -24,6 +29,8 @@ public:
 
     Position pos(const YAML::Node& n) const {
         const YAML::Mark m = n.Mark();
+        // An empty document has no mark: point at its start.
+        if (m.line < 0 || m.column < 0) return {file_, 1, 1};
         return {file_, m.line + 1, m.column + 1};
     }
 
@@ -39,8 +46,11 @@ public:
     void check_keys(const YAML::Node& n, const std::string& what,
                     std::initializer_list<const char*> known) const {
         expect_map(n, what);
+        std::set<std::string> seen;
         for (auto it = n.begin(); it != n.end(); ++it) {
             const std::string key = scalar(it->first, what + " key");
+            // yaml-cpp keeps the first of two equal keys: a silent surprise, so refuse it.
+            if (!seen.insert(key).second) fail(it->first, "duplicate key '" + key + "' in " + what);
             bool ok = false;
             for (const char* k : known) ok = ok || key == k;
             if (!ok) {
@@ -143,12 +153,52 @@ private:
     std::string file_;
 };
 
+// A numeric IPv4/IPv6 address, as the listener and the allow list take them.
+bool valid_address(const std::string& a) {
+    unsigned char buf[16];
+    return ::inet_pton(AF_INET, a.c_str(), buf) == 1 || ::inet_pton(AF_INET6, a.c_str(), buf) == 1;
+}
+
+// "192.168.1.0/24", "10.0.0.1", "::1/128".
+bool valid_cidr(const std::string& text) {
+    const auto slash = text.find('/');
+    const std::string addr = text.substr(0, slash);
+    if (!valid_address(addr)) return false;
+    if (slash == std::string::npos) return true;
+    const std::string p = text.substr(slash + 1);
+    if (p.empty() || p.size() > 3 || p.find_first_not_of("0123456789") != std::string::npos) {
+        return false;
+    }
+    return std::stoi(p) <= (addr.find(':') == std::string::npos ? 32 : 128);
+}
+
+// Device ranges of a list (write_protect, retentive) must exist on the profile's PLC.
+void check_ranges_exist(const Reader& r, const YAML::Node& list, const std::string& what,
+                        image::Profile profile) {
+    if (!list || !list.IsSequence()) return;
+    const image::Layout layout = image::layout_for(profile);
+    for (const auto& e : list) {
+        const image::Range rg = r.range(e, what);
+        if (!layout.contains(rg)) {
+            r.fail(e, what + ": " + image::format_range(rg) + " is outside this PLC's " +
+                          std::string(image::area_name(rg.area)) + " area (" +
+                          std::to_string(layout.size_of(rg.area)) + " devices)");
+        }
+    }
+}
+
 void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
     r.check_keys(n, "modbus.tcp",
                  {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients",
                   "idle_timeout_s"});
     if (n["enabled"]) tcp.enabled = r.boolean(n["enabled"], "modbus.tcp.enabled");
-    if (n["bind"]) tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");
+    if (n["bind"]) {
+        tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");
+        if (!valid_address(tcp.bind)) {
+            r.fail(n["bind"], "modbus.tcp.bind: expected a numeric IPv4 or IPv6 address such as "
+                              "0.0.0.0 or ::, got '" + tcp.bind + "'");
+        }
+    }
     if (n["port"]) tcp.port = static_cast<std::uint16_t>(r.integer(n["port"], "modbus.tcp.port", 0, 65535));
     if (n["unknown_unit"]) {
         const std::string s = r.scalar(n["unknown_unit"], "modbus.tcp.unknown_unit");
@@ -162,7 +212,13 @@ void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
     }
     if (const auto a = n["allow"]) {
         if (!a.IsSequence()) r.fail(a, "modbus.tcp.allow: expected a list of CIDR ranges");
-        for (const auto& e : a) tcp.allow.push_back(r.scalar(e, "modbus.tcp.allow entry"));
+        for (const auto& e : a) {
+            tcp.allow.push_back(r.scalar(e, "modbus.tcp.allow entry"));
+            if (!valid_cidr(tcp.allow.back())) {
+                r.fail(e, "modbus.tcp.allow: expected a CIDR range such as 192.168.1.0/24 or an "
+                          "address, got '" + tcp.allow.back() + "'");
+            }
+        }
     }
     if (n["max_clients"]) {
         tcp.max_clients = static_cast<int>(r.integer(n["max_clients"], "modbus.tcp.max_clients", 1, 10000));
@@ -218,10 +274,12 @@ void read_init(const Reader& r, const YAML::Node& n, std::vector<InitEntry>& ini
         auto one = [&](const YAML::Node& v) {
             e.values.push_back(static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
         };
-        if (it->second.IsSequence()) {
-            for (const auto& v : it->second) one(v);
+        // A copy: `it->second` lives in a temporary proxy that a range-for would outlive.
+        const YAML::Node value = it->second;
+        if (value.IsSequence()) {
+            for (const auto& v : value) one(v);
         } else {
-            one(it->second);
+            one(value);
         }
         init.push_back(std::move(e));
     }
@@ -241,6 +299,9 @@ void read_program(const Reader& r, const YAML::Node& n, std::vector<InstructionC
         if (!kv.second.IsMap()) r.fail(kv.second, ic.mnemonic + ": expected a mapping of operands");
         for (auto op = kv.second.begin(); op != kv.second.end(); ++op) {
             const std::string key = r.scalar(op->first, ic.mnemonic + " operand");
+            for (const auto& [k, v] : ic.operands) {
+                if (k == key) r.fail(op->first, ic.mnemonic + ": duplicate operand '" + key + "'");
+            }
             ic.operands.emplace_back(key, Operand{r.scalar(op->second, ic.mnemonic + "." + key),
                                                    r.pos(op->second)});
         }
@@ -351,13 +412,24 @@ void read_plant(const Reader& r, const YAML::Node& n, PlantConfig& p) {
 }
 
 void read_persistence(const Reader& r, const YAML::Node& n, PersistenceConfig& p) {
-    r.check_keys(n, "persistence", {"file", "retentive", "sync_ms"});
+    r.check_keys(n, "persistence", {"enabled", "file", "retentive", "sync_ms", "init"});
+    if (n["enabled"]) p.enabled = r.boolean(n["enabled"], "persistence.enabled");
     if (n["file"]) p.file = r.scalar(n["file"], "persistence.file");
+    if (n["init"]) {
+        const std::string s = r.scalar(n["init"], "persistence.init");
+        if (s != "fresh" && s != "always") {
+            r.fail(n["init"], "persistence.init: expected 'fresh' (presets only on a new state "
+                              "file) or 'always'");
+        }
+        p.init = s == "always" ? InitPolicy::Always : InitPolicy::Fresh;
+    }
     if (n["sync_ms"]) p.sync_ms = static_cast<int>(r.integer(n["sync_ms"], "persistence.sync_ms", 10, 600000));
     if (const auto ret = n["retentive"]) {
         if (!ret.IsSequence()) r.fail(ret, "persistence.retentive: expected a list of device ranges");
         std::vector<image::Range> v;
         for (const auto& e : ret) v.push_back(r.range(e, "persistence.retentive entry"));
+        // The state file's header records them (image::kMaxRetentiveRanges).
+        if (v.size() > 256) r.fail(ret, "persistence.retentive: at most 256 ranges");
         p.retentive = v;
     }
 }
@@ -389,6 +461,12 @@ Config read_root(const Reader& r, const YAML::Node& root) {
         if (s["unit"]) c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
     }
     if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
+    if (const auto m = root["modbus"]) {
+        check_ranges_exist(r, m["write_protect"], "modbus.write_protect entry", c.profile);
+    }
+    if (const auto p = root["persistence"]) {
+        check_ranges_exist(r, p["retentive"], "persistence.retentive entry", c.profile);
+    }
     if (const auto l = root["log"]) {
         r.check_keys(l, "log", {"level"});
         if (l["level"]) {
@@ -425,7 +503,10 @@ Config parse_config(const std::string& text, const std::string& name) {
 
 Config load_config(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw ConfigError({path, 0, 0}, "cannot open the config file");
+    if (!in) {
+        throw ConfigError({path, 0, 0},
+                          std::string("cannot open the config file: ") + std::strerror(errno));
+    }
     std::ostringstream ss;
     ss << in.rdbuf();
     return parse_config(ss.str(), path);

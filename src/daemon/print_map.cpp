@@ -67,15 +67,50 @@ std::vector<Row> rows_of(const config::Config& config) {
                         access_of(map, r.devices)});
     }
     if (config.simulator.unit != 0) {
-        const std::string unit = "unit " + std::to_string(config.simulator.unit);
-        rows.push_back({"holding registers (" + unit + ")", "40001-40005", "400001-400005",
-                        "0-4", "simulator: time scale, freeze, step, simulated time (s, 32-bit)",
-                        "03 06 16", "read/write except 3-4 (read-only)"});
-        rows.push_back({"holding registers (" + unit + ")", "40101-40420", "400101-400420",
-                        "100-419",
-                        "simulator channel c at 100+10c: faults, ambient, K, tau, dead time, noise, "
-                        "true temperature, heater power",
-                        "03 06 16", "read/write except +6,+7 (read-only)"});
+        // SPEC §6 simulator-control unit: one row per register (channel words as 100+10c).
+        const std::string table = "holding registers (unit " +
+                                  std::to_string(config.simulator.unit) + ")";
+        const std::string rw = "03 06 16 22 23";
+        const std::string ro = "03 23";
+        struct Sim {
+            unsigned wire;
+            const char* what;
+            bool writable;
+        };
+        const Sim fixed[] = {
+            {0, "simulator: time scale, 1-10000 simulated s per real s", true},
+            {1, "simulator: freeze, 1 = scans stopped", true},
+            {2, "simulator: step, write N to run N scans (reads 0)", true},
+            {3, "simulator: simulated time, s, low word", false},
+            {4, "simulator: simulated time, s, high word", false},
+        };
+        for (const auto& f : fixed) {
+            rows.push_back({table, manual_number(Table::HoldingRegisters, f.wire, 5),
+                            manual_number(Table::HoldingRegisters, f.wire, 6),
+                            std::to_string(f.wire), f.what, f.writable ? rw : ro,
+                            f.writable ? "read/write" : "read-only"});
+        }
+        const Sim channel[] = {
+            {0, "channel c (0-31): faults b0 sensor broken, b1 heater open, b2 heater shorted, "
+                "b3 reading frozen",
+             true},
+            {1, "channel c: ambient, 0.1 C, signed", true},
+            {2, "channel c: K full-power rise, 0.1 C", true},
+            {3, "channel c: tau, s", true},
+            {4, "channel c: dead time, s", true},
+            {5, "channel c: noise sigma, 0.01 C", true},
+            {6, "channel c: true temperature, 0.1 C, signed", false},
+            {7, "channel c: heater power, 0.1 % (mean of the last 8 s)", false},
+            {8, "channel c: reserved (reads 0)", false},
+            {9, "channel c: reserved (reads 0)", false},
+        };
+        for (const auto& f : channel) {
+            const unsigned wire = 100 + f.wire;
+            rows.push_back({table, manual_number(Table::HoldingRegisters, wire, 5) + "+10c",
+                            manual_number(Table::HoldingRegisters, wire, 6) + "+10c",
+                            std::to_string(wire) + "+10c", f.what, f.writable ? rw : ro,
+                            f.writable ? "read/write" : "read-only"});
+        }
     }
     return rows;
 }

@@ -37,9 +37,14 @@ void Engine::power_up() {
 }
 
 void Engine::special_relays(const ScanContext& ctx) noexcept {
-    // Square waves of the simulated clock: ON for the first half of each period.
+    // Square waves of the simulated clock: ON for the first half of each period. A clock whose
+    // half period is shorter than the scan would alias to a constant when sampled at each scan
+    // start (M1920 with the default 10 ms scan), so it toggles every scan instead: the fastest
+    // wave a program or a master can see.
     auto square = [&](std::chrono::nanoseconds period) {
-        return (ctx.now.count() % period.count()) < period.count() / 2;
+        const auto half = period / 2;
+        if (ctx.dt > half) return ctx.scan % 2 == 0;
+        return (ctx.now / half) % 2 == 0;
     };
     using std::chrono::milliseconds;
     using std::chrono::seconds;

@@ -55,7 +55,8 @@ BitSource Operands::bit_source(const char* key, bool fallback) {
     const config::Operand* op = find(key);
     if (!op) return {true, fallback, {}};
     long long v = 0;
-    if (parse_constant(op->text, v) && op->text.find_first_of("XYMSTCRDxymstcrd") == std::string::npos) {
+    // A device name wins; anything else that parses is a constant (0x1F, 1Fh and K31 too).
+    if (!image::parse_device(op->text) && parse_constant(op->text, v)) {
         if (v != 0 && v != 1) fail(key, "a constant enable must be 0 or 1");
         return {true, v == 1, {}};
     }
@@ -81,7 +82,7 @@ image::Device Operands::bit_output(const char* key) {
 WordSource Operands::word_source(const char* key) {
     const auto& op = require(key);
     long long v = 0;
-    if (parse_constant(op.text, v) && op.text.find_first_of("XYMSTRDxymstrd") == std::string::npos) {
+    if (!image::parse_device(op.text) && parse_constant(op.text, v)) {
         if (v < -32768 || v > 65535) fail(key, "constant out of 16-bit range");
         return {true, static_cast<std::uint16_t>(v & 0xFFFF), {}};
     }

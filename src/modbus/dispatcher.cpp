@@ -1,6 +1,7 @@
 #include "plcemu/modbus/dispatcher.hpp"
 
 #include <modbus/modbus.h>
+#include <spdlog/spdlog.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -194,8 +195,17 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
 
     auto exception = [&](Status s) {
         ++stats_.requests;
+        // Refused requests are what a SCADA integrator hunts for; debug keeps them off by default.
+        spdlog::debug("modbus: unit {} function {:02X}h address {} refused: exception {:02X}h{}",
+                      unit, fc, n >= 3 ? be16(pdu + 1) : 0, static_cast<unsigned>(s),
+                      broadcast ? " (broadcast, not sent)" : "");
         if (broadcast) return;  // a broadcast is never answered
         ++stats_.exceptions;
+        if (fc & 0x80) {
+            // libmodbus adds 80h, which wraps to a normal-looking function code: keep the bit.
+            const std::array<std::uint8_t, 2> e{fc, static_cast<std::uint8_t>(s)};
+            return send_pdu(t, fd, req, e.data(), e.size());
+        }
         modbus_reply_exception(ctx, req, static_cast<unsigned>(s));
     };
 
@@ -231,7 +241,8 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
             std::size_t k = 0;
             out[k++] = kReportSlaveId;
             out[k++] = 0;  // byte count, filled below
-            out[k++] = unit;
+            // The slave ID is the station (a TCP request to unit 255 still names the PLC).
+            out[k++] = target == &plc_ ? station_ : unit;
             out[k++] = 0xFF;  // run indicator: ON
             for (char c : text) {
                 if (k >= 250) break;

@@ -47,8 +47,11 @@ public:
     std::string endpoint() const;
     /// Open connections.
     std::size_t connections() const;
-    /// Updates limits that do not need a new listener (reload).
+    /// Updates limits that do not need a new listener (reload); open connections from peers no
+    /// longer allowed are closed, the others kept.
     void set_limits(int max_clients, int idle_timeout_s, std::vector<Cidr> allow);
+    /// Serves every later request with `dispatcher` (reload: a new PLC, same connections).
+    void set_dispatcher(Dispatcher& dispatcher);
     /// Closes the listener and every connection.
     void stop();
 

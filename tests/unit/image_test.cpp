@@ -95,5 +95,26 @@ TEST(Image, RetentiveRangesAreContiguousInOneBlock) {
     }
 }
 
+// SPEC §1: C200-C255 are 32-bit (two words, low word first), so counter n's value is not word n.
+TEST(Image, CounterNamesGiveTheirWordIndex) {
+    EXPECT_EQ(parse_device("CTR199"), (Device{Area::CV, 199, false}));
+    EXPECT_EQ(parse_device("CTR200"), (Device{Area::CV, 200, false}));
+    EXPECT_EQ(parse_device("CTR201"), (Device{Area::CV, 202, false}));
+    EXPECT_EQ(parse_device("CTR255"), (Device{Area::CV, 310, false}));
+    const Layout l = fbs_layout();
+    EXPECT_TRUE(l.contains({Area::CV, parse_device("CTR255")->index, 2}));
+    EXPECT_FALSE(l.contains({Area::CV, parse_device("CTR256")->index, 1}));
+    EXPECT_FALSE(parse_device("CTR4294967295"));
+    // A range ending at a 32-bit counter takes its high word too.
+    EXPECT_EQ(parse_range("CTR200-CTR239"), (Range{Area::CV, 200, 80}));
+    EXPECT_EQ(parse_range("CTR100-CTR139"), (Range{Area::CV, 100, 40}));
+    EXPECT_EQ(parse_range("CTR190-CTR200"), (Range{Area::CV, 190, 12}));
+    EXPECT_EQ(parse_range("CTR255"), (Range{Area::CV, 310, 2}));
+    EXPECT_EQ(format_range({Area::CV, 200, 80}), "CTR200-CTR239");
+    EXPECT_EQ(format_range({Area::CV, 310, 2}), "CTR255");
+    EXPECT_EQ(format_range({Area::D, 100, 100}), "D100-D199");
+    EXPECT_EQ(format_range({Area::R, 4136, 1}), "R4136");
+}
+
 }  // namespace
 }  // namespace plcemu::image

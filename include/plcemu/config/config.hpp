@@ -130,11 +130,19 @@ struct SimulatorConfig {
     int unit = 247; ///< Modbus unit of the simulator-control registers (0 = none)
 };
 
+/// When `init:` presets reach retentive devices.
+enum class InitPolicy : std::uint8_t {
+    Fresh,  ///< only when the state file is new: retained values win over presets
+    Always, ///< at every start and reload: presets win over retained values
+};
+
 /// `persistence`
 struct PersistenceConfig {
+    bool enabled = true;                    ///< keep the image in a state file at all
     std::string file;                       ///< state file ("" = default location)
     std::optional<std::vector<image::Range>> retentive; ///< overrides the profile's ranges
     int sync_ms = 1000;                     ///< msync period
+    InitPolicy init = InitPolicy::Fresh;    ///< presets on retentive devices
 };
 
 /// `log`

@@ -11,16 +11,31 @@
 #include "plcemu/image/image.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 #include "plcemu/modbus/plc_unit.hpp"
+#include "plcemu/plant/thermal_plant.hpp"
 
 namespace plcemu::daemon {
+
+/// How a Plc takes over its storage (README, "Retentive memory").
+enum class Start : std::uint8_t {
+    Fresh,    ///< new storage (all zero): presets applied, power-up counted
+    Retained, ///< storage from an earlier run: non-retentive devices cleared, power-up counted,
+              ///< presets on retentive devices only with persistence.init = always
+    Reload,   ///< the live image of a running PLC (SIGHUP): nothing cleared, no power-up,
+              ///< presets as for Retained
+};
+
+/// The layout of a config: the profile's areas, its retentive ranges (or the config's), and
+/// always R4057 (the power-up counter).
+image::Layout plc_layout(const config::Config& config);
 
 /// The PLC of a config.
 class Plc {
 public:
     /// Builds everything; throws config::ConfigError for what the config loader could not see
     /// (operands, presets out of range). With `storage`, the image lives there (a state file)
-    /// and keeps its retentive ranges; otherwise it starts cleared.
-    explicit Plc(const config::Config& config, std::span<std::byte> storage = {});
+    /// and `start` says what it holds; otherwise the image is its own and starts cleared.
+    explicit Plc(const config::Config& config, std::span<std::byte> storage = {},
+                 Start start = Start::Retained);
     ~Plc();
 
     /// The register image.
@@ -33,16 +48,21 @@ public:
     modbus::Dispatcher& dispatcher() { return *dispatcher_; }
     /// The config it was built from.
     const config::Config& config() const { return config_; }
+    /// The thermal plant (SPEC §6), owned by the engine.
+    plant::ThermalPlant& plant() { return *plant_; }
 
-    /// Applies the config's `init:` presets to the image (done at construction).
+    /// Applies the config's `init:` presets to the image (done at construction), sparing
+    /// retained values as the Start and persistence.init say.
     void apply_init();
 
 private:
     config::Config config_;
+    Start start_ = Start::Fresh;
     std::unique_ptr<image::Image> image_;
     std::unique_ptr<engine::Engine> engine_;
     std::unique_ptr<modbus::PlcUnit> unit_;
     std::unique_ptr<modbus::Dispatcher> dispatcher_;
+    plant::ThermalPlant* plant_ = nullptr;
 };
 
 /// The emulator's version string.

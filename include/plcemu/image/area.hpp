@@ -68,10 +68,12 @@ struct Device {
 
 /// Parses "R100", "D0", "M800", "WM800", "Y30", "T5", "C200", "TMR5" (timer value),
 /// "CTR200" (counter value). Returns nothing for text that is not a device name.
-/// Index limits are not checked here; see Layout::contains.
+/// Index limits are not checked here; see Layout::contains. CTRn gives the word index of
+/// counter n's value: C200-C255 take two words each, so CTR201 is word 202.
 std::optional<Device> parse_device(std::string_view text);
 
-/// Parses "D100-D199" or a single device "R4136" as a range (word-of-bits not allowed).
+/// Parses "D100-D199" or a single device "R4136" as a range (word-of-bits not allowed); a
+/// CTR range ending at a 32-bit counter includes its high word.
 std::optional<Range> parse_range(std::string_view text);
 
 }  // namespace plcemu::image

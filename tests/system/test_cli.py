@@ -1,0 +1,270 @@
+"""The command line (issue point 8), configuration errors (SPEC §8) and logging (point 9):
+--check-config, --print-map [--format csv], --port, --time-scale, --version, --help, signals,
+exit statuses, the start-up summary and connection log lines."""
+
+import csv
+import io
+import re
+import signal
+import socket
+import subprocess
+import time
+
+import pytest
+
+from conftest import BASE_CONFIG, PLCEMUD, REPO, free_port, port_open, run_plcemud
+
+# SPEC §2: the manual's table as (5-digit range, 6-digit range, wire range, function codes).
+MANUAL = [
+    ("00001-00256", "000001-000256", "0-255", "01 05 15"),
+    ("01001-01256", "001001-001256", "1000-1255", "01"),
+    ("02001-04002", "002001-004002", "2000-4001", "01 05 15"),
+    ("06001-07000", "006001-007000", "6000-6999", "01 05 15"),
+    ("09001-09256", "009001-009256", "9000-9255", "01 05 15"),
+    ("09501-09756", "009501-009756", "9500-9755", "01 05 15"),
+    ("40001-44168", "400001-404168", "0-4167", "03 06 16"),
+    ("45001-45999", "405001-405999", "5000-5998", "03 06 16"),
+    ("46001-48999", "406001-408999", "6000-8998", "03 06 16"),
+    ("49001-49256", "409001-409256", "9000-9255", "03 06 16"),
+    ("49501-49700", "409501-409700", "9500-9699", "03 06 16"),
+    ("49701-49812", "409701-409812", "9700-9811", "03 06 16"),
+]
+FATEK = ["Y0-Y255", "X0-X255", "M0-M2001", "S0-S999", "T0-T255", "C0-C255", "R0-R4167",
+         "R5000-R5998", "D0-D2998", "T0-T255", "C0-C199", "C200-C255"]
+
+
+def write(tmp_path, text, name="c.yaml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+# --check-config -----------------------------------------------------------------------------
+
+
+def test_check_config_valid_exits_0(tmp_path):
+    p = write(tmp_path, "{profile: fbs}\n")
+    r = run_plcemud("-c", p, "--check-config")
+    assert r.returncode == 0, r.stderr
+    assert "ok" in r.stdout
+
+
+@pytest.mark.parametrize(
+    "text,line,col,needle",
+    [
+        ("profile: fbs\nstation: 300\n", 2, 10, "station"),
+        ("profile: fbs\nmodbus:\n  tcp:\n    prot: 1\n", 4, 5, "unknown key 'prot'"),
+        ("profile: fbs\nscan_ms: fast\n", 2, 10, "expected an integer"),
+        ("profile: fbs\nprogram:\n  - MOV: {s: R1, d: Q7}\n", 3, 21, "MOV.d"),
+        ("profile: fbs\ninit:\n  R8071: [1, 2]\n", 3, 3, "outside"),
+        ("model: FBs-24MC\n", 1, 1, "'profile' is required"),
+    ],
+)
+def test_check_config_error_names_file_line_col_and_exits_2(tmp_path, text, line, col, needle):
+    p = write(tmp_path, text)
+    r = run_plcemud("-c", p, "--check-config")
+    assert r.returncode == 2
+    assert f"{p}:{line}:{col}: " in r.stderr, r.stderr
+    assert needle in r.stderr
+    assert r.stdout == ""
+
+
+def test_check_config_missing_file_exits_2(tmp_path):
+    r = run_plcemud("-c", tmp_path / "nope.yaml", "--check-config")
+    assert r.returncode == 2
+    assert "nope.yaml" in r.stderr and "cannot open" in r.stderr
+
+
+def test_example_yaml_passes_check_config():
+    r = run_plcemud("-c", REPO / "config" / "example.yaml", "--check-config")
+    assert r.returncode == 0, r.stderr
+
+
+def test_default_yaml_passes_check_config():
+    """config/default.yaml runs the manual's FUN86 example (needs TPCTL)."""
+    r = run_plcemud("-c", REPO / "config" / "default.yaml", "--check-config")
+    assert r.returncode == 0, r.stderr
+
+
+# --print-map --------------------------------------------------------------------------------
+
+
+def test_print_map_csv_has_one_row_per_range_of_the_manual():
+    r = run_plcemud("--print-map", "--format", "csv")
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader(io.StringIO(r.stdout)))
+    assert set(rows[0]) >= {"table", "modbus_5digit", "modbus_6digit", "wire", "fatek",
+                            "function_codes", "access"}
+    plc_rows = [row for row in rows if "unit" not in row["table"]]  # simulator unit rows apart
+    assert len(plc_rows) == len(MANUAL)
+    for row, (five, six, wire, codes), fatek in zip(plc_rows, MANUAL, FATEK):
+        assert row["modbus_5digit"] == five
+        assert row["modbus_6digit"] == six
+        assert row["wire"] == wire
+        assert row["fatek"].startswith(fatek), row
+        assert row["function_codes"].startswith(codes), row
+    assert plc_rows[1]["access"] == "read-only"  # X
+    assert plc_rows[0]["access"] == "read/write"  # Y
+    assert "R3840-R3903" in plc_rows[6]["access"] and "R4136-R4138" in plc_rows[6]["access"]
+    assert "M1920-M1927" in plc_rows[2]["access"]
+
+
+def test_print_map_text_matches_the_manual(tmp_path):
+    p = write(tmp_path, "profile: fbs\nmodel: FBs-32MC\nstation: 3\n")
+    r = run_plcemud("-c", p, "--print-map")
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    assert "FBs-32MC" in r.stdout and "station 3" in r.stdout
+    for (five, six, wire, codes), fatek in zip(MANUAL, FATEK):
+        matching = [ln for ln in lines if re.search(rf"\s{five}\s+{six}\s+{wire}\s", ln)]
+        assert len(matching) == 1, f"{five}: {matching}"
+        assert fatek in matching[0] and codes in matching[0]
+    # The image-held maps and the exception rule are told too.
+    assert "R3968" in r.stdout and "R3972" in r.stdout and "R3975" in r.stdout
+    assert "exception 02" in r.stdout and "exception 01" in r.stdout
+
+
+def test_print_map_with_a_bad_config_exits_2(tmp_path):
+    p = write(tmp_path, "profile: fbs\nstation: x\n")
+    r = run_plcemud("-c", p, "--print-map")
+    assert r.returncode == 2
+    assert f"{p}:2:10: " in r.stderr
+
+
+# --version, --help, bad arguments -----------------------------------------------------------
+
+
+def test_version():
+    r = run_plcemud("--version")
+    assert r.returncode == 0
+    assert re.fullmatch(r"plcemud \d+\.\d+\.\d+\S*\n", r.stdout), r.stdout
+
+
+def test_help_lists_every_option():
+    r = run_plcemud("--help")
+    assert r.returncode == 0
+    for opt in ("-c", "--check-config", "--print-map", "--format", "--port", "--time-scale",
+                "--version", "--help"):
+        assert opt in r.stdout
+    assert run_plcemud("-h").stdout == r.stdout
+
+
+@pytest.mark.parametrize(
+    "args",
+    [["--bogus"], ["--port"], ["--port", "x"], ["--port", "70000"], ["--time-scale", "0"],
+     ["--format", "xml"], []],
+)
+def test_bad_arguments_exit_2(tmp_path, args):
+    p = write(tmp_path, BASE_CONFIG)
+    extra = ["-c", str(p)] if args else []
+    r = run_plcemud(*args, *extra) if args else run_plcemud()
+    assert r.returncode == 2, r
+    assert "Usage" in r.stderr
+
+
+# Running: overrides, log, signals -----------------------------------------------------------
+
+
+def test_bad_config_exits_2_without_opening_the_port(tmp_path):
+    port = free_port()
+    p = write(tmp_path, f"profile: fbs\nmodbus: {{tcp: {{bind: 127.0.0.1, port: {port}}}}}\n"
+                        "program:\n  - MOV: {s: R1, d: R99999}\n")
+    proc = subprocess.Popen([PLCEMUD, "-c", str(p)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    seen_open = False
+    deadline = time.monotonic() + 10
+    while proc.poll() is None and time.monotonic() < deadline:
+        seen_open = seen_open or port_open(port)
+        time.sleep(0.01)
+    out, err = proc.communicate(timeout=10)
+    assert proc.returncode == 2
+    assert not seen_open
+    assert f"{p}:4:21: " in err, err
+    assert not (tmp_path / "c.state").exists(), "a state file was created for a bad config"
+
+
+def test_port_override(start_plcemud):
+    config_port = free_port()
+    d = start_plcemud(
+        f"profile: fbs\nmodbus: {{tcp: {{bind: 127.0.0.1, port: {config_port}}}}}\n"
+    )
+    assert d.port != config_port
+    assert port_open(d.port)
+    assert not port_open(config_port)
+    assert f"listening on tcp 127.0.0.1:{d.port}" in d.log_text()
+
+
+def sample_coil(client, addr, seconds):
+    values = set()
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and len(values) < 2:
+        values.add(client.read_coils(addr, 1, slave=1).bits[0])
+        time.sleep(0.005)
+    return values
+
+
+def test_time_scale_override_speeds_up_the_simulated_clock(start_plcemud):
+    """SPEC §3 time_scale: the config says 0.001 (one scan every 100 real seconds);
+    --time-scale 600 makes the 60 s clock M1923 toggle every 50 real ms."""
+    cfg = BASE_CONFIG + "scan_ms: 100\ntime_scale: 0.001\n"
+    slow = start_plcemud(cfg)
+    fast = start_plcemud(cfg, "--time-scale", "600")
+    assert "time scale 600" in fast.log_text()
+    assert "time scale 0.001" in slow.log_text()
+    assert sample_coil(fast.client(), 3923, 10.0) == {True, False}
+    # At 0.001 only the first scan has run: M1921 (0.1 s clock) and M1923 stay as they were.
+    assert len(sample_coil(slow.client(), 3921, 0.5)) == 1
+    assert len(sample_coil(slow.client(), 3923, 0.5)) == 1
+
+
+def test_start_up_summary_and_connection_log(start_plcemud):
+    d = start_plcemud(BASE_CONFIG + "model: FBs-60MN\nstation: 9\nscan_ms: 20\n")
+    log = d.log_text()
+    assert re.search(r"plcemud \S+: profile fbs, model FBs-60MN, station 9, scan 20 ms, "
+                     r"time scale 1\b", log), log
+    assert f"listening on tcp 127.0.0.1:{d.port}" in log
+    c = d.client()
+    local = c.socket.getsockname()
+    peer = f"127.0.0.1:{local[1]}"
+    assert d.wait_log(f"tcp: {peer} connected"), d.log_text()
+    c.close()
+    assert d.wait_log(f"tcp: {peer} disconnected"), d.log_text()
+
+
+def test_refused_requests_logged_at_debug(start_plcemud):
+    d = start_plcemud(BASE_CONFIG + "log: {level: debug}\n")
+    c = d.client()
+    assert c.read_holding_registers(4500, 1, slave=1).isError()
+    assert d.wait_log("exception 02h"), d.log_text()
+    quiet = start_plcemud(BASE_CONFIG)
+    qc = quiet.client()
+    assert qc.read_holding_registers(4500, 1, slave=1).isError()
+    time.sleep(0.2)
+    assert "exception 02h" not in quiet.log_text()
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
+def test_signals_stop_cleanly_with_exit_0(start_plcemud, sig):
+    d = start_plcemud(BASE_CONFIG)
+    c = d.client()
+    assert not c.read_holding_registers(0, 1, slave=1).isError()
+    assert d.stop(sig) == 0, d.log_text()
+    log = d.log_text()
+    assert ("SIGTERM" if sig == signal.SIGTERM else "SIGINT") in log
+    assert "stopped after" in log
+    assert not port_open(d.port)
+
+
+def test_listen_failure_exits_nonzero_with_message(start_plcemud, tmp_path):
+    """A port already in use: a clear error, not a hang."""
+    with socket.socket() as s:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        s.bind(("127.0.0.1", 0))
+        s.listen()
+        busy = s.getsockname()[1]
+        p = write(tmp_path, BASE_CONFIG)
+        r = run_plcemud("-c", p, "--port", busy)
+    assert r.returncode != 0
+    assert r.returncode == 1
+    assert f"cannot listen on tcp 127.0.0.1:{busy}" in r.stderr, r.stderr
+    assert "in use" in r.stderr, r.stderr

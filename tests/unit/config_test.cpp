@@ -1,0 +1,289 @@
+// Configuration (SPEC §8): defaults, every key of the foundation, and errors naming
+// file:line:col.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "plcemu/config/config.hpp"
+#include "plcemu/daemon/plc.hpp"
+
+namespace plcemu::config {
+namespace {
+
+struct Failure {
+    bool thrown = false;
+    Position pos;
+    std::string what;
+};
+
+Failure parse_error(const std::string& text) {
+    Failure f;
+    try {
+        parse_config(text, "t.yaml");
+    } catch (const ConfigError& e) {
+        f.thrown = true;
+        f.pos = e.position();
+        f.what = e.what();
+    }
+    return f;
+}
+
+// Checks that `text` is refused at line:col with a message containing `needle`, and that the
+// message starts with "t.yaml:line:col: ".
+void expect_error(const std::string& text, int line, int col, const std::string& needle) {
+    SCOPED_TRACE(text);
+    const Failure f = parse_error(text);
+    ASSERT_TRUE(f.thrown) << "accepted";
+    EXPECT_EQ(f.pos.file, "t.yaml");
+    EXPECT_EQ(f.pos.line, line) << f.what;
+    EXPECT_EQ(f.pos.column, col) << f.what;
+    const std::string prefix = "t.yaml:" + std::to_string(line) + ":" + std::to_string(col) + ": ";
+    EXPECT_EQ(f.what.rfind(prefix, 0), 0u) << f.what;
+    EXPECT_NE(f.what.find(needle), std::string::npos) << f.what;
+}
+
+// SPEC §8 / issue: every key but `profile` has a default, so `{profile: fbs}` alone is valid.
+TEST(Config, ProfileAloneIsValidAndEverythingElseDefaults) {
+    for (const char* text : {"{profile: fbs}", "profile: fbs\n", "# comment\nprofile: fbs # x\n"}) {
+        SCOPED_TRACE(text);
+        const Config c = parse_config(text, "t.yaml");
+        EXPECT_EQ(c.path, "t.yaml");
+        EXPECT_EQ(c.profile, image::Profile::Fbs);
+        EXPECT_EQ(c.model, "FBs-24MC");
+        EXPECT_EQ(c.station, 1);
+        EXPECT_EQ(c.scan_ms, 10);
+        EXPECT_DOUBLE_EQ(c.time_scale, 1.0);
+        EXPECT_TRUE(c.modbus.tcp.enabled);
+        EXPECT_EQ(c.modbus.tcp.bind, "0.0.0.0");  // as a real PLC: every interface, port 502
+        EXPECT_EQ(c.modbus.tcp.port, 502);
+        EXPECT_EQ(c.modbus.tcp.unknown_unit, UnknownUnit::Exception);
+        EXPECT_TRUE(c.modbus.tcp.allow.empty());
+        EXPECT_EQ(c.modbus.tcp.max_clients, 64);
+        EXPECT_EQ(c.modbus.tcp.idle_timeout_s, 0);
+        EXPECT_FALSE(c.modbus.rtu.has_value());
+        EXPECT_FALSE(c.modbus.read_only);
+        EXPECT_TRUE(c.modbus.write_protect.empty());
+        EXPECT_TRUE(c.init.empty());
+        EXPECT_TRUE(c.program.empty());
+        EXPECT_FALSE(c.temperature.table.has_value());
+        EXPECT_EQ(c.simulator.unit, 247);
+        EXPECT_EQ(c.log.level, "info");
+    }
+}
+
+TEST(Config, ReadsEveryFoundationKey) {
+    const Config c = parse_config(
+        "profile: fbs\n"
+        "model: FBs-60MN\n"
+        "station: 0x11\n"
+        "scan_ms: 5\n"
+        "time_scale: 60.5\n"
+        "modbus:\n"
+        "  tcp: {bind: 127.0.0.1, port: 5020, unknown_unit: silent}\n"
+        "init:\n"
+        "  R5000: [0xA556, 2, 10000, 20000, 0101h, -1]\n"
+        "  D7: K42\n"
+        "  M3: [1, 0, 1]\n"
+        "  WM800: 0x03FF\n"
+        "program:\n"
+        "  - MOV: {en: M1926, s: WM800, d: R4012}\n"
+        "  - MOV: {s: 7, d: D0}\n",
+        "t.yaml");
+    EXPECT_EQ(c.model, "FBs-60MN");
+    EXPECT_EQ(c.station, 17);
+    EXPECT_EQ(c.scan_ms, 5);
+    EXPECT_DOUBLE_EQ(c.time_scale, 60.5);
+    EXPECT_EQ(c.modbus.tcp.bind, "127.0.0.1");
+    EXPECT_EQ(c.modbus.tcp.port, 5020);
+    EXPECT_EQ(c.modbus.tcp.unknown_unit, UnknownUnit::Silent);
+    ASSERT_EQ(c.init.size(), 4u);
+    EXPECT_EQ(c.init[0].device, (image::Device{image::Area::R, 5000, false}));
+    EXPECT_EQ(c.init[0].values,
+              (std::vector<std::uint16_t>{0xA556, 2, 10000, 20000, 0x0101, 0xFFFF}));
+    EXPECT_EQ(c.init[0].pos.line, 9);
+    EXPECT_EQ(c.init[0].pos.column, 3);
+    EXPECT_EQ(c.init[1].values, std::vector<std::uint16_t>{42});
+    EXPECT_EQ(c.init[2].values, (std::vector<std::uint16_t>{1, 0, 1}));
+    EXPECT_EQ(c.init[3].device, (image::Device{image::Area::M, 800, true}));
+    ASSERT_EQ(c.program.size(), 2u);
+    EXPECT_EQ(c.program[0].mnemonic, "MOV");
+    EXPECT_EQ(c.program[0].pos.line, 14);
+    EXPECT_EQ(c.program[0].pos.column, 5);
+    ASSERT_EQ(c.program[0].operands.size(), 3u);
+    EXPECT_EQ(c.program[0].operands[1].first, "s");
+    EXPECT_EQ(c.program[0].operands[1].second.text, "WM800");
+    EXPECT_EQ(c.program[0].operands[1].second.pos.line, 14);
+    EXPECT_EQ(c.program[0].operands[1].second.pos.column, 25);
+}
+
+// R4167: low byte I/O points, high byte 0 MA / 1 MC / 2 MN.
+TEST(Config, ModelCodes) {
+    EXPECT_EQ(model_code("FBs-24MC"), 0x0118);
+    EXPECT_EQ(model_code("FBs-10MA"), 0x000A);
+    EXPECT_EQ(model_code("FBs-60MN"), 0x023C);
+    EXPECT_EQ(model_code("FBs-32MC"), 0x0120);
+    EXPECT_FALSE(model_code("FBs-25MC"));
+    EXPECT_FALSE(model_code("FBs-24MX"));
+    EXPECT_FALSE(model_code("FB-24MC"));
+    EXPECT_FALSE(model_code("FBs-MC"));
+    EXPECT_FALSE(model_code(""));
+}
+
+TEST(Config, ErrorsInTheRootNameTheirPosition) {
+    expect_error("model: FBs-24MC\n", 1, 1, "'profile' is required");
+    expect_error("profile: nope\n", 1, 10, "expected fbs, fb or vb, got 'nope'");
+    expect_error("profile: vb\n", 1, 10, "not supported yet");
+    expect_error("profile: [fbs]\n", 1, 10, "profile: expected a scalar");
+    expect_error("profile: fbs\nmodle: FBs-24MC\n", 2, 1, "unknown key 'modle' in config");
+    expect_error("profile: fbs\nmodel: FBs-25MC\n", 2, 8, "model: expected an FBs model");
+    expect_error("- profile: fbs\n", 1, 1, "must be a mapping");
+    expect_error("just text\n", 1, 1, "must be a mapping");
+}
+
+TEST(Config, EmptyFileNamesLineOne) {
+    expect_error("", 1, 1, "must be a mapping");
+    expect_error("# only a comment\n", 1, 1, "must be a mapping");
+}
+
+TEST(Config, BadTypesAndRangesOfScalars) {
+    expect_error("profile: fbs\nstation: abc\n", 2, 10, "station: expected an integer, got 'abc'");
+    expect_error("profile: fbs\nstation: 0\n", 2, 10, "out of range 1..254");
+    expect_error("profile: fbs\nstation: 255\n", 2, 10, "out of range 1..254");
+    expect_error("profile: fbs\nstation: {a: 1}\n", 2, 10, "station: expected a scalar");
+    expect_error("profile: fbs\nscan_ms: 0\n", 2, 10, "scan_ms: 0 is out of range 1..1000");
+    expect_error("profile: fbs\nscan_ms: 1001\n", 2, 10, "out of range");
+    expect_error("profile: fbs\nscan_ms: 2.5\n", 2, 10, "expected an integer");
+    expect_error("profile: fbs\ntime_scale: fast\n", 2, 13, "time_scale: expected a number");
+    expect_error("profile: fbs\ntime_scale: 0\n", 2, 13, "out of range");
+    expect_error("profile: fbs\ntime_scale: 100001\n", 2, 13, "out of range");
+    expect_error("profile: fbs\ntime_scale: .inf\n", 2, 13, "expected a number");
+}
+
+TEST(Config, ModbusSectionErrors) {
+    expect_error("profile: fbs\nmodbus: 5\n", 2, 9, "modbus: expected a mapping");
+    expect_error("profile: fbs\nmodbus:\n  tcp:\n    prot: 5020\n", 4, 5,
+                 "unknown key 'prot' in modbus.tcp");
+    expect_error("profile: fbs\nmodbus:\n  tcp:\n    port: 70000\n", 4, 11,
+                 "modbus.tcp.port: 70000 is out of range 0..65535");
+    expect_error("profile: fbs\nmodbus:\n  tcp:\n    port: [1]\n", 4, 11, "expected a scalar");
+    expect_error("profile: fbs\nmodbus: {tcp: {bind: [a, b]}}\n", 2, 22,
+                 "modbus.tcp.bind: expected a scalar");
+    expect_error("profile: fbs\nmodbus: {tcp: {unknown_unit: maybe}}\n", 2, 30,
+                 "expected 'exception' or 'silent'");
+    expect_error("profile: fbs\nmodbus: {tcp: {enabled: perhaps}}\n", 2, 25,
+                 "expected true or false");
+    expect_error("profile: fbs\nmodbus: {udp: {}}\n", 2, 10, "unknown key 'udp' in modbus");
+    expect_error("profile: fbs\nmodbus: {write_protect: [D5-D1]}\n", 2, 26,
+                 "expected a device range");
+}
+
+TEST(Config, InitErrors) {
+    expect_error("profile: fbs\ninit: [1, 2]\n", 2, 7, "init: expected a mapping");
+    expect_error("profile: fbs\ninit:\n  Q5: 1\n", 3, 3, "init key: expected a device");
+    expect_error("profile: fbs\ninit:\n  R0: [1, x]\n", 3, 11, "init.R0: expected an integer");
+    expect_error("profile: fbs\ninit:\n  R0: 65536\n", 3, 7, "out of range -32768..65535");
+    expect_error("profile: fbs\ninit:\n  R0: -32769\n", 3, 7, "out of range");
+    expect_error("profile: fbs\ninit:\n  R0: [[1]]\n", 3, 8, "expected a scalar");
+}
+
+TEST(Config, ProgramErrors) {
+    expect_error("profile: fbs\nprogram: 5\n", 2, 10, "program: expected a list");
+    expect_error("profile: fbs\nprogram:\n  - MOV\n", 3, 5, "expected one instruction");
+    expect_error("profile: fbs\nprogram:\n  - {MOV: {}, TPCTL: {}}\n", 3, 5,
+                 "expected one instruction");
+    expect_error("profile: fbs\nprogram:\n  - MOV: 5\n", 3, 10, "MOV: expected a mapping");
+    expect_error("profile: fbs\nprogram:\n  - MOV: {s: [R1]}\n", 3, 14, "MOV.s: expected a scalar");
+}
+
+TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
+    const Failure f = parse_error("profile: fbs\nmodbus: {tcp: {port: 1}\n");
+    ASSERT_TRUE(f.thrown);
+    EXPECT_EQ(f.pos.file, "t.yaml");
+    EXPECT_GE(f.pos.line, 2) << f.what;
+    EXPECT_GE(f.pos.column, 1) << f.what;
+    expect_error("profile: fbs\n  station: 1\n", 2, 10, "");
+    expect_error("profile: fbs\nstation: 1\nstation: 2\n", 3, 1, "duplicate key 'station'");
+    expect_error("profile: fbs\nmodbus: {tcp: {port: 1, port: 2}}\n", 2, 25,
+                 "duplicate key 'port' in modbus.tcp");
+    expect_error("profile: fbs\nprogram:\n  - MOV: {s: R1, d: R2, s: R3}\n", 3, 25,
+                 "MOV: duplicate operand 's'");
+}
+
+TEST(Config, LogLevel) {
+    EXPECT_EQ(parse_config("profile: fbs\nlog: {level: debug}\n", "t.yaml").log.level, "debug");
+    expect_error("profile: fbs\nlog: {level: loud}\n", 2, 14, "log.level: expected trace");
+}
+
+// load_config reads a file and names it in errors; a missing file is a config error too.
+TEST(Config, LoadConfigNamesTheFile) {
+    const std::string path = ::testing::TempDir() + "plcemu_config_test.yaml";
+    {
+        std::ofstream out(path);
+        out << "profile: fbs\nstation: 300\n";
+    }
+    try {
+        load_config(path);
+        ADD_FAILURE() << "accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(path + ":2:10: ", 0), 0u) << e.what();
+    }
+    std::remove(path.c_str());
+    try {
+        load_config(path);
+        ADD_FAILURE() << "accepted a missing file";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos) << e.what();
+    }
+}
+
+// The files under config/ are valid (default.yaml once TPCTL is there: see the system tests).
+TEST(Config, ExampleYamlIsValidAndHoldsTheDefaults) {
+    const Config c = load_config(std::string(PLCEMU_SOURCE_DIR) + "/config/example.yaml");
+    const Config d = parse_config("profile: fbs", "d");
+    EXPECT_EQ(c.model, d.model);
+    EXPECT_EQ(c.station, d.station);
+    EXPECT_EQ(c.scan_ms, d.scan_ms);
+    EXPECT_DOUBLE_EQ(c.time_scale, d.time_scale);
+    EXPECT_EQ(c.modbus.tcp.bind, d.modbus.tcp.bind);
+    EXPECT_EQ(c.modbus.tcp.port, d.modbus.tcp.port);
+    EXPECT_EQ(c.modbus.tcp.max_clients, d.modbus.tcp.max_clients);
+    EXPECT_EQ(c.modbus.tcp.idle_timeout_s, d.modbus.tcp.idle_timeout_s);
+    EXPECT_EQ(c.modbus.tcp.unknown_unit, d.modbus.tcp.unknown_unit);
+    EXPECT_EQ(c.simulator.unit, d.simulator.unit);
+    EXPECT_EQ(c.log.level, d.log.level);
+    EXPECT_TRUE(c.init.empty());
+    EXPECT_TRUE(c.program.empty());
+}
+
+// Errors only the PLC build finds (init beyond an area) still name file:line:col.
+TEST(Config, InitOutsideAnAreaIsRefusedAtItsKey) {
+    const Config c = parse_config("profile: fbs\ninit:\n  R8070: [1, 2, 3]\n", "t.yaml");
+    try {
+        daemon::Plc plc(c);
+        ADD_FAILURE() << "accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(e.position().line, 3);
+        EXPECT_EQ(e.position().column, 3);
+        EXPECT_NE(std::string(e.what()).find("outside"), std::string::npos) << e.what();
+    }
+    const Config ok = parse_config("profile: fbs\ninit:\n  R8069: [1, 2, 3]\n  M2001: 1\n", "t");
+    daemon::Plc plc(ok);
+    EXPECT_EQ(plc.image().word(image::Area::R, 8071), 3);
+    EXPECT_TRUE(plc.image().bit(image::Area::M, 2001));
+}
+
+// Presets are applied after the power-up defaults, so a preset of R4012 wins.
+TEST(Config, InitWinsOverPowerUpDefaults) {
+    const Config c = parse_config("profile: fbs\ninit: {R4012: 0x00FF, R4005: 0x0303}\n", "t");
+    daemon::Plc plc(c);
+    EXPECT_EQ(plc.image().word(image::Area::R, 4012), 0x00FF);
+    EXPECT_EQ(plc.image().word(image::Area::R, 4013), 0xFFFF);
+    EXPECT_EQ(plc.image().word(image::Area::R, 4005), 0x0303);
+}
+
+}  // namespace
+}  // namespace plcemu::config
