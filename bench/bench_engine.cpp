@@ -24,16 +24,15 @@ void warm_up(plcemu::daemon::Plc& plc, int points) {
 void run(benchmark::State& state, plcemu::daemon::Plc& plc) {
     auto& engine = plc.engine();
     for (auto _ : state) engine.run_scans(1);
-    const double scan_s =
-        std::chrono::duration<double>(engine.scan_period()).count();
+    const double scan_s = std::chrono::duration<double>(engine.scan_period()).count();
     // Simulated seconds per wall second: how much faster than real time the engine can run.
     state.counters["sim_s_per_s"] = benchmark::Counter(
         scan_s * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
 void BM_ScanDefaultConfig(benchmark::State& state) {
-    const auto cfg = plcemu::config::load_config(std::string(PLCEMU_SOURCE_DIR) +
-                                                 "/config/default.yaml");
+    const auto cfg =
+        plcemu::config::load_config(std::string(PLCEMU_SOURCE_DIR) + "/config/default.yaml");
     plcemu::daemon::Plc plc(cfg);
     warm_up(plc, 10);
     run(state, plc);

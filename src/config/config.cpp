@@ -25,7 +25,8 @@ std::string format_error(const Position& p, const std::string& m) {
 // Walks the YAML tree; every accessor checks the node's type and throws with its position.
 class Reader {
 public:
-    explicit Reader(std::string file) : file_(std::move(file)) {}
+    explicit Reader(std::string file)
+        : file_(std::move(file)) {}
 
     Position pos(const YAML::Node& n) const {
         const YAML::Mark m = n.Mark();
@@ -43,7 +44,8 @@ public:
     }
 
     // Rejects keys not in `known` (catches typos) and returns the map's entries.
-    void check_keys(const YAML::Node& n, const std::string& what,
+    void check_keys(const YAML::Node& n,
+                    const std::string& what,
                     std::initializer_list<const char*> known) const {
         expect_map(n, what);
         std::set<std::string> seen;
@@ -56,8 +58,8 @@ public:
             if (!ok) {
                 std::string list;
                 for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
-                fail(it->first, "unknown key '" + key + "' in " + what + " (expected one of: " +
-                                    list + ")");
+                fail(it->first,
+                     "unknown key '" + key + "' in " + what + " (expected one of: " + list + ")");
             }
         }
     }
@@ -67,7 +69,9 @@ public:
         return n.Scalar();
     }
 
-    long long integer(const YAML::Node& n, const std::string& what, long long lo,
+    long long integer(const YAML::Node& n,
+                      const std::string& what,
+                      long long lo,
                       long long hi) const {
         const std::string s = scalar(n, what);
         long long v = 0;
@@ -173,7 +177,9 @@ bool valid_cidr(const std::string& text) {
 }
 
 // Device ranges of a list (write_protect, retentive) must exist on the profile's PLC.
-void check_ranges_exist(const Reader& r, const YAML::Node& list, const std::string& what,
+void check_ranges_exist(const Reader& r,
+                        const YAML::Node& list,
+                        const std::string& what,
                         image::Profile profile) {
     if (!list || !list.IsSequence()) return;
     const image::Layout layout = image::layout_for(profile);
@@ -188,18 +194,21 @@ void check_ranges_exist(const Reader& r, const YAML::Node& list, const std::stri
 }
 
 void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
-    r.check_keys(n, "modbus.tcp",
-                 {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients",
-                  "idle_timeout_s"});
+    r.check_keys(
+        n, "modbus.tcp",
+        {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients", "idle_timeout_s"});
     if (n["enabled"]) tcp.enabled = r.boolean(n["enabled"], "modbus.tcp.enabled");
     if (n["bind"]) {
         tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");
         if (!valid_address(tcp.bind)) {
-            r.fail(n["bind"], "modbus.tcp.bind: expected a numeric IPv4 or IPv6 address such as "
-                              "0.0.0.0 or ::, got '" + tcp.bind + "'");
+            r.fail(n["bind"],
+                   "modbus.tcp.bind: expected a numeric IPv4 or IPv6 address such as "
+                   "0.0.0.0 or ::, got '" +
+                       tcp.bind + "'");
         }
     }
-    if (n["port"]) tcp.port = static_cast<std::uint16_t>(r.integer(n["port"], "modbus.tcp.port", 0, 65535));
+    if (n["port"])
+        tcp.port = static_cast<std::uint16_t>(r.integer(n["port"], "modbus.tcp.port", 0, 65535));
     if (n["unknown_unit"]) {
         const std::string s = r.scalar(n["unknown_unit"], "modbus.tcp.unknown_unit");
         if (s == "exception") {
@@ -215,13 +224,16 @@ void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
         for (const auto& e : a) {
             tcp.allow.push_back(r.scalar(e, "modbus.tcp.allow entry"));
             if (!valid_cidr(tcp.allow.back())) {
-                r.fail(e, "modbus.tcp.allow: expected a CIDR range such as 192.168.1.0/24 or an "
-                          "address, got '" + tcp.allow.back() + "'");
+                r.fail(e,
+                       "modbus.tcp.allow: expected a CIDR range such as 192.168.1.0/24 or an "
+                       "address, got '" +
+                           tcp.allow.back() + "'");
             }
         }
     }
     if (n["max_clients"]) {
-        tcp.max_clients = static_cast<int>(r.integer(n["max_clients"], "modbus.tcp.max_clients", 1, 10000));
+        tcp.max_clients =
+            static_cast<int>(r.integer(n["max_clients"], "modbus.tcp.max_clients", 1, 10000));
     }
     if (n["idle_timeout_s"]) {
         tcp.idle_timeout_s =
@@ -242,11 +254,14 @@ void read_rtu(const Reader& r, const YAML::Node& n, RtuConfig& rtu) {
     }
     if (n["parity"]) {
         const std::string p = r.scalar(n["parity"], "modbus.rtu.parity");
-        if (p != "N" && p != "E" && p != "O") r.fail(n["parity"], "modbus.rtu.parity: expected N, E or O");
+        if (p != "N" && p != "E" && p != "O")
+            r.fail(n["parity"], "modbus.rtu.parity: expected N, E or O");
         rtu.parity = p[0];
     }
-    if (n["data_bits"]) rtu.data_bits = static_cast<int>(r.integer(n["data_bits"], "modbus.rtu.data_bits", 7, 8));
-    if (n["stop_bits"]) rtu.stop_bits = static_cast<int>(r.integer(n["stop_bits"], "modbus.rtu.stop_bits", 1, 2));
+    if (n["data_bits"])
+        rtu.data_bits = static_cast<int>(r.integer(n["data_bits"], "modbus.rtu.data_bits", 7, 8));
+    if (n["stop_bits"])
+        rtu.stop_bits = static_cast<int>(r.integer(n["stop_bits"], "modbus.rtu.stop_bits", 1, 2));
 }
 
 void read_modbus(const Reader& r, const YAML::Node& n, ModbusConfig& mb) {
@@ -260,7 +275,8 @@ void read_modbus(const Reader& r, const YAML::Node& n, ModbusConfig& mb) {
     if (n["read_only"]) mb.read_only = r.boolean(n["read_only"], "modbus.read_only");
     if (const auto w = n["write_protect"]) {
         if (!w.IsSequence()) r.fail(w, "modbus.write_protect: expected a list of device ranges");
-        for (const auto& e : w) mb.write_protect.push_back(r.range(e, "modbus.write_protect entry"));
+        for (const auto& e : w)
+            mb.write_protect.push_back(r.range(e, "modbus.write_protect entry"));
     }
 }
 
@@ -272,7 +288,8 @@ void read_init(const Reader& r, const YAML::Node& n, std::vector<InitEntry>& ini
         e.device = r.device(it->first, "init key");
         const std::string what = "init." + it->first.Scalar();
         auto one = [&](const YAML::Node& v) {
-            e.values.push_back(static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
+            e.values.push_back(
+                static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
         };
         // A copy: `it->second` lives in a temporary proxy that a range-for would outlive.
         const YAML::Node value = it->second;
@@ -290,7 +307,9 @@ void read_program(const Reader& r, const YAML::Node& n, std::vector<InstructionC
     if (!n.IsSequence()) r.fail(n, "program: expected a list of instructions");
     for (const auto& item : n) {
         if (!item.IsMap() || item.size() != 1) {
-            r.fail(item, "program entry: expected one instruction such as 'MOV: {en: M1926, s: WM800, d: R4012}'");
+            r.fail(item,
+                   "program entry: expected one instruction such as 'MOV: {en: M1926, s: WM800, d: "
+                   "R4012}'");
         }
         const auto kv = *item.begin();
         InstructionConfig ic;
@@ -302,8 +321,8 @@ void read_program(const Reader& r, const YAML::Node& n, std::vector<InstructionC
             for (const auto& [k, v] : ic.operands) {
                 if (k == key) r.fail(op->first, ic.mnemonic + ": duplicate operand '" + key + "'");
             }
-            ic.operands.emplace_back(key, Operand{r.scalar(op->second, ic.mnemonic + "." + key),
-                                                   r.pos(op->second)});
+            ic.operands.emplace_back(
+                key, Operand{r.scalar(op->second, ic.mnemonic + "." + key), r.pos(op->second)});
         }
         prog.push_back(std::move(ic));
     }
@@ -341,7 +360,8 @@ void read_temperature(const Reader& r, const YAML::Node& n, TemperatureConfig& t
         }
     }
     if (const auto m = n["modules"]) {
-        if (!m.IsSequence()) r.fail(m, "temperature.modules: expected a list such as [TC6:K, RTD6:PT100_DIN]");
+        if (!m.IsSequence())
+            r.fail(m, "temperature.modules: expected a list such as [TC6:K, RTD6:PT100_DIN]");
         for (const auto& e : m) {
             const std::string s = r.scalar(e, "temperature.modules entry");
             const auto colon = s.find(':');
@@ -353,11 +373,13 @@ void read_temperature(const Reader& r, const YAML::Node& n, TemperatureConfig& t
                               "' (expected TC6, RTD6, TC16, RTD16 or TC2)");
             }
             const bool rtd = mc.name_code == 2 || mc.name_code == 4;
-            const std::string sensor = colon == std::string::npos ? (rtd ? "PT100_DIN" : "K") : s.substr(colon + 1);
+            const std::string sensor =
+                colon == std::string::npos ? (rtd ? "PT100_DIN" : "K") : s.substr(colon + 1);
             if (!sensor_code(mc.name_code, sensor, mc.sensor_type)) {
                 r.fail(e, "temperature.modules: unknown sensor '" + sensor + "' (expected " +
                               (rtd ? "PT100_DIN, PT100_JIS, PT1000_DIN or PT1000_JIS"
-                                   : "J, K, T, E, N, B, R or S") + ")");
+                                   : "J, K, T, E, N, B, R or S") +
+                              ")");
             }
             t.modules.push_back(mc);
         }
@@ -365,7 +387,8 @@ void read_temperature(const Reader& r, const YAML::Node& n, TemperatureConfig& t
     }
     if (n["scan_rate"]) {
         const std::string s = r.scalar(n["scan_rate"], "temperature.scan_rate");
-        if (s != "normal" && s != "fast") r.fail(n["scan_rate"], "temperature.scan_rate: expected 'normal' or 'fast'");
+        if (s != "normal" && s != "fast")
+            r.fail(n["scan_rate"], "temperature.scan_rate: expected 'normal' or 'fast'");
         t.fast = s == "fast";
     }
 }
@@ -374,12 +397,15 @@ void read_faults(const Reader& r, const YAML::Node& n, Faults& f) {
     r.check_keys(n, "faults", {"sensor_broken", "heater_open", "heater_shorted", "reading_frozen"});
     if (n["sensor_broken"]) f.sensor_broken = r.boolean(n["sensor_broken"], "faults.sensor_broken");
     if (n["heater_open"]) f.heater_open = r.boolean(n["heater_open"], "faults.heater_open");
-    if (n["heater_shorted"]) f.heater_shorted = r.boolean(n["heater_shorted"], "faults.heater_shorted");
-    if (n["reading_frozen"]) f.reading_frozen = r.boolean(n["reading_frozen"], "faults.reading_frozen");
+    if (n["heater_shorted"])
+        f.heater_shorted = r.boolean(n["heater_shorted"], "faults.heater_shorted");
+    if (n["reading_frozen"])
+        f.reading_frozen = r.boolean(n["reading_frozen"], "faults.reading_frozen");
 }
 
 void read_channel(const Reader& r, const YAML::Node& n, ChannelConfig& c, const std::string& what) {
-    r.check_keys(n, what, {"ambient", "k", "tau", "dead_time", "noise", "cooling", "drive", "faults"});
+    r.check_keys(n, what,
+                 {"ambient", "k", "tau", "dead_time", "noise", "cooling", "drive", "faults"});
     if (n["ambient"]) c.ambient_c = r.number(n["ambient"], what + ".ambient", -200, 1000);
     if (n["k"]) c.k_c = r.number(n["k"], what + ".k", 0, 3000);
     if (n["tau"]) c.tau_s = r.number(n["tau"], what + ".tau", 0.1, 100000);
@@ -389,8 +415,10 @@ void read_channel(const Reader& r, const YAML::Node& n, ChannelConfig& c, const 
     if (n["drive"]) {
         c.drive = r.device(n["drive"], what + ".drive");
         const auto a = c.drive->area;
-        if (c.drive->word_of_bits || (a != image::Area::Y && a != image::Area::R && a != image::Area::D)) {
-            r.fail(n["drive"], what + ".drive: expected a Y output (PWM) or an R/D register (OR value)");
+        if (c.drive->word_of_bits ||
+            (a != image::Area::Y && a != image::Area::R && a != image::Area::D)) {
+            r.fail(n["drive"],
+                   what + ".drive: expected a Y output (PWM) or an R/D register (OR value)");
         }
     }
     if (n["faults"]) read_faults(r, n["faults"], c.faults);
@@ -399,7 +427,8 @@ void read_channel(const Reader& r, const YAML::Node& n, ChannelConfig& c, const 
 void read_plant(const Reader& r, const YAML::Node& n, PlantConfig& p) {
     r.check_keys(n, "plant", {"defaults", "channels", "seed"});
     if (n["defaults"]) read_channel(r, n["defaults"], p.defaults, "plant.defaults");
-    if (n["seed"]) p.seed = static_cast<std::uint64_t>(r.integer(n["seed"], "plant.seed", 0, 1LL << 40));
+    if (n["seed"])
+        p.seed = static_cast<std::uint64_t>(r.integer(n["seed"], "plant.seed", 0, 1LL << 40));
     if (const auto ch = n["channels"]) {
         r.expect_map(ch, "plant.channels");
         for (auto it = ch.begin(); it != ch.end(); ++it) {
@@ -418,14 +447,17 @@ void read_persistence(const Reader& r, const YAML::Node& n, PersistenceConfig& p
     if (n["init"]) {
         const std::string s = r.scalar(n["init"], "persistence.init");
         if (s != "fresh" && s != "always") {
-            r.fail(n["init"], "persistence.init: expected 'fresh' (presets only on a new state "
-                              "file) or 'always'");
+            r.fail(n["init"],
+                   "persistence.init: expected 'fresh' (presets only on a new state "
+                   "file) or 'always'");
         }
         p.init = s == "always" ? InitPolicy::Always : InitPolicy::Fresh;
     }
-    if (n["sync_ms"]) p.sync_ms = static_cast<int>(r.integer(n["sync_ms"], "persistence.sync_ms", 10, 600000));
+    if (n["sync_ms"])
+        p.sync_ms = static_cast<int>(r.integer(n["sync_ms"], "persistence.sync_ms", 10, 600000));
     if (const auto ret = n["retentive"]) {
-        if (!ret.IsSequence()) r.fail(ret, "persistence.retentive: expected a list of device ranges");
+        if (!ret.IsSequence())
+            r.fail(ret, "persistence.retentive: expected a list of device ranges");
         std::vector<image::Range> v;
         for (const auto& e : ret) v.push_back(r.range(e, "persistence.retentive entry"));
         // The state file's header records them (image::kMaxRetentiveRanges).
@@ -442,15 +474,22 @@ Config read_root(const Reader& r, const YAML::Node& root) {
                   "program", "temperature", "plant", "simulator", "persistence", "log"});
     if (!root["profile"]) r.fail(root, "'profile' is required (fbs)");
     const std::string prof = r.scalar(root["profile"], "profile");
-    if (!image::parse_profile(prof, c.profile)) r.fail(root["profile"], "profile: expected fbs, fb or vb, got '" + prof + "'");
-    if (c.profile != image::Profile::Fbs) r.fail(root["profile"], "profile '" + prof + "' is not supported yet (only fbs)");
+    if (!image::parse_profile(prof, c.profile))
+        r.fail(root["profile"], "profile: expected fbs, fb or vb, got '" + prof + "'");
+    if (c.profile != image::Profile::Fbs)
+        r.fail(root["profile"], "profile '" + prof + "' is not supported yet (only fbs)");
     if (root["model"]) {
         c.model = r.scalar(root["model"], "model");
-        if (!model_code(c.model)) r.fail(root["model"], "model: expected an FBs model such as FBs-24MC, got '" + c.model + "'");
+        if (!model_code(c.model))
+            r.fail(root["model"],
+                   "model: expected an FBs model such as FBs-24MC, got '" + c.model + "'");
     }
-    if (root["station"]) c.station = static_cast<std::uint8_t>(r.integer(root["station"], "station", 1, 254));
-    if (root["scan_ms"]) c.scan_ms = static_cast<int>(r.integer(root["scan_ms"], "scan_ms", 1, 1000));
-    if (root["time_scale"]) c.time_scale = r.number(root["time_scale"], "time_scale", 0.001, 100000);
+    if (root["station"])
+        c.station = static_cast<std::uint8_t>(r.integer(root["station"], "station", 1, 254));
+    if (root["scan_ms"])
+        c.scan_ms = static_cast<int>(r.integer(root["scan_ms"], "scan_ms", 1, 1000));
+    if (root["time_scale"])
+        c.time_scale = r.number(root["time_scale"], "time_scale", 0.001, 100000);
     if (root["modbus"]) read_modbus(r, root["modbus"], c.modbus);
     if (root["init"]) read_init(r, root["init"], c.init);
     if (root["program"]) read_program(r, root["program"], c.program);
@@ -458,7 +497,8 @@ Config read_root(const Reader& r, const YAML::Node& root) {
     if (root["plant"]) read_plant(r, root["plant"], c.plant);
     if (const auto s = root["simulator"]) {
         r.check_keys(s, "simulator", {"unit"});
-        if (s["unit"]) c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
+        if (s["unit"])
+            c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
     }
     if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
     if (const auto m = root["modbus"]) {
@@ -471,8 +511,10 @@ Config read_root(const Reader& r, const YAML::Node& root) {
         r.check_keys(l, "log", {"level"});
         if (l["level"]) {
             c.log.level = r.scalar(l["level"], "log.level");
-            static const std::set<std::string> kLevels{"trace", "debug", "info", "warn", "error", "off"};
-            if (!kLevels.count(c.log.level)) r.fail(l["level"], "log.level: expected trace, debug, info, warn, error or off");
+            static const std::set<std::string> kLevels{"trace", "debug", "info",
+                                                       "warn",  "error", "off"};
+            if (!kLevels.count(c.log.level))
+                r.fail(l["level"], "log.level: expected trace, debug, info, warn, error or off");
         }
     }
     return c;

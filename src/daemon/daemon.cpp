@@ -89,8 +89,8 @@ public:
         start_scanning();
 
         spdlog::info("plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
-                     version(), image::profile_name(cfg_.profile), cfg_.model,
-                     int(cfg_.station), cfg_.scan_ms, cfg_.time_scale);
+                     version(), image::profile_name(cfg_.profile), cfg_.model, int(cfg_.station),
+                     cfg_.scan_ms, cfg_.time_scale);
         spdlog::info("program: {} instruction(s); power-ups (R4057): {}", cfg_.program.size(),
                      plc_->image().word(image::Area::R, engine::special::kPowerUps));
         if (tcp_) spdlog::info("listening on tcp {}", tcp_->endpoint());
@@ -205,28 +205,29 @@ private:
         const bool new_listener = tcp_listener_changed(cfg_, next);
         std::unique_ptr<modbus::TcpServer> new_tcp;
         if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_.profile) {
-            spdlog::error("reload: the profile's image layout changed; restart plcemud to "
-                          "apply it. Still running the previous configuration");
+            spdlog::error(
+                "reload: the profile's image layout changed; restart plcemud to "
+                "apply it. Still running the previous configuration");
             notify_.ready(status_line());
             return;
         }
         if (next.persistence.enabled != cfg_.persistence.enabled ||
             next.persistence.file != cfg_.persistence.file) {
-            spdlog::warn("reload: persistence.enabled and persistence.file take effect at the "
-                         "next start; the image stays in {}",
-                         state_ ? state_->path() : std::string("memory"));
+            spdlog::warn(
+                "reload: persistence.enabled and persistence.file take effect at the "
+                "next start; the image stays in {}",
+                state_ ? state_->path() : std::string("memory"));
         }
         // Open a new listener before anything changes, so a port in use rejects the reload.
         if (new_listener && next.modbus.tcp.enabled) {
             try {
-                new_tcp = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(),
-                                                              tcp_options(next));
+                new_tcp =
+                    std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(next));
             } catch (const std::exception& e) {
                 // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
                 if (!tcp_ || next.modbus.tcp.port == 0 ||
                     next.modbus.tcp.port != cfg_.modbus.tcp.port) {
-                    spdlog::error("reload: {}; still running the previous configuration",
-                                  e.what());
+                    spdlog::error("reload: {}; still running the previous configuration", e.what());
                     notify_.ready(status_line());
                     return;
                 }

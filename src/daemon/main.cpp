@@ -65,7 +65,8 @@ int main(int argc, char** argv) {
         } else if (a == "--print-map") {
             print = true;
         } else if (a == "--format") {
-            if (!value(v) || (v != "csv" && v != "text")) return usage_error("--format takes text or csv");
+            if (!value(v) || (v != "csv" && v != "text"))
+                return usage_error("--format takes text or csv");
             csv = v == "csv";
         } else if (a == "--port") {
             char* end = nullptr;
@@ -77,7 +78,8 @@ int main(int argc, char** argv) {
             char* end = nullptr;
             if (!value(v)) return usage_error("--time-scale needs a number");
             const double x = std::strtod(v.c_str(), &end);
-            if (*end != '\0' || !(x >= 0.001 && x <= 100000)) return usage_error("--time-scale: 0.001..100000");
+            if (*end != '\0' || !(x >= 0.001 && x <= 100000))
+                return usage_error("--time-scale: 0.001..100000");
             overrides.time_scale = x;
         } else {
             return usage_error("unknown argument '" + a + "'");
@@ -86,9 +88,9 @@ int main(int argc, char** argv) {
 
     try {
         if (print) {
-            plcemu::config::Config cfg = config_path.empty()
-                                             ? plcemu::config::parse_config("profile: fbs\n", "<built-in>")
-                                             : plcemu::config::load_config(config_path);
+            plcemu::config::Config cfg =
+                config_path.empty() ? plcemu::config::parse_config("profile: fbs\n", "<built-in>")
+                                    : plcemu::config::load_config(config_path);
             plcemu::daemon::print_map(std::cout, cfg, csv);
             return 0;
         }

@@ -36,8 +36,8 @@ Plc::Plc(const config::Config& config, std::span<std::byte> storage, Start start
     eo.scan_period = std::chrono::milliseconds(config_.scan_ms);
     eo.station = config_.station;
     eo.model_code = config::model_code(config_.model).value_or(0);
-    engine_ = std::make_unique<engine::Engine>(*image_, eo,
-                                               instructions::make_program(config_, layout));
+    engine_ =
+        std::make_unique<engine::Engine>(*image_, eo, instructions::make_program(config_, layout));
     if (start_ != Start::Reload) engine_->power_up();
     apply_init();
     // SPEC §3: the plant and the temperature readings before the program, outputs to the plant

@@ -24,10 +24,14 @@ std::string padded(unsigned v, int width) {
 
 const char* table_name(Table t) {
     switch (t) {
-        case Table::Coils: return "coils";
-        case Table::DiscreteInputs: return "discrete inputs";
-        case Table::HoldingRegisters: return "holding registers";
-        case Table::InputRegisters: return "input registers";
+        case Table::Coils:
+            return "coils";
+        case Table::DiscreteInputs:
+            return "discrete inputs";
+        case Table::HoldingRegisters:
+            return "holding registers";
+        case Table::InputRegisters:
+            return "input registers";
     }
     return "?";
 }
@@ -68,8 +72,8 @@ std::vector<Row> rows_of(const config::Config& config) {
     }
     if (config.simulator.unit != 0) {
         // SPEC §6 simulator-control unit: one row per register (channel words as 100+10c).
-        const std::string table = "holding registers (unit " +
-                                  std::to_string(config.simulator.unit) + ")";
+        const std::string table =
+            "holding registers (unit " + std::to_string(config.simulator.unit) + ")";
         const std::string rw = "03 06 16 22 23";
         const std::string ro = "03 23";
         struct Sim {
@@ -91,8 +95,9 @@ std::vector<Row> rows_of(const config::Config& config) {
                             f.writable ? "read/write" : "read-only"});
         }
         const Sim channel[] = {
-            {0, "channel c (0-31): faults b0 sensor broken, b1 heater open, b2 heater shorted, "
-                "b3 reading frozen",
+            {0,
+             "channel c (0-31): faults b0 sensor broken, b1 heater open, b2 heater shorted, "
+             "b3 reading frozen",
              true},
             {1, "channel c: ambient, 0.1 C, signed", true},
             {2, "channel c: K full-power rise, 0.1 C", true},
@@ -132,8 +137,8 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
         << "), station " << int(config.station) << " and unit 255\n";
     out << "Wire address = manual number - 1.\n\n";
     char line[512];
-    std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-10s %-54s %-15s %s\n", "table",
-                  "5-digit", "6-digit", "wire", "FATEK", "codes", "access");
+    std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-10s %-54s %-15s %s\n", "table", "5-digit",
+                  "6-digit", "wire", "FATEK", "codes", "access");
     out << line;
     for (const auto& r : rows) {
         std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-10s %-54s %-15s %s\n",

@@ -46,8 +46,7 @@ ScanDriver::ScanDriver(asio::io_context& io, engine::Engine& engine, double time
 
 void ScanDriver::start() {
     running_ = true;
-    next_sim_ = engine_.scans() == 0 ? engine::Duration{0}
-                                     : engine_.now() + engine_.scan_period();
+    next_sim_ = engine_.scans() == 0 ? engine::Duration{0} : engine_.now() + engine_.scan_period();
     rebase(Clock::now());
     arm();
 }
@@ -99,7 +98,7 @@ void ScanDriver::run_one(engine::Duration sim) {
         calendar_second_ = wall;
         std::tm tm{};
         localtime_r(&wall, &tm);
-        calendar_ = {tm.tm_sec,  tm.tm_min,         tm.tm_hour, tm.tm_mday,
+        calendar_ = {tm.tm_sec,     tm.tm_min,         tm.tm_hour, tm.tm_mday,
                      tm.tm_mon + 1, tm.tm_year + 1900, tm.tm_wday};
     }
     engine_.step(sim, calendar_);

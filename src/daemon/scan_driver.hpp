@@ -19,10 +19,10 @@ struct LatenessStats {
     static constexpr std::chrono::microseconds kBucket{10};
     static constexpr std::size_t kBuckets = 1001;
 
-    std::uint64_t scans = 0;               ///< scans run by the driver
-    std::chrono::nanoseconds max{0};       ///< worst lateness
-    std::uint64_t over_1ms = 0;            ///< scans started more than 1 ms late
-    std::array<std::uint32_t, kBuckets> histogram{}; ///< scans per 10 µs of lateness
+    std::uint64_t scans = 0;                          ///< scans run by the driver
+    std::chrono::nanoseconds max{0};                  ///< worst lateness
+    std::uint64_t over_1ms = 0;                       ///< scans started more than 1 ms late
+    std::array<std::uint32_t, kBuckets> histogram{};  ///< scans per 10 µs of lateness
 
     /// Records one scan start `late` after its deadline.
     void record(std::chrono::nanoseconds late) noexcept;

@@ -19,9 +19,12 @@ bool parse_profile(std::string_view text, Profile& out) {
 
 std::string_view profile_name(Profile p) {
     switch (p) {
-        case Profile::Fbs: return "fbs";
-        case Profile::Fb: return "fb";
-        case Profile::Vb: return "vb";
+        case Profile::Fbs:
+            return "fbs";
+        case Profile::Fb:
+            return "fb";
+        case Profile::Vb:
+            return "vb";
     }
     return "?";
 }
@@ -44,10 +47,10 @@ Layout fbs_layout() {
     set(Area::CV, 200 + 56 * 2);
     // SPEC §1: the FBs manual's default retentive ranges.
     l.retentive = {
-        {Area::M, 800, 600},   {Area::S, 500, 500},  {Area::R, 0, 3000},
-        {Area::D, 0, 4000},    {Area::R, 5000, 3072}, {Area::CV, 100, 40},
-        {Area::CV, 200, 80},   // C200–C239, two words each
-        {Area::R, 4057, 1},    // power-up counter
+        {Area::M, 800, 600},   {Area::S, 500, 500}, {Area::R, 0, 3000},  {Area::D, 0, 4000},
+        {Area::R, 5000, 3072}, {Area::CV, 100, 40}, {Area::CV, 200, 80},  // C200–C239, two words
+                                                                          // each
+        {Area::R, 4057, 1},                                               // power-up counter
     };
     return l;
 }

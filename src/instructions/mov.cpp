@@ -32,9 +32,10 @@ std::unique_ptr<engine::Instruction> make_mov(const config::InstructionConfig& i
     Operands ops(ic, ctx.layout);
     const BitSource en = ops.bit_source("en", true);
     const WordSource s = ops.word_source("s");
-    const image::Device d = ops.word_device(
-        "d", 1, {image::Area::R, image::Area::D, image::Area::M, image::Area::Y, image::Area::S,
-                 image::Area::TV, image::Area::CV});
+    const image::Device d =
+        ops.word_device("d", 1,
+                        {image::Area::R, image::Area::D, image::Area::M, image::Area::Y,
+                         image::Area::S, image::Area::TV, image::Area::CV});
     ops.finish();
     return std::make_unique<Mov>(en, s, d);
 }

@@ -87,15 +87,19 @@ WordSource Operands::word_source(const char* key) {
         return {true, static_cast<std::uint16_t>(v & 0xFFFF), {}};
     }
     auto d = image::parse_device(op.text);
-    if (!d) fail(key, "expected a register (R, D), WMn-style bits or a constant, got '" + op.text + "'");
+    if (!d)
+        fail(key,
+             "expected a register (R, D), WMn-style bits or a constant, got '" + op.text + "'");
     const std::uint32_t span = d->word_of_bits ? 16 : 1;
-    if ((!d->word_of_bits && image::is_bit_area(d->area)) || !layout_.contains({d->area, d->index, span})) {
+    if ((!d->word_of_bits && image::is_bit_area(d->area)) ||
+        !layout_.contains({d->area, d->index, span})) {
         fail(key, "'" + op.text + "' is not a word operand of this PLC");
     }
     return {false, 0, *d};
 }
 
-image::Device Operands::word_device(const char* key, std::uint32_t span,
+image::Device Operands::word_device(const char* key,
+                                    std::uint32_t span,
                                     std::initializer_list<image::Area> areas) {
     const auto& op = require(key);
     auto d = image::parse_device(op.text);
@@ -109,13 +113,16 @@ image::Device Operands::word_device(const char* key, std::uint32_t span,
     }
     if (!ok) {
         std::string names;
-        for (auto a : areas) names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
-        fail(key, "expected " + std::to_string(span) + " word(s) in " + names + ", got '" + op.text + "'");
+        for (auto a : areas)
+            names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
+        fail(key, "expected " + std::to_string(span) + " word(s) in " + names + ", got '" +
+                      op.text + "'");
     }
     return *d;
 }
 
-image::Device Operands::device(const char* key, std::uint32_t span,
+image::Device Operands::device(const char* key,
+                               std::uint32_t span,
                                std::initializer_list<image::Area> areas) {
     const auto& op = require(key);
     auto d = image::parse_device(op.text);
@@ -127,7 +134,8 @@ image::Device Operands::device(const char* key, std::uint32_t span,
     }
     if (!ok) {
         std::string names;
-        for (auto a : areas) names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
+        for (auto a : areas)
+            names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
         fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names +
                       ", got '" + op.text + "'");
     }

@@ -15,9 +15,9 @@ namespace plcemu::instructions {
 
 /// A bit input: a device or a constant (an enable such as `en: 1`).
 struct BitSource {
-    bool constant = true;   ///< true: `value` is the bit
-    bool value = true;      ///< the constant
-    image::Device device;   ///< the device otherwise
+    bool constant = true;  ///< true: `value` is the bit
+    bool value = true;     ///< the constant
+    image::Device device;  ///< the device otherwise
 
     /// The current value.
     bool read(const image::Image& img) const { return constant ? value : img.read_bit(device); }
@@ -25,9 +25,9 @@ struct BitSource {
 
 /// A word input: a device (R100, WM800) or a constant (K100, 100).
 struct WordSource {
-    bool constant = false;       ///< true: `value` is the word
-    std::uint16_t value = 0;     ///< the constant
-    image::Device device;        ///< the device otherwise
+    bool constant = false;    ///< true: `value` is the word
+    std::uint16_t value = 0;  ///< the constant
+    image::Device device;     ///< the device otherwise
 
     /// The current value.
     std::uint16_t read(const image::Image& img) const {
@@ -50,10 +50,12 @@ public:
     WordSource word_source(const char* key);
     /// A word device whose `span` consecutive words (or bits, for WMn: 16·span) must exist,
     /// in one of `areas`.
-    image::Device word_device(const char* key, std::uint32_t span,
+    image::Device word_device(const char* key,
+                              std::uint32_t span,
                               std::initializer_list<image::Area> areas);
     /// A device in one of `areas` with `span` consecutive elements.
-    image::Device device(const char* key, std::uint32_t span,
+    image::Device device(const char* key,
+                         std::uint32_t span,
                          std::initializer_list<image::Area> areas);
     /// An integer constant in lo..hi.
     long long integer(const char* key, long long lo, long long hi);

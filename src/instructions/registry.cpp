@@ -12,7 +12,7 @@ namespace plcemu::instructions {
 namespace {
 
 using Builder = std::unique_ptr<engine::Instruction> (*)(const config::InstructionConfig&,
-                                                          const BindContext&);
+                                                         const BindContext&);
 
 const std::map<std::string, Builder>& builders() {
     static const std::map<std::string, Builder> kBuilders{

@@ -10,7 +10,9 @@ constexpr std::array<std::uint16_t, 256> make_table() {
     std::array<std::uint16_t, 256> t{};
     for (std::uint16_t i = 0; i < 256; ++i) {
         std::uint16_t c = i;
-        for (int k = 0; k < 8; ++k) c = (c & 1) ? static_cast<std::uint16_t>((c >> 1) ^ 0xA001) : static_cast<std::uint16_t>(c >> 1);
+        for (int k = 0; k < 8; ++k)
+            c = (c & 1) ? static_cast<std::uint16_t>((c >> 1) ^ 0xA001)
+                        : static_cast<std::uint16_t>(c >> 1);
         t[i] = c;
     }
     return t;

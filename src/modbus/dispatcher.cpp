@@ -32,13 +32,11 @@ constexpr std::uint8_t kReadWriteRegisters = 0x17;
 constexpr std::uint8_t kEncapsulated = 0x2B;
 constexpr std::uint8_t kReadDeviceId = 0x0E;
 
-std::uint16_t be16(const std::uint8_t* p) {
-    return static_cast<std::uint16_t>(p[0] << 8 | p[1]);
-}
+std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] << 8 | p[1]); }
 
 // What a request asks for, once its format has been checked.
 struct Request {
-    Status status = Status::Ok; // IllegalFunction or IllegalDataValue when malformed
+    Status status = Status::Ok;  // IllegalFunction or IllegalDataValue when malformed
     Table table = Table::HoldingRegisters;
     std::uint16_t addr = 0;
     std::uint16_t qty = 0;
@@ -107,7 +105,9 @@ Request parse(const std::uint8_t* pdu, std::size_t n) {
             r.qty = 1;
             r.write = true;
             return r;
-        default: r.status = Status::IllegalFunction; return r;
+        default:
+            r.status = Status::IllegalFunction;
+            return r;
     }
 }
 
@@ -147,8 +147,8 @@ namespace {
 
 // Frames a PDU like the request it answers and writes it; for the replies libmodbus cannot
 // build (FC 08, 11h, 17h, 2Bh).
-void send_pdu(Transport t, int fd, const std::uint8_t* req, const std::uint8_t* pdu,
-              std::size_t n) noexcept {
+void send_pdu(
+    Transport t, int fd, const std::uint8_t* req, const std::uint8_t* pdu, std::size_t n) noexcept {
     std::array<std::uint8_t, 7 + 253 + 2> out{};
     std::size_t len = 0;
     if (t == Transport::Tcp) {
@@ -236,8 +236,8 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
         case kReportSlaveId: {
             if (n != 1) return exception(Status::IllegalDataValue);
             if (broadcast) return;
-            const std::string text = identity_.vendor + " " + identity_.product + " plcemu " +
-                                     identity_.revision;
+            const std::string text =
+                identity_.vendor + " " + identity_.product + " plcemu " + identity_.revision;
             std::size_t k = 0;
             out[k++] = kReportSlaveId;
             out[k++] = 0;  // byte count, filled below
@@ -326,7 +326,8 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
             ++stats_.requests;
             return send_pdu(t, fd, req, out.data(), k);
         }
-        default: break;
+        default:
+            break;
     }
 
     const Request r = parse(pdu, n);

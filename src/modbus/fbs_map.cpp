@@ -12,7 +12,7 @@ using image::Area;
 using image::Range;
 
 // FATEK user remap registers (manual 13-50/51).
-constexpr std::uint32_t kRemapKey = 3968;      // = A55Ah enables the coil/holding remap
+constexpr std::uint32_t kRemapKey = 3968;  // = A55Ah enables the coil/holding remap
 constexpr std::uint16_t kRemapMagic = 0xA55A;
 constexpr std::uint32_t kCoilRemap = 3969;     // wire start, M start, count
 constexpr std::uint32_t kDiscreteMap = 3972;   // wire start, M start, count
@@ -33,21 +33,37 @@ public:
             {Table::Coils, 9000, 256, {Area::T, 0, 256}, "01 05 15", "T0-T255 status"},
             {Table::Coils, 9500, 256, {Area::C, 0, 256}, "01 05 15", "C0-C255 status"},
             {Table::HoldingRegisters, 0, 4168, {Area::R, 0, 4168}, "03 06 16 22 23", "R0-R4167"},
-            {Table::HoldingRegisters, 5000, 999, {Area::R, 5000, 999}, "03 06 16 22 23",
+            {Table::HoldingRegisters,
+             5000,
+             999,
+             {Area::R, 5000, 999},
+             "03 06 16 22 23",
              "R5000-R5998"},
             {Table::HoldingRegisters, 6000, 2999, {Area::D, 0, 2999}, "03 06 16 22 23", "D0-D2998"},
-            {Table::HoldingRegisters, 9000, 256, {Area::TV, 0, 256}, "03 06 16 22 23",
+            {Table::HoldingRegisters,
+             9000,
+             256,
+             {Area::TV, 0, 256},
+             "03 06 16 22 23",
              "T0-T255 current value"},
-            {Table::HoldingRegisters, 9500, 200, {Area::CV, 0, 200}, "03 06 16 22 23",
+            {Table::HoldingRegisters,
+             9500,
+             200,
+             {Area::CV, 0, 200},
+             "03 06 16 22 23",
              "C0-C199 current value"},
-            {Table::HoldingRegisters, 9700, 112, {Area::CV, 200, 112}, "03 06 16 22 23",
+            {Table::HoldingRegisters,
+             9700,
+             112,
+             {Area::CV, 200, 112},
+             "03 06 16 22 23",
              "C200-C255 current value, 2 words each, low word first"},
         };
         read_only_ = {
-            {Area::X, 0, 256},      // inputs come from the simulator
-            {Area::R, 3840, 64},    // IR
-            {Area::M, 1920, 8},     // clocks, first scan, RUN…
-            {Area::R, 4136, 3},     // scan times
+            {Area::X, 0, 256},    // inputs come from the simulator
+            {Area::R, 3840, 64},  // IR
+            {Area::M, 1920, 8},   // clocks, first scan, RUN…
+            {Area::R, 4136, 3},   // scan times
         };
     }
 
@@ -65,7 +81,9 @@ public:
 
     const std::vector<Range>& read_only() const override { return read_only_; }
 
-    Resolution resolve(const image::Image& img, Table table, std::uint16_t addr,
+    Resolution resolve(const image::Image& img,
+                       Table table,
+                       std::uint16_t addr,
                        std::uint16_t qty) const noexcept override {
         const std::uint16_t* r = img.words(Area::R);
         switch (table) {
@@ -90,7 +108,9 @@ public:
 
 private:
     // The manual's table; a request may run across rows that continue the same device range.
-    Resolution fixed(const image::Image& img, Table table, std::uint16_t addr,
+    Resolution fixed(const image::Image& img,
+                     Table table,
+                     std::uint16_t addr,
                      std::uint16_t qty) const noexcept {
         std::uint32_t wire = addr;
         std::uint32_t left = qty;
@@ -120,8 +140,12 @@ private:
 
     // A map held in three registers: wire start, device start, count. `empty` is the answer
     // when the count is 0.
-    static Resolution user(const image::Image& img, std::uint32_t reg, Area area,
-                           std::uint16_t addr, std::uint16_t qty, Status empty) noexcept {
+    static Resolution user(const image::Image& img,
+                           std::uint32_t reg,
+                           Area area,
+                           std::uint16_t addr,
+                           std::uint16_t qty,
+                           Status empty) noexcept {
         const std::uint16_t* r = img.words(Area::R);
         const std::uint32_t wire_start = r[reg];
         const std::uint32_t dev_start = r[reg + 1];

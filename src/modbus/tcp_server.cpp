@@ -19,8 +19,8 @@ namespace {
 using asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
-constexpr std::size_t kMaxReply = 260;      // largest Modbus TCP ADU
-constexpr std::size_t kBufferSize = 4096;   // room for many pipelined requests
+constexpr std::size_t kMaxReply = 260;     // largest Modbus TCP ADU
+constexpr std::size_t kBufferSize = 4096;  // room for many pipelined requests
 
 std::string peer_name(const tcp::endpoint& ep) {
     return ep.address().to_string() + ":" + std::to_string(ep.port());
@@ -256,7 +256,8 @@ void TcpServer::State::accept() {
         const auto ep = s.remote_endpoint(pec);
         const std::string peer = pec ? std::string("?") : peer_name(ep);
         bool allowed = self->options.allow.empty();
-        for (const auto& c : self->options.allow) allowed = allowed || (!pec && c.contains(ep.address()));
+        for (const auto& c : self->options.allow)
+            allowed = allowed || (!pec && c.contains(ep.address()));
         if (!allowed) {
             spdlog::warn("tcp: {} refused: not in modbus.tcp.allow", peer);
             s.close(pec);
@@ -293,8 +294,8 @@ void TcpServer::State::arm_sweep() {
 TcpServer::TcpServer(asio::io_context& io, Dispatcher& dispatcher, TcpOptions options)
     : state_(std::make_shared<State>(io, dispatcher, std::move(options))) {
     // The error names the endpoint: "bind: Address already in use" alone does not say which.
-    const std::string where = "cannot listen on tcp " + state_->options.bind + ":" +
-                              std::to_string(state_->options.port);
+    const std::string where =
+        "cannot listen on tcp " + state_->options.bind + ":" + std::to_string(state_->options.port);
     asio::error_code ec;
     const auto addr = asio::ip::make_address(state_->options.bind, ec);
     if (ec) throw std::system_error(ec, where);

@@ -14,8 +14,8 @@ namespace plcemu::modbus {
 
 /// An IPv4/IPv6 network in CIDR notation.
 struct Cidr {
-    asio::ip::address network; ///< network address
-    unsigned prefix = 0;       ///< prefix length
+    asio::ip::address network;  ///< network address
+    unsigned prefix = 0;        ///< prefix length
 
     /// Parses "192.168.1.0/24", "10.0.0.1", "::1/128". Returns false when malformed.
     static bool parse(const std::string& text, Cidr& out);
@@ -25,11 +25,11 @@ struct Cidr {
 
 /// Listener settings.
 struct TcpOptions {
-    std::string bind = "0.0.0.0"; ///< address
-    std::uint16_t port = 502;     ///< port (0 = any free port)
-    int max_clients = 64;         ///< connections beyond this are closed at accept
-    int idle_timeout_s = 0;       ///< close a connection silent this long (0 = never)
-    std::vector<Cidr> allow;      ///< peers allowed (empty = all)
+    std::string bind = "0.0.0.0";  ///< address
+    std::uint16_t port = 502;      ///< port (0 = any free port)
+    int max_clients = 64;          ///< connections beyond this are closed at accept
+    int idle_timeout_s = 0;        ///< close a connection silent this long (0 = never)
+    std::vector<Cidr> allow;       ///< peers allowed (empty = all)
 };
 
 /// The TCP listener and its connections.

@@ -41,8 +41,8 @@ std::vector<std::uint8_t> Wire::tcp(std::uint8_t unit, const std::vector<std::ui
     d_.serve_tcp(fds_[0], adu);
     auto r = drain();
     if (r.empty()) return r;
-    if (r.size() < 8 || r[0] != adu[0] || r[1] != adu[1] || r[2] != 0 || r[3] != 0 || r[6] != unit ||
-        static_cast<std::size_t>(r[4] << 8 | r[5]) != r.size() - 6) {
+    if (r.size() < 8 || r[0] != adu[0] || r[1] != adu[1] || r[2] != 0 || r[3] != 0 ||
+        r[6] != unit || static_cast<std::size_t>(r[4] << 8 | r[5]) != r.size() - 6) {
         throw std::runtime_error("malformed MBAP reply");
     }
     return {r.begin() + 7, r.end()};

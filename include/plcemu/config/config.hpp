@@ -40,16 +40,16 @@ struct Operand {
 
 /// One `program:` entry, e.g. `TPCTL: {en: M0, ...}`.
 struct InstructionConfig {
-    std::string mnemonic;                                  ///< "MOV", "TPCTL", …
-    Position pos;                                          ///< position of the mnemonic
-    std::vector<std::pair<std::string, Operand>> operands; ///< in file order
+    std::string mnemonic;                                   ///< "MOV", "TPCTL", …
+    Position pos;                                           ///< position of the mnemonic
+    std::vector<std::pair<std::string, Operand>> operands;  ///< in file order
 };
 
 /// One `init:` entry: values written from a device upward at start.
 struct InitEntry {
-    image::Device device;              ///< first device
-    std::vector<std::uint16_t> values; ///< words (or bits as 0/1 for bit devices)
-    Position pos;                      ///< position of the key
+    image::Device device;               ///< first device
+    std::vector<std::uint16_t> values;  ///< words (or bits as 0/1 for bit devices)
+    Position pos;                       ///< position of the key
 };
 
 /// What to do with a TCP request for a unit ID that is neither the station nor 255.
@@ -57,115 +57,115 @@ enum class UnknownUnit : std::uint8_t { Exception, Silent };
 
 /// `modbus.tcp`
 struct TcpConfig {
-    bool enabled = true;                             ///< serve TCP at all
-    std::string bind = "0.0.0.0";                    ///< address to listen on
-    std::uint16_t port = 502;                        ///< port (502 as on a real PLC)
-    UnknownUnit unknown_unit = UnknownUnit::Exception; ///< SPEC §2 unit-ID policy
-    std::vector<std::string> allow;                  ///< CIDR allow list (empty = all)
-    int max_clients = 64;                            ///< concurrent connections
-    int idle_timeout_s = 0;                          ///< 0 = never
+    bool enabled = true;                                ///< serve TCP at all
+    std::string bind = "0.0.0.0";                       ///< address to listen on
+    std::uint16_t port = 502;                           ///< port (502 as on a real PLC)
+    UnknownUnit unknown_unit = UnknownUnit::Exception;  ///< SPEC §2 unit-ID policy
+    std::vector<std::string> allow;                     ///< CIDR allow list (empty = all)
+    int max_clients = 64;                               ///< concurrent connections
+    int idle_timeout_s = 0;                             ///< 0 = never
 };
 
 /// `modbus.rtu` (absent = no serial port)
 struct RtuConfig {
-    std::string device;   ///< e.g. /dev/ttyUSB0
-    int baud = 9600;      ///< bits per second
-    char parity = 'E';    ///< 'N', 'E' or 'O'
-    int data_bits = 8;    ///< 7 or 8
-    int stop_bits = 1;    ///< 1 or 2
+    std::string device;  ///< e.g. /dev/ttyUSB0
+    int baud = 9600;     ///< bits per second
+    char parity = 'E';   ///< 'N', 'E' or 'O'
+    int data_bits = 8;   ///< 7 or 8
+    int stop_bits = 1;   ///< 1 or 2
 };
 
 /// `modbus`
 struct ModbusConfig {
-    TcpConfig tcp;                        ///< TCP listener
-    std::optional<RtuConfig> rtu;         ///< serial slave
-    bool read_only = false;               ///< refuse every write with exception 02
-    std::vector<image::Range> write_protect; ///< device ranges writes may not touch
+    TcpConfig tcp;                            ///< TCP listener
+    std::optional<RtuConfig> rtu;             ///< serial slave
+    bool read_only = false;                   ///< refuse every write with exception 02
+    std::vector<image::Range> write_protect;  ///< device ranges writes may not touch
 };
 
 /// One installed temperature module of the emulated expansion chain.
 struct ModuleConfig {
-    std::uint8_t name_code = 0;   ///< 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2
-    std::uint8_t sensor_type = 0; ///< sensor code of SPEC §4
-    Position pos;                 ///< where it was declared
+    std::uint8_t name_code = 0;    ///< 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2
+    std::uint8_t sensor_type = 0;  ///< sensor code of SPEC §4
+    Position pos;                  ///< where it was declared
 };
 
 /// `temperature`
 struct TemperatureConfig {
-    std::optional<image::Device> table; ///< start of the configuration table (R or D)
-    std::vector<ModuleConfig> modules;  ///< installed modules, in chain order
-    bool fast = false;                  ///< "scan rate": fast conversion (half time, 1° resolution)
+    std::optional<image::Device> table;  ///< start of the configuration table (R or D)
+    std::vector<ModuleConfig> modules;   ///< installed modules, in chain order
+    bool fast = false;  ///< "scan rate": fast conversion (half time, 1° resolution)
 };
 
 /// Fault switches of a plant channel (SPEC §6).
 struct Faults {
-    bool sensor_broken = false;  ///< reading 32767, abnormal bit
-    bool heater_open = false;    ///< u forced to 0
-    bool heater_shorted = false; ///< u forced to 1
-    bool reading_frozen = false; ///< reading stops changing
+    bool sensor_broken = false;   ///< reading 32767, abnormal bit
+    bool heater_open = false;     ///< u forced to 0
+    bool heater_shorted = false;  ///< u forced to 1
+    bool reading_frozen = false;  ///< reading stops changing
 };
 
 /// One simulated process channel (SPEC §6).
 struct ChannelConfig {
-    double ambient_c = 25.0;  ///< T_amb, °C
-    double k_c = 400.0;       ///< full-power rise, °C
-    double tau_s = 120.0;     ///< time constant, s
-    double dead_time_s = 5.0; ///< θ, s
-    double noise_c = 0.0;     ///< sensor noise σ, °C
-    bool cooling = false;     ///< the actuator pulls T down
-    std::optional<image::Device> drive; ///< Y (PWM duty) or R/D (OR value /16383); default:
-                                        ///< the TPCTL output that controls this channel
-    Faults faults;            ///< initial faults
+    double ambient_c = 25.0;             ///< T_amb, °C
+    double k_c = 400.0;                  ///< full-power rise, °C
+    double tau_s = 120.0;                ///< time constant, s
+    double dead_time_s = 5.0;            ///< θ, s
+    double noise_c = 0.0;                ///< sensor noise σ, °C
+    bool cooling = false;                ///< the actuator pulls T down
+    std::optional<image::Device> drive;  ///< Y (PWM duty) or R/D (OR value /16383); default:
+                                         ///< the TPCTL output that controls this channel
+    Faults faults;                       ///< initial faults
 };
 
 /// `plant`
 struct PlantConfig {
-    ChannelConfig defaults;                          ///< applied to every channel
-    std::vector<std::pair<int, ChannelConfig>> channels; ///< per-channel overrides
-    std::uint64_t seed = 1;                          ///< noise seed (deterministic)
+    ChannelConfig defaults;                               ///< applied to every channel
+    std::vector<std::pair<int, ChannelConfig>> channels;  ///< per-channel overrides
+    std::uint64_t seed = 1;                               ///< noise seed (deterministic)
 };
 
 /// `simulator`
 struct SimulatorConfig {
-    int unit = 247; ///< Modbus unit of the simulator-control registers (0 = none)
+    int unit = 247;  ///< Modbus unit of the simulator-control registers (0 = none)
 };
 
 /// When `init:` presets reach retentive devices.
 enum class InitPolicy : std::uint8_t {
-    Fresh,  ///< only when the state file is new: retained values win over presets
-    Always, ///< at every start and reload: presets win over retained values
+    Fresh,   ///< only when the state file is new: retained values win over presets
+    Always,  ///< at every start and reload: presets win over retained values
 };
 
 /// `persistence`
 struct PersistenceConfig {
-    bool enabled = true;                    ///< keep the image in a state file at all
-    std::string file;                       ///< state file ("" = default location)
-    std::optional<std::vector<image::Range>> retentive; ///< overrides the profile's ranges
-    int sync_ms = 1000;                     ///< msync period
-    InitPolicy init = InitPolicy::Fresh;    ///< presets on retentive devices
+    bool enabled = true;                                 ///< keep the image in a state file at all
+    std::string file;                                    ///< state file ("" = default location)
+    std::optional<std::vector<image::Range>> retentive;  ///< overrides the profile's ranges
+    int sync_ms = 1000;                                  ///< msync period
+    InitPolicy init = InitPolicy::Fresh;                 ///< presets on retentive devices
 };
 
 /// `log`
 struct LogConfig {
-    std::string level = "info"; ///< trace, debug, info, warn, error
+    std::string level = "info";  ///< trace, debug, info, warn, error
 };
 
 /// A whole configuration.
 struct Config {
-    std::string path;                         ///< file it was read from
-    image::Profile profile = image::Profile::Fbs; ///< PLC family
-    std::string model = "FBs-24MC";           ///< model name
-    std::uint8_t station = 1;                 ///< station number (R4055)
-    int scan_ms = 10;                         ///< scan period
-    double time_scale = 1.0;                  ///< simulated seconds per real second
-    ModbusConfig modbus;                      ///< transports and access
-    std::vector<InitEntry> init;              ///< presets
-    std::vector<InstructionConfig> program;   ///< ordered instruction list
-    TemperatureConfig temperature;            ///< measurement table and modules
-    PlantConfig plant;                        ///< thermal plant
-    SimulatorConfig simulator;                ///< simulator-control unit
-    PersistenceConfig persistence;            ///< retentive state file
-    LogConfig log;                            ///< logging
+    std::string path;                              ///< file it was read from
+    image::Profile profile = image::Profile::Fbs;  ///< PLC family
+    std::string model = "FBs-24MC";                ///< model name
+    std::uint8_t station = 1;                      ///< station number (R4055)
+    int scan_ms = 10;                              ///< scan period
+    double time_scale = 1.0;                       ///< simulated seconds per real second
+    ModbusConfig modbus;                           ///< transports and access
+    std::vector<InitEntry> init;                   ///< presets
+    std::vector<InstructionConfig> program;        ///< ordered instruction list
+    TemperatureConfig temperature;                 ///< measurement table and modules
+    PlantConfig plant;                             ///< thermal plant
+    SimulatorConfig simulator;                     ///< simulator-control unit
+    PersistenceConfig persistence;                 ///< retentive state file
+    LogConfig log;                                 ///< logging
 };
 
 /// Reads and validates a config file. Throws ConfigError naming file, line and column.

@@ -17,11 +17,11 @@ namespace plcemu::daemon {
 
 /// How a Plc takes over its storage (README, "Retentive memory").
 enum class Start : std::uint8_t {
-    Fresh,    ///< new storage (all zero): presets applied, power-up counted
-    Retained, ///< storage from an earlier run: non-retentive devices cleared, power-up counted,
-              ///< presets on retentive devices only with persistence.init = always
-    Reload,   ///< the live image of a running PLC (SIGHUP): nothing cleared, no power-up,
-              ///< presets as for Retained
+    Fresh,     ///< new storage (all zero): presets applied, power-up counted
+    Retained,  ///< storage from an earlier run: non-retentive devices cleared, power-up counted,
+               ///< presets on retentive devices only with persistence.init = always
+    Reload,    ///< the live image of a running PLC (SIGHUP): nothing cleared, no power-up,
+               ///< presets as for Retained
 };
 
 /// The layout of a config: the profile's areas, its retentive ranges (or the config's), and
@@ -34,7 +34,8 @@ public:
     /// Builds everything; throws config::ConfigError for what the config loader could not see
     /// (operands, presets out of range). With `storage`, the image lives there (a state file)
     /// and `start` says what it holds; otherwise the image is its own and starts cleared.
-    explicit Plc(const config::Config& config, std::span<std::byte> storage = {},
+    explicit Plc(const config::Config& config,
+                 std::span<std::byte> storage = {},
                  Start start = Start::Retained);
     ~Plc();
 

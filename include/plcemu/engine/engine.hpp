@@ -16,22 +16,22 @@ using Duration = std::chrono::nanoseconds;
 
 /// Wall-clock date and time for the calendar registers, passed in by whoever owns a clock.
 struct Calendar {
-    int second = 0;  ///< 0–59
-    int minute = 0;  ///< 0–59
-    int hour = 0;    ///< 0–23
-    int day = 1;     ///< 1–31
-    int month = 1;   ///< 1–12
-    int year = 2026; ///< four digits (the register holds the last two)
-    int weekday = 0; ///< 0 = Sunday
+    int second = 0;   ///< 0–59
+    int minute = 0;   ///< 0–59
+    int hour = 0;     ///< 0–23
+    int day = 1;      ///< 1–31
+    int month = 1;    ///< 1–12
+    int year = 2026;  ///< four digits (the register holds the last two)
+    int weekday = 0;  ///< 0 = Sunday
 };
 
 /// What an instruction sees during one scan.
 struct ScanContext {
-    image::Image& image;   ///< the register image
-    Duration now;          ///< simulated time of this scan's start
-    Duration dt;           ///< simulated time since the previous scan (the scan period)
-    std::uint64_t scan;    ///< scans completed before this one
-    bool first_scan;       ///< true during the first scan after power-up
+    image::Image& image;  ///< the register image
+    Duration now;         ///< simulated time of this scan's start
+    Duration dt;          ///< simulated time since the previous scan (the scan period)
+    std::uint64_t scan;   ///< scans completed before this one
+    bool first_scan;      ///< true during the first scan after power-up
 };
 
 /// One program instruction (one file per mnemonic in src/instructions).
@@ -59,9 +59,9 @@ using Program = std::vector<std::unique_ptr<Instruction>>;
 
 /// Fixed parameters of an engine.
 struct EngineOptions {
-    Duration scan_period = std::chrono::milliseconds(10); ///< scan_ms
-    std::uint8_t station = 1;                             ///< initial station number
-    std::uint16_t model_code = 0;                         ///< R4167
+    Duration scan_period = std::chrono::milliseconds(10);  ///< scan_ms
+    std::uint8_t station = 1;                              ///< initial station number
+    std::uint16_t model_code = 0;                          ///< R4167
 };
 
 /// Runs scans over an image.

@@ -36,9 +36,9 @@ std::string_view area_name(Area a);
 
 /// A contiguous run of devices in one area, e.g. D100–D199.
 struct Range {
-    Area area = Area::R;     ///< the area
-    std::uint32_t start = 0; ///< first device index
-    std::uint32_t count = 0; ///< number of devices (bits or words)
+    Area area = Area::R;      ///< the area
+    std::uint32_t start = 0;  ///< first device index
+    std::uint32_t count = 0;  ///< number of devices (bits or words)
 
     /// One past the last index.
     std::uint32_t end() const { return start + count; }
@@ -59,9 +59,9 @@ std::string format_range(const Range& r);
 /// One device operand as written in a config: a bit (M0), a word (R100), or 16 bits read as a
 /// word (WM800).
 struct Device {
-    Area area = Area::R;     ///< area of the device (for WMn: M)
-    std::uint32_t index = 0; ///< index within the area
-    bool word_of_bits = false; ///< "W" prefix: 16 consecutive bits taken as one word
+    Area area = Area::R;        ///< area of the device (for WMn: M)
+    std::uint32_t index = 0;    ///< index within the area
+    bool word_of_bits = false;  ///< "W" prefix: 16 consecutive bits taken as one word
 
     bool operator==(const Device&) const = default;
 };

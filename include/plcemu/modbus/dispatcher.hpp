@@ -20,16 +20,16 @@ enum class UnknownUnitPolicy : std::uint8_t { Exception, Silent };
 
 /// Identification strings for FC 11h and 2Bh/0Eh.
 struct Identity {
-    std::string vendor = "FATEK"; ///< VendorName
-    std::string product;          ///< ProductCode: the model, e.g. FBs-24MC
-    std::string revision;         ///< MajorMinorRevision: the emulator's version
+    std::string vendor = "FATEK";  ///< VendorName
+    std::string product;           ///< ProductCode: the model, e.g. FBs-24MC
+    std::string revision;          ///< MajorMinorRevision: the emulator's version
 };
 
 /// Counters, for logs and tests.
 struct DispatchStats {
-    std::uint64_t requests = 0;   ///< requests answered or refused
-    std::uint64_t exceptions = 0; ///< exception replies sent
-    std::uint64_t ignored = 0;    ///< requests dropped without an answer
+    std::uint64_t requests = 0;    ///< requests answered or refused
+    std::uint64_t exceptions = 0;  ///< exception replies sent
+    std::uint64_t ignored = 0;     ///< requests dropped without an answer
 };
 
 /// Turns complete request frames into replies written to a file descriptor.

@@ -12,8 +12,8 @@ namespace plcemu::modbus {
 
 /// Write restrictions from the config (SPEC §2 read-only items are always added).
 struct WritePolicy {
-    bool read_only = false;                 ///< refuse every write
-    std::vector<image::Range> write_protect; ///< device ranges writes may not touch
+    bool read_only = false;                   ///< refuse every write
+    std::vector<image::Range> write_protect;  ///< device ranges writes may not touch
 };
 
 /// The PLC unit.
@@ -22,7 +22,9 @@ public:
     /// `image` and `map` must outlive the unit.
     PlcUnit(image::Image& image, const AddressMap& map, WritePolicy policy);
 
-    Window resolve(Table table, std::uint16_t addr, std::uint16_t qty,
+    Window resolve(Table table,
+                   std::uint16_t addr,
+                   std::uint16_t qty,
                    bool write) noexcept override;
 
     /// Replaces the write policy (config reload).

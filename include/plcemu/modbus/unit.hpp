@@ -22,9 +22,9 @@ enum class Status : std::uint8_t {
 /// The memory a request reads or writes: `bits`/`words` point at the element for the request's
 /// first wire address, followed by the rest of the request's elements.
 struct Window {
-    Status status = Status::IllegalDataAddress; ///< Ok, or why not
-    std::uint8_t* bits = nullptr;               ///< coils / discrete inputs, one byte each
-    std::uint16_t* words = nullptr;             ///< holding / input registers
+    Status status = Status::IllegalDataAddress;  ///< Ok, or why not
+    std::uint8_t* bits = nullptr;                ///< coils / discrete inputs, one byte each
+    std::uint16_t* words = nullptr;              ///< holding / input registers
 };
 
 /// One addressable unit (the PLC itself, the simulator-control unit, …).
@@ -34,7 +34,9 @@ public:
     /// Resolves `qty` elements of `table` from wire address `addr`, for reading or writing.
     /// Returns IllegalFunction when the table is not served, IllegalDataAddress when any element
     /// is unmapped or (for writes) read-only.
-    virtual Window resolve(Table table, std::uint16_t addr, std::uint16_t qty,
+    virtual Window resolve(Table table,
+                           std::uint16_t addr,
+                           std::uint16_t qty,
                            bool write) noexcept = 0;
     /// Called after a write landed in a window this unit returned.
     virtual void written(Table /*table*/, std::uint16_t /*addr*/, std::uint16_t /*qty*/) noexcept {}

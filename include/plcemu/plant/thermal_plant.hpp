@@ -166,10 +166,10 @@ private:
         std::optional<double> held;  // reading kept while the reading is frozen
         double last = 25.0;          // last sensed value
         std::uint64_t samples = 0;   // sensor samples taken, for the noise sequence
-        std::int64_t powered_until = INT64_MIN; // end of the last step with power applied
-        double decay_dt = -1.0;      // step length (s) and τ the cached decay was computed for
+        std::int64_t powered_until = INT64_MIN;  // end of the last step with power applied
+        double decay_dt = -1.0;  // step length (s) and τ the cached decay was computed for
         double decay_tau = -1.0;
-        double decay = 1.0;          // exp(−dt/τ)
+        double decay = 1.0;  // exp(−dt/τ)
     };
 
     static bool valid(int channel) { return channel >= 0 && channel < kChannels; }
