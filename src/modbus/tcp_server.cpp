@@ -135,34 +135,20 @@ public:
 private:
     void read() {
         if (closed_) return;
-        // Wait for readability, then one recv: a closed-loop client has nothing to send until
-        // it has our reply, so a speculative recv before waiting would only return EAGAIN.
-        socket_.async_wait(tcp::socket::wait_read,
-                           [self = shared_from_this()](const asio::error_code& ec) {
-                               if (ec) {
-                                   self->close("read error");
-                                   return;
-                               }
-                               self->receive();
-                           });
-    }
-
-    void receive() {
-        if (closed_) return;
-        asio::error_code ec;
-        const std::size_t n =
-            socket_.read_some(asio::buffer(buf_.data() + used_, buf_.size() - used_), ec);
-        if (ec == asio::error::would_block || ec == asio::error::try_again) {
-            read();
-            return;
-        }
-        if (ec) {
-            close(ec == asio::error::eof ? "closed by peer" : "read error");
-            return;
-        }
-        used_ += n;
-        last_activity_ = Clock::now();
-        serve_and_continue();
+        // After a short read, Asio (1.22) marks the socket exhausted and queues the next read
+        // without trying it first: one recv per request, issued when epoll says data is there.
+        // (A wait-then-recv costs an epoll_ctl per request instead; measured with perf.)
+        socket_.async_read_some(
+            asio::buffer(buf_.data() + used_, buf_.size() - used_),
+            [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
+                if (ec) {
+                    self->close(ec == asio::error::eof ? "closed by peer" : "read error");
+                    return;
+                }
+                self->used_ += n;
+                self->last_activity_ = Clock::now();
+                self->serve_and_continue();
+            });
     }
 
     void serve_and_continue() {
