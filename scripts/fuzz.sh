@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses (clang-14, ASan + UBSan, into build-fuzz/) and runs each for
+# SECONDS: first every saved crash input under tests/fuzz/regressions/<harness>/ once, then
+# fuzzing from a temporary copy of tests/fuzz/corpus/<harness>/. Prints one summary line per
+# harness with its number of executions. A new crash, leak or timeout input is saved under
+# tests/fuzz/regressions/<harness>/ and the script exits 1.
+#
+#   scripts/fuzz.sh 20                      # every harness, 20 s each
+#   scripts/fuzz.sh 600 fuzz_config         # one harness, ten minutes
+#   build-fuzz/tests/fuzz/fuzz_config FILE  # replay one input
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config)
+readonly BUILD=build-fuzz
+
+usage() {
+    echo "usage: scripts/fuzz.sh SECONDS [HARNESS...]   (harnesses: ${ALL[*]})" >&2
+    exit 2
+}
+[[ $# -ge 1 && $1 =~ ^[0-9]+$ && $1 -gt 0 ]] || usage
+readonly SECONDS_EACH=$1
+shift
+harnesses=("$@")
+((${#harnesses[@]} > 0)) || harnesses=("${ALL[@]}")
+for h in "${harnesses[@]}"; do
+    [[ " ${ALL[*]} " == *" $h "* ]] || { echo "fuzz: unknown harness '$h'" >&2; usage; }
+done
+
+scripts/install-deps.sh fuzz
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$BUILD" -DPLCEMU_FUZZ=ON -DPLCEMU_TESTS=OFF \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+echo "fuzz: building ${harnesses[*]} in $BUILD/" >&2
+nice -n 10 cmake --build "$BUILD" -j2 --target "${harnesses[@]}" >/dev/null
+
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+
+# Stop at the first error of any kind; ASan's and UBSan's reports become libFuzzer crashes.
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=1"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:+$UBSAN_OPTIONS:}print_stacktrace=1:halt_on_error=1"
+
+status=0
+for h in "${harnesses[@]}"; do
+    bin=$BUILD/tests/fuzz/$h
+    regressions=tests/fuzz/regressions/$h
+    log=$TMP/$h.log
+    dict=()
+    [[ -f tests/fuzz/$h.dict ]] && dict=(-dict="tests/fuzz/$h.dict")
+
+    # Saved crash inputs first: each must now pass.
+    mapfile -t saved < <(find "$regressions" -type f 2>/dev/null | sort)
+    if ((${#saved[@]} > 0)); then
+        if ! "$bin" -runs=0 "${saved[@]}" >"$log" 2>&1; then
+            tail -n 40 "$log" >&2
+            echo "fuzz: $h: a regression input under $regressions fails again" >&2
+            status=1
+            continue
+        fi
+    fi
+
+    mkdir -p "$TMP/$h/corpus" "$TMP/$h/artifacts"
+    cp -r tests/fuzz/corpus/"$h"/. "$TMP/$h/corpus/" 2>/dev/null || true
+    rc=0
+    nice -n 10 "$bin" -max_total_time="$SECONDS_EACH" -print_final_stats=1 -timeout=10 \
+        -artifact_prefix="$TMP/$h/artifacts/" "${dict[@]}" "$TMP/$h/corpus" >"$log" 2>&1 || rc=$?
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
+    corpus=$(find "$TMP/$h/corpus" -type f | wc -l)
+    mapfile -t found < <(find "$TMP/$h/artifacts" -type f | sort)
+    if ((rc == 0 && ${#found[@]} == 0)); then
+        echo "fuzz: $h: ${execs:-?} executions in ${SECONDS_EACH} s, corpus ${corpus} inputs," \
+            "${#saved[@]} regression inputs replayed, no crash"
+        continue
+    fi
+    status=1
+    tail -n 60 "$log" >&2
+    mkdir -p "$regressions"
+    for f in "${found[@]}"; do
+        cp "$f" "$regressions/"
+        echo "fuzz: $h: saved $regressions/$(basename "$f") (replay: $bin $regressions/$(basename "$f"))" >&2
+    done
+    echo "fuzz: $h: ${execs:-?} executions in ${SECONDS_EACH} s, FAILED (exit $rc," \
+        "${#found[@]} input(s) saved under $regressions)"
+done
+exit "$status"

@@ -1,0 +1,121 @@
+// libFuzzer harness: Modbus RTU frames into the dispatcher.
+//
+// Input: one control byte, then records. Control bits 0-2: run one engine scan after every n-th
+// frame (0 = never). Bit 7 clear: records are [n][n bytes], each an address + PDU that gets a
+// correct CRC appended and goes to the dispatcher, as the RTU transport delivers a frame once
+// its CRC checked. Bit 7 set: records are [n][pause][n bytes], raw chunks of a 9600 8E1 line
+// arriving `pause` half-characters after the previous chunk went over the wire; the RTU framer
+// (t1.5, t3.5, CRC) decides what reaches the dispatcher, as in the daemon.
+//
+// Invariants: the framer hands on only whole frames with a good CRC; a reply is absent or one
+// frame with a correct CRC, the request's address (never a broadcast's) and its function code;
+// the station always gets one; a read, a refusal or silence to a unicast changes nothing in the
+// image; no write changes X, read-only items or write-protected ranges.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "fuzz_support.hpp"
+#include "modbus/crc.hpp"
+#include "modbus/rtu_framer.hpp"
+
+using namespace plcemu;
+
+namespace {
+
+void check_reply(fuzz::Rig& rig,
+                 std::span<const std::uint8_t> req,
+                 const std::vector<std::uint8_t>& rep) {
+    const std::uint8_t unit = req[0];
+    if (rep.empty()) {
+        fuzz::check(unit != rig.plc->engine().station() && !rig.is_sim(unit),
+                    "no reply to a request for the station or the simulator");
+        return;
+    }
+    fuzz::check(unit != 0, "a broadcast was answered");
+    fuzz::check(rep.size() >= 5 && rep.size() <= modbus::RtuFramer::kMaxFrame,
+                "reply size out of range");
+    const std::uint16_t crc = modbus::crc16(rep.data(), rep.size() - 2);
+    fuzz::check(rep[rep.size() - 2] == (crc & 0xFF) && rep[rep.size() - 1] == (crc >> 8),
+                "reply CRC is wrong");
+    fuzz::check(rep[0] == unit, "reply address differs");
+    fuzz::check_reply_pdu(req.subspan(1, req.size() - 3),
+                          std::span(rep).subspan(1, rep.size() - 3));
+}
+
+// Serves one frame that passed the CRC check and checks what came of it.
+void serve(fuzz::Rig& rig, fuzz::Peer& peer, std::span<const std::uint8_t> frame) {
+    fuzz::exchange() = {{frame.begin(), frame.end()}, {}};
+    fuzz::check(frame.size() >= 4 && frame.size() <= modbus::RtuFramer::kMaxFrame,
+                "frame size out of range");
+    fuzz::Snapshot before;
+    before.take(rig.plc->image());
+    rig.plc->dispatcher().serve_rtu(peer.server(), frame);
+    const auto rep = peer.drain();
+    fuzz::exchange().reply = rep;
+    check_reply(rig, frame, rep);
+    // A broadcast write is applied without an answer; judge it as answered.
+    const bool answered = frame[0] == 0 || (rep.size() > 1 && (rep[1] & 0x80) == 0);
+    fuzz::check_image(rig.plc->image(), before, frame[1], answered, rig.is_sim(frame[0]));
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    if (size < 1) return 0;
+    const std::uint8_t control = data[0];
+    const bool raw = (control & 0x80) != 0;
+    const unsigned scan_every = control & 0x07;
+    std::span<const std::uint8_t> in(data + 1, size - 1);
+
+    static fuzz::Peer peer;
+    fuzz::Rig rig = fuzz::make_rig();
+    unsigned frames = 0;
+    auto after_frame = [&] {
+        if (scan_every != 0 && ++frames % scan_every == 0) rig.plc->engine().run_scans(1);
+    };
+
+    if (!raw) {
+        std::vector<std::uint8_t> frame;
+        while (in.size() >= 2) {
+            const std::size_t n = std::min<std::size_t>(in[0], in.size() - 1);
+            frame.assign(in.begin() + 1, in.begin() + 1 + static_cast<std::ptrdiff_t>(n));
+            in = in.subspan(1 + n);
+            const std::uint16_t crc = modbus::crc16(frame.data(), frame.size());
+            frame.push_back(static_cast<std::uint8_t>(crc & 0xFF));
+            frame.push_back(static_cast<std::uint8_t>(crc >> 8));
+            // The framer drops these (too short, too long).
+            if (frame.size() < 4 || frame.size() > modbus::RtuFramer::kMaxFrame) continue;
+            serve(rig, peer, frame);
+            after_frame();
+        }
+        return 0;
+    }
+
+    const auto timing = modbus::RtuTiming::for_line(9600, 'E', 8, 1);
+    modbus::RtuFramer framer(timing);
+    modbus::RtuFramer::Clock::time_point now{};
+    auto handle = [&](const std::optional<modbus::RtuFrame>& f) {
+        if (!f || f->verdict != modbus::RtuVerdict::Ok) return;
+        const auto b = f->bytes;
+        fuzz::check(b.size() >= 4 && b.size() <= modbus::RtuFramer::kMaxFrame,
+                    "the framer passed a frame of an impossible size");
+        const std::uint16_t crc = modbus::crc16(b.data(), b.size() - 2);
+        fuzz::check(b[b.size() - 2] == (crc & 0xFF) && b[b.size() - 1] == crc >> 8,
+                    "the framer passed a frame with a bad CRC");
+        serve(rig, peer, b);
+        after_frame();
+    };
+    while (in.size() >= 3) {
+        const std::size_t n = std::min<std::size_t>(in[0], in.size() - 2);
+        const std::uint8_t pause = in[1];
+        const auto chunk = in.subspan(2, n);
+        in = in.subspan(2 + n);
+        now += timing.char_time * static_cast<std::int64_t>(n) + timing.char_time * pause / 2;
+        handle(framer.receive(chunk, now));
+    }
+    handle(framer.expire(now + timing.t35));
+    return 0;
+}
