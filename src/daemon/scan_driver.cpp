@@ -39,8 +39,7 @@ std::chrono::microseconds LatenessStats::percentile(double fraction) const noexc
 }
 
 ScanDriver::ScanDriver(asio::io_context& io, engine::Engine& engine, double time_scale)
-    : io_(io),
-      timer_(io),
+    : timer_(io),
       engine_(engine),
       scale_(time_scale) {}
 

@@ -65,7 +65,6 @@ private:
     void run_one(engine::Duration sim);
     void rebase(Clock::time_point real_now);
 
-    asio::io_context& io_;
     asio::steady_timer timer_;
     engine::Engine& engine_;
     double scale_;
