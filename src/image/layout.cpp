@@ -47,10 +47,15 @@ Layout fbs_layout() {
     set(Area::CV, 200 + 56 * 2);
     // SPEC §1: the FBs manual's default retentive ranges.
     l.retentive = {
-        {Area::M, 800, 600},   {Area::S, 500, 500}, {Area::R, 0, 3000},  {Area::D, 0, 4000},
-        {Area::R, 5000, 3072}, {Area::CV, 100, 40}, {Area::CV, 200, 80},  // C200–C239, two words
-                                                                          // each
-        {Area::R, 4057, 1},                                               // power-up counter
+        {Area::M, 800, 600},
+        {Area::S, 500, 500},
+        {Area::R, 0, 3000},
+        {Area::D, 0, 4000},
+        {Area::R, 5000, 3072},
+        {Area::CV, 100, 40},
+        {Area::CV, 200, 80},  // C200–C239, two words
+                              // each
+        {Area::R, 4057, 1},   // power-up counter
     };
     return l;
 }
