@@ -9,17 +9,14 @@ import argparse
 import os
 import select
 import statistics
+import sys
 import termios
 import time
+from pathlib import Path
 
-
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return bytes([crc & 0xFF, crc >> 8])
+# The RTU framing helpers of the system tests (stdlib only).
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "system"))
+from rtu_pty import crc16, frame as rtu_frame  # noqa: E402
 
 
 def main():
@@ -37,8 +34,7 @@ def main():
     attrs[4] = attrs[5] = termios.B115200
     termios.tcsetattr(fd, termios.TCSANOW, attrs)
 
-    pdu = bytes([args.unit, 0x03, 0x00, 0x00, 0x00, 0x0A])  # FC03, 10 registers from R0
-    frame = pdu + crc16(pdu)
+    frame = rtu_frame(args.unit, bytes([0x03, 0x00, 0x00, 0x00, 0x0A]))  # FC03, 10 from R0
     reply_len = 3 + 20 + 2
     samples, failures = [], 0
     for _ in range(args.count):
@@ -54,7 +50,7 @@ def main():
         while len(got) < reply_len and time.monotonic() < deadline:
             if select.select([fd], [], [], 0.1)[0]:
                 got += os.read(fd, 256)
-        if len(got) != reply_len or got[-2:] != crc16(got[:-2]):
+        if len(got) != reply_len or crc16(got[:-2]) != got[-2] | got[-1] << 8:
             failures += 1
             continue
         samples.append((first - sent) / 1e6)

@@ -7,6 +7,10 @@ corpus is kept as plain YAML files. Run it after changing the seeds: tests/fuzz/
 
 import pathlib
 import struct
+import sys
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "system"))
+from rtu_pty import crc16  # noqa: E402  (the system tests' RTU helpers, stdlib only)
 
 HERE = pathlib.Path(__file__).resolve().parent
 STATION = 1
@@ -134,15 +138,6 @@ def rtu_records(seq, control=0x01):
             return None
         out += bytes([len(body)]) + body
     return bytes(out)
-
-
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
 
 
 def rtu_raw(chunks, control=0x81):
