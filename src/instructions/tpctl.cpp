@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "operands.hpp"
+#include "temperature_table.hpp"
 #include "plcemu/engine/special.hpp"
 
 namespace plcemu::instructions {
@@ -25,7 +26,6 @@ using namespace tpctl;
 constexpr std::uint32_t kHrEnd = 3840;
 constexpr std::uint32_t kRorStart = 5000;
 // Temperature configuration table (SPEC §4).
-constexpr std::uint16_t kTableMarker = 0xA556;
 // R4005 codes 0…5 → 1, 2, 4, 8, 16, 32 s.
 constexpr int kMaxTimingCode = 5;
 
@@ -151,17 +151,11 @@ void check_overlaps(const Bound& me, const config::InstructionConfig& ic, const 
     }
 }
 
-// FATEK's register encoding (R4004, table SR+2/SR+3): 10000+n = Rn, 20000+n = Dn.
+// A block of `span` words named in FATEK's register encoding (R4004, table SR+2/SR+3), when it
+// lies in the image.
 std::optional<Device> decode(const image::Image& img, std::uint16_t v, std::uint32_t span) {
-    Device d;
-    if (v >= 10000 && v < 20000) {
-        d = {Area::R, static_cast<std::uint32_t>(v - 10000), false};
-    } else if (v >= 20000 && v < 30000) {
-        d = {Area::D, static_cast<std::uint32_t>(v - 20000), false};
-    } else {
-        return std::nullopt;
-    }
-    if (!img.layout().contains({d.area, d.index, span})) return std::nullopt;
+    const std::optional<Device> d = temperature::decode_register(v);
+    if (!d || !img.layout().contains({d->area, d->index, span})) return std::nullopt;
     return d;
 }
 
@@ -273,7 +267,7 @@ private:
             return std::nullopt;
         }
         const std::uint16_t* t = img.words(table_->area) + table_->index;
-        if (t[0] != kTableMarker) return std::nullopt;
+        if (t[0] != temperature::kValidTable) return std::nullopt;
         const std::optional<Device> wr = decode(img, t[3], 1);
         if (!wr || (img.word(wr->area, wr->index) >> 8) != kMeasurementRunning) {
             return std::nullopt;

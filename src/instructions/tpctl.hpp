@@ -7,6 +7,7 @@
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/instructions/instructions.hpp"
+#include "temperature_table.hpp"
 
 namespace plcemu::instructions {
 
@@ -25,9 +26,9 @@ inline constexpr std::uint16_t kDefaultTd = 50;   ///< Td, 0.01 min
 /// Consecutive scans at or above R4008 before the over-temperature warning.
 inline constexpr int kOverTemperatureScans = 10;
 /// A reading that means "no temperature" (broken sensor, SPEC §4).
-inline constexpr std::uint16_t kBrokenReading = 0x7FFF;
+inline constexpr std::uint16_t kBrokenReading = temperature::kBroken;
 /// The temperature execute code that lets TPCTL run.
-inline constexpr std::uint8_t kMeasurementRunning = 0x56;
+inline constexpr std::uint8_t kMeasurementRunning = temperature::kRunning;
 /// R4003 value that takes the PVs from the block named by R4004.
 inline constexpr std::uint16_t kPvRemap = 0xA55A;
 }  // namespace tpctl
