@@ -440,6 +440,17 @@ private:
 
 }  // namespace
 
+std::optional<TpctlOutputs> tpctl_outputs(const config::InstructionConfig& ic,
+                                          const image::Layout& layout) {
+    try {
+        const Bound b = bind(ic, layout);
+        if (!b.valid) return std::nullopt;
+        return TpctlOutputs{static_cast<int>(b.sn), b.points, b.yn};
+    } catch (const config::ConfigError&) {
+        return std::nullopt;  // reported where the program is built
+    }
+}
+
 std::unique_ptr<engine::Instruction> make_tpctl(const config::InstructionConfig& ic,
                                                 const BindContext& ctx) {
     Bound b = bind(ic, ctx.layout);

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/instructions/instructions.hpp"
@@ -38,5 +39,17 @@ inline constexpr std::uint16_t kPvRemap = 0xA55A;
 /// naming the operand for an invalid operand or working registers that overlap another TPCTL's.
 std::unique_ptr<engine::Instruction> make_tpctl(const config::InstructionConfig& ic,
                                                 const BindContext& ctx);
+
+/// The PWM outputs of a TPCTL entry: Y(yn + i) switches temperature channel sn + i.
+struct TpctlOutputs {
+    int first_channel = 0;  ///< Sn
+    int points = 0;         ///< Zn
+    image::Device first_y;  ///< Yn
+};
+
+/// The outputs of a TPCTL entry as the instruction binds them; nothing when the entry does not
+/// bind or its Sn/Zn break the rule (the instruction then runs no point).
+std::optional<TpctlOutputs> tpctl_outputs(const config::InstructionConfig& ic,
+                                          const image::Layout& layout);
 
 }  // namespace plcemu::instructions

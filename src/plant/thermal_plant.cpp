@@ -1,5 +1,7 @@
 #include "plcemu/plant/thermal_plant.hpp"
 
+#include "instructions/tpctl.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -47,34 +49,6 @@ std::uint64_t mix(std::uint64_t x) {
 double unit_interval(std::uint64_t x) {
     // 53 random bits in (0, 1].
     return (static_cast<double>(x >> 11) + 1.0) / 9007199254740992.0;
-}
-
-// An operand of a TPCTL entry as an integer ("0", "K10"), or -1.
-long long operand_integer(const config::InstructionConfig& ic, const char* key) {
-    for (const auto& [k, v] : ic.operands) {
-        if (k != key) continue;
-        std::string s = v.text;
-        if (!s.empty() && (s[0] == 'K' || s[0] == 'k')) s.erase(0, 1);
-        if (s.empty() || s.size() > 6) return -1;
-        for (char c : s) {
-            if (!std::isdigit(static_cast<unsigned char>(c))) return -1;
-        }
-        return std::stoll(s);
-    }
-    return -1;
-}
-
-std::optional<image::Device> operand_device(const config::InstructionConfig& ic, const char* key) {
-    for (const auto& [k, v] : ic.operands) {
-        if (k == key) return image::parse_device(v.text);
-    }
-    return std::nullopt;
-}
-
-bool is_tpctl(const std::string& mnemonic) {
-    std::string u;
-    for (char c : mnemonic) u += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return u == "TPCTL";
 }
 
 }  // namespace
@@ -157,19 +131,17 @@ ThermalPlant::ThermalPlant(const config::PlantConfig& config,
 
 std::array<Drive, kChannels> ThermalPlant::drives_of(const config::Config& config) {
     std::array<Drive, kChannels> d{};
+    const image::Layout layout = image::layout_for(config.profile);
     for (const auto& ic : config.program) {
-        if (!is_tpctl(ic.mnemonic)) continue;
-        const auto yn = operand_device(ic, "yn");
-        const long long sn = operand_integer(ic, "sn");
-        const long long zn = operand_integer(ic, "zn");
-        if (!yn || yn->area != image::Area::Y || yn->word_of_bits || sn < 0 || zn < 1) continue;
-        for (long long i = 0; i < zn; ++i) {
-            const long long ch = sn + i;
-            const long long y = yn->index + i;
-            if (ch >= kChannels || y > 255) break;
-            auto& slot = d[static_cast<std::size_t>(ch)];
+        if (ic.mnemonic != "TPCTL") continue;
+        const auto out = instructions::tpctl_outputs(ic, layout);
+        if (!out) continue;
+        for (int i = 0; i < out->points; ++i) {
+            auto& slot = d[static_cast<std::size_t>(out->first_channel + i)];
             if (slot.kind != Drive::Kind::None) continue;  // the first TPCTL wins
-            slot = {Drive::Kind::Output, {image::Area::Y, static_cast<std::uint32_t>(y), false}};
+            image::Device y = out->first_y;
+            y.index += static_cast<std::uint32_t>(i);
+            slot = {Drive::Kind::Output, y};
         }
     }
     return d;
