@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "plcemu/config/config.hpp"
+#include "support/fake_time.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/modbus/address_map.hpp"
@@ -84,24 +85,7 @@ inline const config::Config& harness_config() {
     return c;
 }
 
-/// Simulated time for the simulator unit: steps run scans at once, like the daemon's driver.
-class FakeTime final : public engine::TimeControl {
-public:
-    /// `engine` must outlive this.
-    explicit FakeTime(engine::Engine& engine)
-        : engine_(engine) {}
-    double time_scale() const noexcept override { return scale_; }
-    void set_time_scale(double scale) noexcept override { scale_ = scale; }
-    bool frozen() const noexcept override { return frozen_; }
-    void set_frozen(bool frozen) noexcept override { frozen_ = frozen; }
-    void step(std::uint64_t n) noexcept override { engine_.run_scans(std::min(n, kMaxStep)); }
-    engine::Duration simulated_time() const noexcept override { return engine_.now(); }
-
-private:
-    engine::Engine& engine_;
-    double scale_ = 1.0;
-    bool frozen_ = false;
-};
+using testing::FakeTime;
 
 /// The PLC with its simulator-control unit, wired as the daemon wires them.
 struct Rig {
@@ -119,6 +103,7 @@ inline Rig make_rig() {
     Rig r;
     r.plc = std::make_unique<daemon::Plc>(harness_config());
     r.time = std::make_unique<FakeTime>(r.plc->engine());
+    r.time->max_step = kMaxStep;  // keep one input's work bounded
     r.sim = std::make_unique<plant::SimulatorUnit>(r.plc->plant(), *r.time);
     r.sim_unit = static_cast<std::uint8_t>(harness_config().simulator.unit);
     r.plc->dispatcher().set_simulator(r.sim.get(), r.sim_unit);

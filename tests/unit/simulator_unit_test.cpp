@@ -8,6 +8,7 @@
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
+#include "support/fake_time.hpp"
 #include "support/wire.hpp"
 
 namespace plcemu::plant {
@@ -22,37 +23,7 @@ using testing::write_single_pdu;
 
 constexpr std::uint8_t kSim = 247;
 
-// Time control that runs the engine's scans on step() and remembers what it was told.
-class FakeTime final : public engine::TimeControl {
-public:
-    explicit FakeTime(engine::Engine& e)
-        : engine_(e) {}
-    double time_scale() const noexcept override { return scale; }
-    void set_time_scale(double s) noexcept override { scale = s; }
-    bool frozen() const noexcept override { return frozen_; }
-    void set_frozen(bool f) noexcept override {
-        frozen_ = f;
-        frozen_log.push_back(f);
-    }
-    void step(std::uint64_t n) noexcept override {
-        steps.push_back(n);
-        frozen_when_stepped.push_back(frozen_);
-        engine_.run_scans(n);
-    }
-    engine::Duration simulated_time() const noexcept override {
-        return fixed_time ? *fixed_time : engine_.now();
-    }
-
-    double scale = 1.0;
-    std::vector<bool> frozen_log;
-    std::vector<std::uint64_t> steps;
-    std::vector<bool> frozen_when_stepped;
-    std::optional<engine::Duration> fixed_time;
-
-private:
-    engine::Engine& engine_;
-    bool frozen_ = false;
-};
+using testing::FakeTime;
 
 // A PLC unit that serves nothing: only unit 247 matters here.
 class NoPlc final : public modbus::Unit {
