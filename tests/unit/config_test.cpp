@@ -9,40 +9,21 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
+#include "support/config_errors.hpp"
 
 namespace plcemu::config {
 namespace {
 
-struct Failure {
-    bool thrown = false;
-    Position pos;
-    std::string what;
-};
+using testing::ConfigFailure;
 
-Failure parse_error(const std::string& text) {
-    Failure f;
-    try {
-        parse_config(text, "t.yaml");
-    } catch (const ConfigError& e) {
-        f.thrown = true;
-        f.pos = e.position();
-        f.what = e.what();
-    }
-    return f;
+ConfigFailure parse_error(const std::string& text) {
+    return testing::config_failure([&] { parse_config(text, "t.yaml"); });
 }
 
-// Checks that `text` is refused at line:col with a message containing `needle`, and that the
-// message starts with "t.yaml:line:col: ".
+// Checks that `text` is refused at line:col with a message containing `needle`.
 void expect_error(const std::string& text, int line, int col, const std::string& needle) {
     SCOPED_TRACE(text);
-    const Failure f = parse_error(text);
-    ASSERT_TRUE(f.thrown) << "accepted";
-    EXPECT_EQ(f.pos.file, "t.yaml");
-    EXPECT_EQ(f.pos.line, line) << f.what;
-    EXPECT_EQ(f.pos.column, col) << f.what;
-    const std::string prefix = "t.yaml:" + std::to_string(line) + ":" + std::to_string(col) + ": ";
-    EXPECT_EQ(f.what.rfind(prefix, 0), 0u) << f.what;
-    EXPECT_NE(f.what.find(needle), std::string::npos) << f.what;
+    testing::expect_config_error(parse_error(text), "t.yaml", line, col, needle);
 }
 
 // SPEC §8 / issue: every key but `profile` has a default, so `{profile: fbs}` alone is valid.
@@ -199,7 +180,7 @@ TEST(Config, ProgramErrors) {
 }
 
 TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
-    const Failure f = parse_error("profile: fbs\nmodbus: {tcp: {port: 1}\n");
+    const ConfigFailure f = parse_error("profile: fbs\nmodbus: {tcp: {port: 1}\n");
     ASSERT_TRUE(f.thrown);
     EXPECT_EQ(f.pos.file, "t.yaml");
     EXPECT_GE(f.pos.line, 2) << f.what;

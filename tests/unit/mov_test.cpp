@@ -9,6 +9,7 @@
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/instructions/instructions.hpp"
+#include "support/config_errors.hpp"
 
 namespace plcemu::instructions {
 namespace {
@@ -29,35 +30,11 @@ struct Rig {
     engine::Engine engine;
 };
 
-struct Failure {
-    bool thrown = false;
-    config::Position pos;
-    std::string what;
-};
-
-Failure bind_error(const std::string& program) {
-    Failure f;
-    try {
-        Rig rig(program);
-    } catch (const config::ConfigError& e) {
-        f.thrown = true;
-        f.pos = e.position();
-        f.what = e.what();
-    }
-    return f;
-}
-
 // The program text starts at line 3 ("profile: fbs", "program:").
 void expect_error(const std::string& program, int line, int col, const std::string& needle) {
     SCOPED_TRACE(program);
-    const Failure f = bind_error(program);
-    ASSERT_TRUE(f.thrown) << "accepted";
-    EXPECT_EQ(f.pos.file, "p.yaml");
-    EXPECT_EQ(f.pos.line, line) << f.what;
-    EXPECT_EQ(f.pos.column, col) << f.what;
-    const std::string prefix = "p.yaml:" + std::to_string(line) + ":" + std::to_string(col) + ": ";
-    EXPECT_EQ(f.what.rfind(prefix, 0), 0u) << f.what;
-    EXPECT_NE(f.what.find(needle), std::string::npos) << f.what;
+    testing::expect_config_error(testing::config_failure([&] { Rig rig(program); }), "p.yaml", line,
+                                 col, needle);
 }
 
 // SPEC §3: MOV: {en: M1926, s: WM800, d: R4012}, as in the manual's FUN86 example.
