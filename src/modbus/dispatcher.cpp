@@ -201,12 +201,11 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
                       broadcast ? " (broadcast, not sent)" : "");
         if (broadcast) return;  // a broadcast is never answered
         ++stats_.exceptions;
-        if (fc & 0x80) {
-            // libmodbus adds 80h, which wraps to a normal-looking function code: keep the bit.
-            const std::array<std::uint8_t, 2> e{fc, static_cast<std::uint8_t>(s)};
-            return send_pdu(t, fd, req, e.data(), e.size());
-        }
-        modbus_reply_exception(ctx, req, static_cast<unsigned>(s));
+        // Set the high bit rather than add 80h as modbus_reply_exception does, which would wrap
+        // a function code of 80h or more to a normal-looking reply.
+        const std::array<std::uint8_t, 2> e{static_cast<std::uint8_t>(fc | 0x80),
+                                            static_cast<std::uint8_t>(s)};
+        send_pdu(t, fd, req, e.data(), e.size());
     };
 
     Unit* target = nullptr;
