@@ -39,6 +39,26 @@ std::size_t round_up(std::size_t n) { return (n + kPage - 1) / kPage * kPage; }
     throw std::system_error(errno, std::generic_category(), what);
 }
 
+[[noreturn]] void throw_in_use(const std::string& path) {
+    throw std::system_error(
+        EWOULDBLOCK, std::generic_category(),
+        "state file " + path + " is in use by another process (another plcemud holds its lock)");
+}
+
+// Allocates every block of [0, size) so that no later write into the mapping can fault (SIGBUS)
+// on a full disk; on blocks already allocated this is cheap and changes nothing.
+void reserve(int fd, const std::string& path, std::size_t size) {
+    int e = 0;
+    do {
+        e = ::posix_fallocate(fd, 0, static_cast<off_t>(size));  // returns the error, not errno
+    } while (e == EINTR);
+    if (e != 0) {
+        throw std::system_error(
+            e, std::generic_category(),
+            "state file " + path + ": cannot reserve " + std::to_string(size) + " bytes");
+    }
+}
+
 std::uint64_t layout_checksum(std::uint32_t profile,
                               std::uint32_t area_count,
                               const std::uint32_t (&sizes)[16],
@@ -130,6 +150,7 @@ StateFile::StateFile(const std::string& path,
                                     " retentive ranges");
     }
     try {
+        lock();
         std::string why;
         if (!try_open(profile, layout, why)) {
             if (!why.empty()) move_aside(why, now);
@@ -138,6 +159,7 @@ StateFile::StateFile(const std::string& path,
         set_retentive(layout.retentive);
     } catch (...) {
         release();
+        unlock();
         throw;
     }
     StateFileHeader h;
@@ -151,6 +173,23 @@ StateFile::StateFile(const std::string& path,
 
 StateFile::~StateFile() { close(); }
 
+void StateFile::lock() {
+    const std::string lock_path = path_ + ".lock";
+    // Never truncated, renamed or mapped, unlike the state file and its `.new`: locking it first
+    // makes everything after (checks, moving aside, creating) one process's alone.
+    lock_fd_ = ::open(lock_path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0600);
+    if (lock_fd_ < 0) throw_errno("state file " + path_ + ": cannot open its lock " + lock_path);
+    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+        if (errno == EWOULDBLOCK) throw_in_use(path_);
+        throw_errno("state file " + path_ + ": cannot lock " + lock_path);
+    }
+}
+
+void StateFile::unlock() noexcept {
+    if (lock_fd_ >= 0) ::close(lock_fd_);
+    lock_fd_ = -1;
+}
+
 bool StateFile::try_open(Profile profile, const Layout& layout, std::string& why_bad) {
     fd_ = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
     if (fd_ < 0) {
@@ -161,8 +200,9 @@ bool StateFile::try_open(Profile profile, const Layout& layout, std::string& why
         const int e = errno;
         ::close(fd_);
         fd_ = -1;
+        if (e == EWOULDBLOCK) throw_in_use(path_);
         throw std::system_error(e, std::generic_category(),
-                                "state file " + path_ + ": in use by another process");
+                                "state file " + path_ + ": cannot lock");
     }
     auto reject = [&](std::string why) {
         why_bad = std::move(why);
@@ -214,6 +254,8 @@ bool StateFile::try_open(Profile profile, const Layout& layout, std::string& why
     if (h.state != kStateOpen && h.state != kStateClosed) {
         return reject("corrupted: bad state " + std::to_string(h.state));
     }
+    // A file from before blocks were reserved may be sparse: a full disk is then an error now.
+    reserve(fd_, path_, kDataOffset + round_up(h.storage_size));
     map(kDataOffset + round_up(h.storage_size));
     if (h.state == kStateClosed && fnv1a64(storage_) != h.data_checksum) {
         return reject("corrupted: data checksum mismatch (closed cleanly, changed since)");
@@ -247,29 +289,36 @@ bool StateFile::try_open(Profile profile, const Layout& layout, std::string& why
 }
 
 void StateFile::create(Profile profile, const Layout& layout, std::time_t now) {
+    // Under the lock (see lock()), so nobody else has `.new` open: a leftover is a dead creator's.
     const std::string tmp = path_ + ".new";
     const int fd = ::open(tmp.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
     if (fd < 0) throw_errno("state file " + tmp + ": cannot create");
     fd_ = fd;
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) throw_errno("state file " + tmp + ": cannot lock");
-    StateFileHeader h = expected_header(profile, layout);
-    h.state = kStateOpen;
-    h.created = static_cast<std::uint64_t>(now);
-    const std::size_t total = kDataOffset + round_up(h.storage_size);
-    if (::ftruncate(fd_, static_cast<off_t>(total)) != 0) {
-        throw_errno("state file " + tmp + ": cannot size");
+    try {
+        if (::flock(fd_, LOCK_EX | LOCK_NB) != 0)
+            throw_errno("state file " + tmp + ": cannot lock");
+        StateFileHeader h = expected_header(profile, layout);
+        h.state = kStateOpen;
+        h.created = static_cast<std::uint64_t>(now);
+        const std::size_t total = kDataOffset + round_up(h.storage_size);
+        reserve(fd_, path_, total);  // also sizes the file
+        if (::pwrite(fd_, &h, sizeof h, 0) != static_cast<ssize_t>(sizeof h)) {
+            throw_errno("state file " + tmp + ": cannot write");
+        }
+        map(total);
+        write_header_checksum();
+        // Whole and on disk under its temporary name before it takes the real one.
+        if (::msync(base_, mapped_, MS_SYNC) != 0 || ::fsync(fd_) != 0) {
+            throw_errno("state file " + tmp + ": cannot sync");
+        }
+        if (::rename(tmp.c_str(), path_.c_str()) != 0)
+            throw_errno("state file " + path_ + ": cannot create");
+    } catch (...) {
+        // A half-made file is of no use to anyone: do not leave it behind.
+        release();
+        ::unlink(tmp.c_str());
+        throw;
     }
-    if (::pwrite(fd_, &h, sizeof h, 0) != static_cast<ssize_t>(sizeof h)) {
-        throw_errno("state file " + tmp + ": cannot write");
-    }
-    map(total);
-    write_header_checksum();
-    // Whole and on disk under its temporary name before it takes the real one.
-    if (::msync(base_, mapped_, MS_SYNC) != 0 || ::fsync(fd_) != 0) {
-        throw_errno("state file " + tmp + ": cannot sync");
-    }
-    if (::rename(tmp.c_str(), path_.c_str()) != 0)
-        throw_errno("state file " + path_ + ": cannot create");
     const auto slash = path_.rfind('/');
     const std::string dir = slash == std::string::npos ? "." : path_.substr(0, slash + 1);
     const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -346,7 +395,10 @@ void StateFile::sync() noexcept {
 }
 
 void StateFile::close() noexcept {
-    if (fd_ < 0) return;
+    if (fd_ < 0) {
+        unlock();
+        return;
+    }
     if (base_) {
         StateFileHeader h;
         std::memcpy(&h, base_, sizeof h);
@@ -363,6 +415,8 @@ void StateFile::close() noexcept {
     ::fsync(fd_);
     ::close(fd_);
     fd_ = -1;
+    // Last: the next daemon may have the file only once it is closed and on disk.
+    unlock();
 }
 
 }  // namespace plcemu::image

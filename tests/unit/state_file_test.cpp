@@ -4,11 +4,15 @@
 
 #include "plcemu/image/state_file.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -57,6 +61,10 @@ protected:
     void TearDown() override { fs::remove_all(dir_); }
 
     static image::Layout layout() { return image::fbs_layout(); }
+    // Size of a state file for layout(): the header page and the image in whole pages.
+    static std::size_t file_size() {
+        return image::kDataOffset + (Image::storage_size(layout()) + 4095) / 4096 * 4096;
+    }
 
     // Bytes of the file, for corrupting it.
     std::vector<char> read_file() const {
@@ -246,6 +254,178 @@ TEST_F(StateFileTest, ASecondUserIsRefusedAndTheFileLeftAlone) {
     StateFile f(path_, kFbs, layout(), fixed_now());
     EXPECT_THROW(StateFile(path_, kFbs, layout(), fixed_now()), std::system_error);
     EXPECT_TRUE(bad_files().empty());
+}
+
+// README "Retentive memory": a second user of a new file is refused by name and the first one's
+// values are left alone.
+TEST_F(StateFileTest, ASecondUserOfANewFileIsRefusedByNameAndTheFirstKeepsItsValues) {
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    Image img(layout(), f.storage());
+    img.set_word(Area::D, 3, 333);
+    try {
+        StateFile second(path_, kFbs, layout(), fixed_now());
+        ADD_FAILURE() << "a second StateFile opened " << path_;
+    } catch (const std::system_error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("state file " + path_), std::string::npos) << what;
+        EXPECT_NE(what.find("in use by another process"), std::string::npos) << what;
+    }
+    EXPECT_EQ(img.word(Area::D, 3), 333);
+    EXPECT_EQ(fs::file_size(path_), file_size());
+    EXPECT_FALSE(fs::exists(path_ + ".new"));
+}
+
+// The lock is taken before anything is created, so a daemon starting while another is still
+// creating the file cannot truncate or replace it under the other's mapping (SIGBUS).
+TEST_F(StateFileTest, WhileTheLockIsHeldNothingIsCreatedOrTruncated) {
+    const int fd = ::open((path_ + ".lock").c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0600);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+    const std::string tmp = path_ + ".new";
+    std::ofstream(tmp) << "half-made by the lock holder";
+    try {
+        StateFile f(path_, kFbs, layout(), fixed_now());
+        ADD_FAILURE() << "opened " << path_ << " while another process held its lock";
+    } catch (const std::system_error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(path_), std::string::npos) << what;
+        EXPECT_NE(what.find("in use by another process"), std::string::npos) << what;
+    }
+    ::close(fd);
+    std::string left;
+    std::getline(std::ifstream(tmp), left);
+    EXPECT_EQ(left, "half-made by the lock holder");
+    EXPECT_FALSE(fs::exists(path_));
+}
+
+// Processes started at the same instant on a new file: exactly one gets it, the others are
+// refused naming the file, none dies of a signal, and the winner's values are intact.
+TEST_F(StateFileTest, ProcessesCreatingOneNewFileAtOnceLetExactlyOneWin) {
+    constexpr int kRounds = 10;
+    constexpr int kProcesses = 4;
+    for (int round = 0; round < kRounds; ++round) {
+        const std::string path = (dir_ / ("race" + std::to_string(round) + ".state")).string();
+        int go[2];
+        ASSERT_EQ(::pipe(go), 0);
+        std::vector<pid_t> pids;
+        for (int k = 0; k < kProcesses; ++k) {
+            const pid_t pid = ::fork();
+            if (pid == 0) {
+                ::close(go[1]);
+                char c;
+                (void)!::read(go[0], &c, 1);  // end of file when the parent closes: all go
+                try {
+                    StateFile f(path, kFbs, layout(), fixed_now());
+                    Image img(layout(), f.storage());
+                    const auto mine = static_cast<std::uint16_t>(1000 + k);
+                    for (std::uint32_t i = 0; i < 4000; ++i) img.set_word(Area::D, i, mine);
+                    ::usleep(400'000);  // holds the file while the others try
+                    for (std::uint32_t i = 0; i < 4000; ++i) {
+                        if (img.word(Area::D, i) != mine) ::_exit(4);
+                    }
+                    f.close();
+                    ::_exit(0);
+                } catch (const std::system_error& e) {
+                    const std::string what = e.what();
+                    const bool named = what.find("state file " + path) != std::string::npos &&
+                                       what.find("in use by another process") != std::string::npos;
+                    ::_exit(named ? 1 : 2);
+                } catch (...) {
+                    ::_exit(3);
+                }
+            }
+            if (pid > 0) pids.push_back(pid);
+        }
+        ::close(go[0]);
+        ::close(go[1]);
+        ASSERT_EQ(pids.size(), static_cast<std::size_t>(kProcesses));
+        int winner = -1;
+        int refused = 0;
+        for (int k = 0; k < kProcesses; ++k) {
+            int status = 0;
+            ASSERT_EQ(::waitpid(pids[k], &status, 0), pids[k]);
+            ASSERT_TRUE(WIFEXITED(status))
+                << "round " << round << ": process " << k << " died of signal " << WTERMSIG(status);
+            const int code = WEXITSTATUS(status);
+            ASSERT_TRUE(code == 0 || code == 1) << "round " << round << ": exit code " << code;
+            if (code == 0) {
+                EXPECT_EQ(winner, -1) << "round " << round << ": two processes got the file";
+                winner = k;
+            } else {
+                ++refused;
+            }
+        }
+        ASSERT_NE(winner, -1) << "round " << round << ": nobody got the file";
+        EXPECT_EQ(refused, kProcesses - 1);
+        StateFile f(path, kFbs, layout(), fixed_now());
+        EXPECT_EQ(f.origin(), StateOrigin::Clean);
+        Image img(layout(), f.storage());
+        EXPECT_EQ(img.word(Area::D, 0), 1000 + winner);
+        EXPECT_EQ(img.word(Area::D, 3999), 1000 + winner);
+        EXPECT_FALSE(fs::exists(path + ".new"));
+    }
+}
+
+// The blocks of a new file are allocated up front, so a write into the mapping can never fault
+// (SIGBUS) later because the disk has filled up meanwhile.
+TEST_F(StateFileTest, ANewFileHasEveryBlockReserved) {
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    struct stat st {};
+    ASSERT_EQ(::stat(path_.c_str(), &st), 0);
+    EXPECT_GE(static_cast<std::uint64_t>(st.st_blocks) * 512,
+              static_cast<std::uint64_t>(st.st_size));
+}
+
+// A sparse file (as written before blocks were reserved) gets its blocks when it is opened.
+TEST_F(StateFileTest, ASparseFileGetsEveryBlockReservedWhenOpened) {
+    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    const int fd = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
+    ASSERT_GE(fd, 0);
+    const auto size = static_cast<off_t>(fs::file_size(path_));
+    // The image is all zero, so punching it out changes no byte and no checksum.
+    const int punched = ::fallocate(fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE,
+                                    image::kDataOffset, size - image::kDataOffset);
+    ::close(fd);
+    struct stat st {};
+    ASSERT_EQ(::stat(path_.c_str(), &st), 0);
+    if (punched != 0 || static_cast<off_t>(st.st_blocks) * 512 >= size) {
+        GTEST_SKIP() << "this file system cannot punch holes";
+    }
+    StateFile f(path_, kFbs, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Clean);
+    ASSERT_EQ(::stat(path_.c_str(), &st), 0);
+    EXPECT_GE(static_cast<off_t>(st.st_blocks) * 512, size);
+}
+
+// A file that cannot get its blocks (over RLIMIT_FSIZE here, as on a full disk) is refused at
+// once, naming the file and the size, and nothing half-made is left behind.
+TEST_F(StateFileTest, AFileThatCannotGetItsBlocksIsRefusedAndNothingIsLeftBehind) {
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        std::signal(SIGXFSZ, SIG_IGN);  // the EFBIG return is what is tested
+        const rlimit limit{8192, 8192};
+        ::setrlimit(RLIMIT_FSIZE, &limit);
+        try {
+            StateFile f(path_, kFbs, layout(), fixed_now());
+            ::_exit(3);
+        } catch (const std::system_error& e) {
+            const std::string what = e.what();
+            const bool told =
+                what.find("state file " + path_ + ": cannot reserve " +
+                          std::to_string(file_size()) + " bytes") != std::string::npos;
+            ::_exit(told ? 0 : 1);
+        } catch (...) {
+            ::_exit(2);
+        }
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0)
+        << "3: opened anyway, 1: another message, 2: not system_error";
+    EXPECT_FALSE(fs::exists(path_));
+    EXPECT_FALSE(fs::exists(path_ + ".new"));
 }
 
 TEST_F(StateFileTest, ChangedRetentiveRangesKeepOnlyDevicesRetentiveBeforeAndNow) {

@@ -59,14 +59,16 @@ enum class StateOrigin : std::uint8_t {
     Recovered,  ///< reopened after a crash or SIGKILL (the page cache had every write)
 };
 
-/// One state file, open and mapped (MAP_SHARED). Not thread-safe except sync().
+/// One state file, open and mapped (MAP_SHARED), its blocks allocated and `path.lock` held
+/// (flock) for as long as it is open. Not thread-safe except sync().
 class StateFile {
 public:
-    /// Opens `path` for `profile` and `layout` (whose retentive ranges are recorded), or creates
-    /// it. A file that is corrupted or does not match is renamed to `path.bad-YYYYmmdd-HHMMSS`
-    /// (local time `now`) and a new one created; what happened is in notes(). Throws
-    /// std::system_error when the file cannot be created, locked or mapped (e.g. another process
-    /// has it open).
+    /// Takes the lock on `path.lock` first, then opens `path` for `profile` and `layout` (whose
+    /// retentive ranges are recorded), or creates it. A file that is corrupted or does not match
+    /// is renamed to `path.bad-YYYYmmdd-HHMMSS` (local time `now`) and a new one created; what
+    /// happened is in notes(). Throws std::system_error, naming `path`, when the lock is held by
+    /// another process ("in use by another process"), when the file's blocks cannot be reserved
+    /// ("cannot reserve N bytes", e.g. a full disk), or when it cannot be created or mapped.
     StateFile(const std::string& path, Profile profile, const Layout& layout, std::time_t now);
     /// Closes cleanly (see close()).
     ~StateFile();
@@ -94,6 +96,8 @@ public:
     void close() noexcept;
 
 private:
+    void lock();
+    void unlock() noexcept;
     bool try_open(Profile profile, const Layout& layout, std::string& why_bad);
     void create(Profile profile, const Layout& layout, std::time_t now);
     void map(std::size_t size);
@@ -102,6 +106,7 @@ private:
     void write_header_checksum() noexcept;
 
     std::string path_;
+    int lock_fd_ = -1;
     int fd_ = -1;
     std::byte* base_ = nullptr;
     std::size_t mapped_ = 0;
