@@ -5,6 +5,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <chrono>
@@ -16,9 +17,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// After a read error (a pty whose other end went away reads EIO at once), retry this much later
-// instead of spinning.
-constexpr auto kRetryAfterError = std::chrono::seconds(1);
+// A device that went away (USB adapter unplugged, socat restarted) is reopened by its path:
+// first soon, then less and less often, so a port that stays gone costs nothing.
+constexpr auto kFirstReopen = std::chrono::milliseconds(100);
+constexpr auto kMaxReopen = std::chrono::seconds(5);
+// A reopened device counts as back once it has delivered a byte or stayed readable this long: one
+// that opens and fails at once is the same outage, not a new "reopened"/"lost" pair.
+constexpr auto kSettle = std::chrono::seconds(1);
 
 speed_t speed_of(int baud) {
     switch (baud) {
@@ -126,6 +131,7 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
           options(std::move(o)),
           line(io),
           frame_end(io),
+          reopen_timer(io),
           framer(RtuTiming::for_line(
               options.baud, options.parity, options.data_bits, options.stop_bits)) {}
 
@@ -139,17 +145,10 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
     void on_read(const asio::error_code& ec, std::size_t n) {
         if (stopped || ec == asio::error::operation_aborted) return;
         if (ec) {
-            if (!read_failing) {
-                spdlog::warn("rtu: {}: read failed ({}); retrying every second", options.device,
-                             ec.message());
-            }
-            read_failing = true;
-            framer.clear();  // what came before the error is not a frame to answer
-            retry_after_error();
+            lose(ec);
             return;
         }
-        if (read_failing) spdlog::info("rtu: {}: reading again", options.device);
-        read_failing = false;
+        if (link == Link::Settling) back();  // a byte proves the reopened device
         // The silence before these bytes may have ended the previous frame even if its timer
         // has not fired yet (the loop was busy): serve that frame first.
         if (auto f = framer.receive({buf.data(), n}, Clock::now())) serve(*f);
@@ -184,21 +183,81 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
         dispatcher.serve_rtu(line.native_handle(), f.bytes);
     }
 
-    void retry_after_error() {
-        frame_end.expires_after(kRetryAfterError);
-        frame_end.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+    // A read error (EIO or hang-up of a device that went away): re-reading the same descriptor
+    // would fail forever, so close it and reopen the device by its path.
+    void lose(const asio::error_code& ec) {
+        if (link == Link::Up) {
+            spdlog::warn("rtu: {}: lost ({}); reopening with back-off", options.device,
+                         ec.message());
+            // One that fails again soon after coming back keeps the longer wait: no fast flapping.
+            if (Clock::now() - opened_at >= kSettle) backoff = kFirstReopen;
+        }
+        // From Settling: the reopened device failed before proving itself; the back-off goes on.
+        link = Link::Lost;
+        framer.clear();  // what came before the error is not a frame to answer
+        frame_end.cancel();
+        asio::error_code ignored;
+        line.close(ignored);
+        reopen_later();
+    }
+
+    void reopen_later() {
+        reopen_timer.expires_after(backoff);
+        reopen_timer.async_wait([self = shared_from_this()](const asio::error_code& ec) {
             if (ec || self->stopped) return;
-            self->read();
+            self->reopen();
         });
+    }
+
+    void reopen() {
+        // Whether this attempt fails or the device fails again right after it, wait longer.
+        backoff = std::min<Clock::duration>(backoff * 2, kMaxReopen);
+        int fd = -1;
+        try {
+            fd = open_line(options);
+        } catch (const std::system_error&) {
+            reopen_later();  // still gone: silent, "lost" said it once
+            return;
+        }
+        asio::error_code assigned;
+        line.assign(fd, assigned);
+        if (assigned) {
+            ::close(fd);
+            reopen_later();
+            return;
+        }
+        link = Link::Settling;
+        opened_at = Clock::now();
+        const unsigned opened = ++opens;
+        reopen_timer.expires_after(kSettle);
+        reopen_timer.async_wait([self = shared_from_this(), opened](const asio::error_code& ec) {
+            // A wait that already completed when the device was lost again may still run.
+            if (ec || self->stopped || self->opens != opened) return;
+            if (self->link == Link::Settling) self->back();
+        });
+        read();
+    }
+
+    void back() {
+        link = Link::Up;
+        reopen_timer.cancel();
+        spdlog::info("rtu: {}: reopened", options.device);
     }
 
     Dispatcher& dispatcher;
     RtuOptions options;
     asio::posix::stream_descriptor line;
     asio::steady_timer frame_end;
+    // Waits between attempts to reopen a lost device, then for it to settle.
+    asio::steady_timer reopen_timer;
     RtuFramer framer;
     std::array<std::uint8_t, 512> buf{};
-    bool read_failing = false;
+    // Up: reading; Lost: closed, waiting to reopen; Settling: reopened, not yet proven.
+    enum class Link { Up, Lost, Settling };
+    Link link = Link::Up;
+    Clock::duration backoff = kFirstReopen;
+    Clock::time_point opened_at = Clock::now();
+    unsigned opens = 0;  // tells a settle wait from the ones of earlier reopens
     bool stopped = false;
 };
 
@@ -224,6 +283,7 @@ void RtuServer::stop() {
         state_->options.device, st.frames, st.bad_crc, st.gaps, st.too_short, st.too_long);
     asio::error_code ec;
     state_->frame_end.cancel();
+    state_->reopen_timer.cancel();  // no reopen after stop
     state_->line.cancel(ec);
     state_->line.close(ec);
 }

@@ -25,7 +25,9 @@ struct RtuOptions {
 /// The settings as users write them: "/dev/ttyUSB0 9600 8E1".
 std::string describe(const RtuOptions& o);
 
-/// The serial slave.
+/// The serial slave. A device that goes away while running (read error, hang-up) is closed and
+/// reopened by its path with back-off (0.1 s doubling to 5 s), logged once when lost and once
+/// when back.
 class RtuServer {
 public:
     /// Opens and configures the device (raw, baud, parity, data and stop bits) and starts
@@ -39,7 +41,7 @@ public:
     std::string description() const;
     /// What the framer saw so far.
     const RtuFramerStats& stats() const;
-    /// Stops reading and closes the device.
+    /// Stops reading (and reopening) and closes the device.
     void stop();
 
     struct State;

@@ -5,6 +5,7 @@ The pty ignores the baud rate, but plcemud times frames by it: the tests that de
 the line at 300 baud (t1.5 = 55 ms, t3.5 = 128 ms) so that a busy test machine cannot blur them.
 """
 
+import os
 import re
 import struct
 import subprocess
@@ -363,3 +364,52 @@ def test_unread_replies_never_block_tcp(start_rtu, line):
     while not line.silent(0.3):
         pass
     assert line.request(1, read_words_pdu(4055, 1), 7) == b"\x03\x02\x00\x01"
+
+
+# --------------------------------------------------------------------------- device going away
+
+
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time of a process so far (/proc/PID/stat fields 14 and 15)."""
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def test_device_that_goes_away_is_reopened_with_back_off(start_plcemud, tmp_path):
+    """socat restarted (a USB adapter unplugged and plugged back): the daemon closes the dead
+    port, reopens the same path with back-off while using no CPU to speak of, answers again once
+    it is back, and says so once each way."""
+    pair = PtyPair(tmp_path)
+    try:
+        d = start_plcemud(rtu_config(pair.slave, "parity: N"))  # ptys refuse parity settings
+        assert d.wait_log("listening on rtu"), d.log_text()
+        line = RawLine(pair.master)
+        assert line.request(1, read_words_pdu(4055, 1), 7) == b"\x03\x02\x00\x01"
+
+        pair.stop()  # still open on this side: socat's end, not the master's, goes away
+        line.close()
+        assert d.wait_log(f"rtu: {pair.slave}: lost (", timeout=3), d.log_text()
+        before = cpu_seconds(d.proc.pid)
+        time.sleep(2)
+        used = cpu_seconds(d.proc.pid) - before
+        assert used < 0.3, f"{used:.2f} s of CPU in 2 s with the port gone\n{d.log_text()}"
+        assert d.proc.poll() is None
+
+        pair = PtyPair(tmp_path)  # the same link paths
+        line = RawLine(pair.master)
+        expected = frame(1, b"\x03\x02\x00\x01")
+        deadline = time.monotonic() + 10  # the back-off is at most 5 s
+        while True:
+            line.send(frame(1, read_words_pdu(4055, 1)))  # flushed if sent before the reopen
+            if line.receive(len(expected), timeout=0.5) == expected:
+                break
+            assert time.monotonic() < deadline, f"no answer after the restart\n{d.log_text()}"
+            line.silent(0.1)
+        # Checked while the line is still open: closing this end makes socat exit, a new loss.
+        log = d.log_text()
+        assert log.count(f"rtu: {pair.slave}: lost (") == 1, log
+        assert log.count(f"rtu: {pair.slave}: reopened") == 1, log
+        line.close()
+    finally:
+        pair.stop()
