@@ -5,16 +5,21 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 namespace plcemu::config {
 
 namespace {
+
+// The YAML library's own messages are longer but may quote a character of the file.
+constexpr std::size_t kYamlMsgChars = 200;
 
 std::string format_error(const Position& p, const std::string& m) {
     // Line 0: the error is about the file as a whole (e.g. it cannot be opened).
@@ -52,14 +57,16 @@ public:
         for (auto it = n.begin(); it != n.end(); ++it) {
             const std::string key = scalar(it->first, what + " key");
             // yaml-cpp keeps the first of two equal keys: a silent surprise, so refuse it.
-            if (!seen.insert(key).second) fail(it->first, "duplicate key '" + key + "' in " + what);
+            if (!seen.insert(key).second) {
+                fail(it->first, "duplicate key '" + excerpt(key) + "' in " + what);
+            }
             bool ok = false;
             for (const char* k : known) ok = ok || key == k;
             if (!ok) {
                 std::string list;
                 for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
-                fail(it->first,
-                     "unknown key '" + key + "' in " + what + " (expected one of: " + list + ")");
+                fail(it->first, "unknown key '" + excerpt(key) + "' in " + what +
+                                    " (expected one of: " + list + ")");
             }
         }
     }
@@ -75,9 +82,9 @@ public:
                       long long hi) const {
         const std::string s = scalar(n, what);
         long long v = 0;
-        if (!parse_integer(s, v)) fail(n, what + ": expected an integer, got '" + s + "'");
+        if (!parse_integer(s, v)) fail(n, what + ": expected an integer, got '" + excerpt(s) + "'");
         if (v < lo || v > hi) {
-            fail(n, what + ": " + s + " is out of range " + std::to_string(lo) + ".." +
+            fail(n, what + ": " + excerpt(s) + " is out of range " + std::to_string(lo) + ".." +
                         std::to_string(hi));
         }
         return v;
@@ -89,11 +96,11 @@ public:
         std::istringstream is(s);
         is >> v;
         if (!is || !is.eof() || !std::isfinite(v)) {
-            fail(n, what + ": expected a number, got '" + s + "'");
+            fail(n, what + ": expected a number, got '" + excerpt(s) + "'");
         }
         if (v < lo || v > hi) {
             std::ostringstream o;
-            o << what << ": " << s << " is out of range " << lo << ".." << hi;
+            o << what << ": " << excerpt(s) << " is out of range " << lo << ".." << hi;
             fail(n, o.str());
         }
         return v;
@@ -103,20 +110,22 @@ public:
         const std::string s = scalar(n, what);
         if (s == "true" || s == "yes" || s == "on" || s == "1") return true;
         if (s == "false" || s == "no" || s == "off" || s == "0") return false;
-        fail(n, what + ": expected true or false, got '" + s + "'");
+        fail(n, what + ": expected true or false, got '" + excerpt(s) + "'");
     }
 
     image::Device device(const YAML::Node& n, const std::string& what) const {
         const std::string s = scalar(n, what);
         auto d = image::parse_device(s);
-        if (!d) fail(n, what + ": expected a device such as R100 or D0, got '" + s + "'");
+        if (!d) fail(n, what + ": expected a device such as R100 or D0, got '" + excerpt(s) + "'");
         return *d;
     }
 
     image::Range range(const YAML::Node& n, const std::string& what) const {
         const std::string s = scalar(n, what);
         auto r = image::parse_range(s);
-        if (!r) fail(n, what + ": expected a device range such as D100-D199, got '" + s + "'");
+        if (!r) {
+            fail(n, what + ": expected a device range such as D100-D199, got '" + excerpt(s) + "'");
+        }
         return *r;
     }
 
@@ -204,7 +213,7 @@ void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
             r.fail(n["bind"],
                    "modbus.tcp.bind: expected a numeric IPv4 or IPv6 address such as "
                    "0.0.0.0 or ::, got '" +
-                       tcp.bind + "'");
+                       excerpt(tcp.bind) + "'");
         }
     }
     if (n["port"])
@@ -227,7 +236,7 @@ void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
                 r.fail(e,
                        "modbus.tcp.allow: expected a CIDR range such as 192.168.1.0/24 or an "
                        "address, got '" +
-                           tcp.allow.back() + "'");
+                           excerpt(tcp.allow.back()) + "'");
             }
         }
     }
@@ -286,7 +295,8 @@ void read_init(const Reader& r, const YAML::Node& n, std::vector<InitEntry>& ini
         InitEntry e;
         e.pos = r.pos(it->first);
         e.device = r.device(it->first, "init key");
-        const std::string what = "init." + it->first.Scalar();
+        const std::string key = it->first.Scalar();
+        const std::string what = "init." + excerpt(key);
         auto one = [&](const YAML::Node& v) {
             e.values.push_back(
                 static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
@@ -315,14 +325,18 @@ void read_program(const Reader& r, const YAML::Node& n, std::vector<InstructionC
         InstructionConfig ic;
         ic.mnemonic = r.scalar(kv.first, "instruction");
         ic.pos = r.pos(kv.first);
-        if (!kv.second.IsMap()) r.fail(kv.second, ic.mnemonic + ": expected a mapping of operands");
+        const std::string mnemonic = excerpt(ic.mnemonic);
+        if (!kv.second.IsMap()) r.fail(kv.second, mnemonic + ": expected a mapping of operands");
         for (auto op = kv.second.begin(); op != kv.second.end(); ++op) {
-            const std::string key = r.scalar(op->first, ic.mnemonic + " operand");
+            const std::string key = r.scalar(op->first, mnemonic + " operand");
             for (const auto& [k, v] : ic.operands) {
-                if (k == key) r.fail(op->first, ic.mnemonic + ": duplicate operand '" + key + "'");
+                if (k == key) {
+                    r.fail(op->first, mnemonic + ": duplicate operand '" + excerpt(key) + "'");
+                }
             }
             ic.operands.emplace_back(
-                key, Operand{r.scalar(op->second, ic.mnemonic + "." + key), r.pos(op->second)});
+                key,
+                Operand{r.scalar(op->second, mnemonic + "." + excerpt(key)), r.pos(op->second)});
         }
         prog.push_back(std::move(ic));
     }
@@ -369,14 +383,15 @@ void read_temperature(const Reader& r, const YAML::Node& n, TemperatureConfig& t
             mc.pos = r.pos(e);
             mc.name_code = module_code(s.substr(0, colon));
             if (mc.name_code == 0) {
-                r.fail(e, "temperature.modules: unknown module '" + s.substr(0, colon) +
+                r.fail(e, "temperature.modules: unknown module '" + excerpt(s.substr(0, colon)) +
                               "' (expected TC6, RTD6, TC16, RTD16 or TC2)");
             }
             const bool rtd = mc.name_code == 2 || mc.name_code == 4;
             const std::string sensor =
                 colon == std::string::npos ? (rtd ? "PT100_DIN" : "K") : s.substr(colon + 1);
             if (!sensor_code(mc.name_code, sensor, mc.sensor_type)) {
-                r.fail(e, "temperature.modules: unknown sensor '" + sensor + "' (expected " +
+                r.fail(e, "temperature.modules: unknown sensor '" + excerpt(sensor) +
+                              "' (expected " +
                               (rtd ? "PT100_DIN, PT100_JIS, PT1000_DIN or PT1000_JIS"
                                    : "J, K, T, E, N, B, R or S") +
                               ")");
@@ -475,14 +490,14 @@ Config read_root(const Reader& r, const YAML::Node& root) {
     if (!root["profile"]) r.fail(root, "'profile' is required (fbs)");
     const std::string prof = r.scalar(root["profile"], "profile");
     if (!image::parse_profile(prof, c.profile))
-        r.fail(root["profile"], "profile: expected fbs, fb or vb, got '" + prof + "'");
+        r.fail(root["profile"], "profile: expected fbs, fb or vb, got '" + excerpt(prof) + "'");
     if (c.profile != image::Profile::Fbs)
-        r.fail(root["profile"], "profile '" + prof + "' is not supported yet (only fbs)");
+        r.fail(root["profile"], "profile '" + excerpt(prof) + "' is not supported yet (only fbs)");
     if (root["model"]) {
         c.model = r.scalar(root["model"], "model");
         if (!model_code(c.model))
             r.fail(root["model"],
-                   "model: expected an FBs model such as FBs-24MC, got '" + c.model + "'");
+                   "model: expected an FBs model such as FBs-24MC, got '" + excerpt(c.model) + "'");
     }
     if (root["station"])
         c.station = static_cast<std::uint8_t>(r.integer(root["station"], "station", 1, 254));
@@ -522,6 +537,48 @@ Config read_root(const Reader& r, const YAML::Node& root) {
 
 }  // namespace
 
+// Counts characters, not bytes, so a cut never splits a UTF-8 sequence; stray bytes are escaped.
+std::string excerpt(std::string_view s, std::size_t max_chars) {
+    std::string out;
+    std::size_t chars = 0;
+    std::size_t pending = 0;  // continuation bytes the last lead byte announced
+    char hex[8];
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        const auto next = [&](std::size_t k) {
+            return i + k < s.size() ? static_cast<unsigned char>(s[i + k]) : 0;
+        };
+        if ((c & 0xC0) == 0x80 && pending > 0) {
+            --pending;
+            out += s[i];
+            continue;
+        }
+        pending = 0;
+        if (chars++ == max_chars) return out + "…";
+        if (c == '\n') {
+            out += "\\n";
+        } else if (c == '\r') {
+            out += "\\r";
+        } else if (c == '\t') {
+            out += "\\t";
+        } else if (c < 0x20 || c == 0x7F || (c & 0xC0) == 0x80 || c >= 0xF8) {
+            std::snprintf(hex, sizeof hex, "\\x%02X", c);
+            out += hex;
+        } else if (c == 0xC2 && next(1) >= 0x80 && next(1) <= 0x9F) {  // C1 controls (NEL…)
+            std::snprintf(hex, sizeof hex, "\\u%04X", next(1));
+            out += hex;
+            ++i;
+        } else if (c == 0xE2 && next(1) == 0x80 && (next(2) == 0xA8 || next(2) == 0xA9)) {
+            out += next(2) == 0xA8 ? "\\u2028" : "\\u2029";  // line and paragraph separators
+            i += 2;
+        } else {
+            pending = c >= 0xF0 ? 3 : c >= 0xE0 ? 2 : c >= 0xC0 ? 1 : 0;
+            out += s[i];
+        }
+    }
+    return out;
+}
+
 ConfigError::ConfigError(const Position& pos, const std::string& message)
     : std::runtime_error(format_error(pos, message)),
       pos_(pos) {}
@@ -532,14 +589,16 @@ Config parse_config(const std::string& text, const std::string& name) {
     try {
         root = YAML::Load(text);
     } catch (const YAML::Exception& e) {
-        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1}, e.msg);
+        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
+                          excerpt(e.msg, kYamlMsgChars));
     }
     try {
         Config c = read_root(r, root);
         c.path = name;
         return c;
     } catch (const YAML::Exception& e) {
-        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1}, e.msg);
+        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
+                          excerpt(e.msg, kYamlMsgChars));
     }
 }
 

@@ -268,3 +268,19 @@ def test_listen_failure_exits_nonzero_with_message(start_plcemud, tmp_path):
     assert r.returncode == 1
     assert f"cannot listen on tcp 127.0.0.1:{busy}" in r.stderr, r.stderr
     assert "in use" in r.stderr, r.stderr
+
+
+# duplicates and long values in --check-config ------------------------------------------------
+
+
+def test_check_config_never_echoes_a_whole_huge_or_multiline_value(tmp_path):
+    p = write(tmp_path, "profile: fbs\nstation: " + "x" * (1 << 20) + "\n")
+    r = run_plcemud("-c", p, "--check-config")
+    assert r.returncode == 2
+    assert len(r.stderr.encode()) < 1000, r.stderr[:2000]
+    assert f"{p}:2:10: station: expected an integer, got '{'x' * 40}…'" in r.stderr, r.stderr
+    p = write(tmp_path, 'profile: fbs\nmodel: "FBs\\nplcemud: fake line"\n')
+    r = run_plcemud("-c", p, "--check-config")
+    assert r.returncode == 2
+    assert f"{p}:2:8: model: expected an FBs model such as FBs-24MC, got 'FBs\\nplcemud" in r.stderr
+    assert "\nplcemud: fake line" not in r.stderr, r.stderr

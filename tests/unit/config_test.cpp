@@ -170,6 +170,74 @@ TEST(Config, InitErrors) {
     expect_error("profile: fbs\ninit:\n  R0: [[1]]\n", 3, 8, "expected a scalar");
 }
 
+// An error quotes at most 40 characters of what the user wrote, escaped: a pasted megabyte does
+// not flood the log, and a value cannot start a log line of its own.
+TEST(Config, ExcerptCutsAndEscapes) {
+    EXPECT_EQ(excerpt("R100"), "R100");
+    EXPECT_EQ(excerpt(std::string(40, 'a')), std::string(40, 'a'));
+    EXPECT_EQ(excerpt(std::string(41, 'a')), std::string(40, 'a') + "…");
+    EXPECT_EQ(excerpt("abcdef", 3), "abc…");
+    EXPECT_EQ(excerpt("a\nb\r\tc\x1b[31m\x7f"), "a\\nb\\r\\tc\\x1B[31m\\x7F");
+    EXPECT_EQ(excerpt("a\xc2\x85"
+                      "b\xe2\x80\xa8"
+                      "c"),
+              "a\\u0085b\\u2028c");  // NEL, LINE SEPARATOR
+    // Characters, not bytes: a cut never splits a UTF-8 sequence; stray bytes are escaped.
+    std::string e;
+    for (int i = 0; i < 50; ++i) e += "é";
+    std::string e40;
+    for (int i = 0; i < 40; ++i) e40 += "é";
+    EXPECT_EQ(excerpt(e), e40 + "…");
+    EXPECT_EQ(excerpt("\xff\x80x"), "\\xFF\\x80x");
+}
+
+TEST(Config, ErrorsNeverEchoAWholeHugeValue) {
+    const std::string huge(1 << 20, 'x');
+    const std::string long_key(1000, 'x');  // YAML keys stop at 1024 characters
+    const std::string cut = "'" + std::string(40, 'x') + "…'";
+    struct Case {
+        std::string text;
+        int line, col;
+        std::string needle;
+    };
+    const Case cases[] = {
+        {"profile: fbs\nstation: " + huge + "\n", 2, 10,
+         "station: expected an integer, got " + cut},
+        {"profile: " + huge + "\n", 1, 10, "profile: expected fbs, fb or vb, got " + cut},
+        {"profile: fbs\nmodel: " + huge + "\n", 2, 8, "got " + cut},
+        {"profile: fbs\nmodbus: {tcp: {bind: " + huge + "}}\n", 2, 22, "got " + cut},
+        {"profile: fbs\nlog: {" + long_key + ": 1}\n", 2, 7, "unknown key " + cut},
+        {"profile: fbs\ninit: {R0: " + huge + "}\n", 2, 12, "init.R0: expected an integer"},
+        {"profile: fbs\ninit: {R" + long_key + ": 1}\n", 2, 8, "init key: expected a device"},
+        {"profile: fbs\nscan_ms: " + std::string(1 << 20, '0') + "5000\n", 2, 10,
+         "scan_ms: " + std::string(40, '0') + "… is out of range"},
+        {"profile: fbs\nprogram:\n  - " + long_key + ": 5\n", 3, 5 + 1000 + 2,
+         std::string(40, 'x') + "…: expected a mapping"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.text.substr(0, 60));
+        const ConfigFailure f = parse_error(c.text);
+        testing::expect_config_error(f, "t.yaml", c.line, c.col, c.needle);
+        EXPECT_LT(f.what.size(), 300u) << f.what.substr(0, 400);
+    }
+}
+
+TEST(Config, ErrorsEscapeControlCharactersOfAValue) {
+    for (const char* text :
+         {"profile: fbs\nmodel: \"FBs\\nplcemud: fake line\"\n",
+          "profile: fbs\nmodel: \"FBs\\rplcemud: \\e[2Kfake\"\n",
+          "profile: fbs\nmodel: \"FBs\\Lfake\\Nline\"\n", "profile: fbs\n\"x\\ny\": 1\n"}) {
+        SCOPED_TRACE(text);
+        const ConfigFailure f = parse_error(text);
+        ASSERT_TRUE(f.thrown);
+        EXPECT_EQ(f.what.find_first_of("\n\r\x1b"), std::string::npos) << f.what;
+        EXPECT_EQ(f.what.find("\xe2\x80\xa8"), std::string::npos) << f.what;
+        EXPECT_EQ(f.what.find("\xc2\x85"), std::string::npos) << f.what;
+    }
+    expect_error("profile: fbs\nmodel: \"FBs\\nplcemud: fake\"\n", 2, 8,
+                 "got 'FBs\\nplcemud: fake'");
+}
+
 TEST(Config, ProgramErrors) {
     expect_error("profile: fbs\nprogram: 5\n", 2, 10, "program: expected a list");
     expect_error("profile: fbs\nprogram:\n  - MOV\n", 3, 5, "expected one instruction");

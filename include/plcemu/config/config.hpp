@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -173,6 +174,11 @@ Config load_config(const std::string& path);
 
 /// Parses config text; `name` is used in error positions.
 Config parse_config(const std::string& text, const std::string& name);
+
+/// Text a user wrote (a value, a key, an operand) as an error may quote it: control characters
+/// escaped (\n, \x1B, \u2028) so it cannot break or forge log lines, and cut after `max_chars`
+/// characters with "…" so a pasted blob is never echoed whole.
+std::string excerpt(std::string_view text, std::size_t max_chars = 40);
 
 /// The model code of R4167 for a model name like "FBs-24MC": low byte I/O points, high byte
 /// 0 MA / 1 MC / 2 MN. Returns nothing for an unknown name.
