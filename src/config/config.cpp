@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 #include <string_view>
+#include <tuple>
 
 namespace plcemu::config {
 
@@ -20,6 +21,16 @@ namespace {
 
 // The YAML library's own messages are longer but may quote a character of the file.
 constexpr std::size_t kYamlMsgChars = 200;
+
+// "duplicate device 'D07' (first at line 3 as 'D7')" for a key naming what an earlier key
+// (`first`: its text and line) already named.
+std::string again(const std::string& kind,
+                  const std::string& key,
+                  const std::pair<std::string, int>& first) {
+    return "duplicate " + kind + " '" + excerpt(key) + "' (first at line " +
+           std::to_string(first.second) +
+           (first.first == key ? "" : " as '" + excerpt(first.first) + "'") + ")";
+}
 
 std::string format_error(const Position& p, const std::string& m) {
     // Line 0: the error is about the file as a whole (e.g. it cannot be opened).
@@ -291,11 +302,16 @@ void read_modbus(const Reader& r, const YAML::Node& n, ModbusConfig& mb) {
 
 void read_init(const Reader& r, const YAML::Node& n, std::vector<InitEntry>& init) {
     r.expect_map(n, "init");
+    // Keys naming one device (D7, d7, D07) would preset it twice, the last silently winning.
+    std::map<std::tuple<image::Area, std::uint32_t, bool>, std::pair<std::string, int>> first;
     for (auto it = n.begin(); it != n.end(); ++it) {
         InitEntry e;
         e.pos = r.pos(it->first);
         e.device = r.device(it->first, "init key");
         const std::string key = it->first.Scalar();
+        const auto [at, fresh] = first.try_emplace(
+            {e.device.area, e.device.index, e.device.word_of_bits}, key, e.pos.line);
+        if (!fresh) r.fail(it->first, "init: " + again("device", key, at->second));
         const std::string what = "init." + excerpt(key);
         auto one = [&](const YAML::Node& v) {
             e.values.push_back(
@@ -446,8 +462,13 @@ void read_plant(const Reader& r, const YAML::Node& n, PlantConfig& p) {
         p.seed = static_cast<std::uint64_t>(r.integer(n["seed"], "plant.seed", 0, 1LL << 40));
     if (const auto ch = n["channels"]) {
         r.expect_map(ch, "plant.channels");
+        // Keys naming one channel (1, 01, 0x1) would set it twice, the last silently winning.
+        std::map<int, std::pair<std::string, int>> first;
         for (auto it = ch.begin(); it != ch.end(); ++it) {
             const int idx = static_cast<int>(r.integer(it->first, "plant.channels key", 0, 31));
+            const std::string key = it->first.Scalar();
+            const auto [at, fresh] = first.try_emplace(idx, key, r.pos(it->first).line);
+            if (!fresh) r.fail(it->first, "plant.channels: " + again("channel", key, at->second));
             ChannelConfig c = p.defaults;
             read_channel(r, it->second, c, "plant.channels." + std::to_string(idx));
             p.channels.emplace_back(idx, c);

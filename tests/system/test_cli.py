@@ -273,6 +273,28 @@ def test_listen_failure_exits_nonzero_with_message(start_plcemud, tmp_path):
 # duplicates and long values in --check-config ------------------------------------------------
 
 
+@pytest.mark.parametrize(
+    "text,line,col,needle",
+    [
+        ("profile: fbs\ninit:\n  D7: 1\n  D7: 2\n", 4, 3,
+         "init: duplicate device 'D7' (first at line 3)"),
+        ("profile: fbs\ninit:\n  D7: 1\n  D07: 2\n", 4, 3,
+         "init: duplicate device 'D07' (first at line 3 as 'D7')"),
+        ("profile: fbs\nplant:\n  channels:\n    1: {k: 100}\n    01: {k: 200}\n", 5, 5,
+         "plant.channels: duplicate channel '01' (first at line 4 as '1')"),
+    ],
+    ids=["init-same-key", "init-alias", "plant-channel-alias"],
+)
+def test_check_config_refuses_a_device_or_channel_named_twice(tmp_path, text, line, col, needle):
+    """README "Configuration": a key given twice is an error, however init and plant.channels
+    spell it."""
+    p = write(tmp_path, text)
+    r = run_plcemud("-c", p, "--check-config")
+    assert r.returncode == 2, r.stderr
+    assert f"{p}:{line}:{col}: {needle}" in r.stderr, r.stderr
+    assert r.stdout == ""
+
+
 def test_check_config_never_echoes_a_whole_huge_or_multiline_value(tmp_path):
     p = write(tmp_path, "profile: fbs\nstation: " + "x" * (1 << 20) + "\n")
     r = run_plcemud("-c", p, "--check-config")

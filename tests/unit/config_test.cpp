@@ -170,6 +170,37 @@ TEST(Config, InitErrors) {
     expect_error("profile: fbs\ninit:\n  R0: [[1]]\n", 3, 8, "expected a scalar");
 }
 
+// README "Configuration": a key given twice is an error. In `init` and `plant.channels` that
+// means the same device or channel, however it is spelled; the error points at the second key.
+TEST(Config, InitNamingOneDeviceTwiceIsRefusedAtTheSecondKey) {
+    expect_error("profile: fbs\ninit:\n  D7: 1\n  D7: 2\n", 4, 3,
+                 "init: duplicate device 'D7' (first at line 3)");
+    expect_error("profile: fbs\ninit:\n  D7: 1\n  R0: 5\n  D07: 2\n", 5, 3,
+                 "init: duplicate device 'D07' (first at line 3 as 'D7')");
+    expect_error("profile: fbs\ninit:\n  R0: [1, 2]\n  r0: 3\n", 4, 3,
+                 "init: duplicate device 'r0' (first at line 3 as 'R0')");
+    expect_error("profile: fbs\ninit: {WM800: 1, wm0800: 2}\n", 2, 18,
+                 "duplicate device 'wm0800' (first at line 2 as 'WM800')");
+    expect_error("profile: fbs\ninit: {TMR5: 1, tmr05: 2}\n", 2, 17, "duplicate device 'tmr05'");
+    // Other devices are not duplicates, even where a run reaches them or a word holds them.
+    const Config c = parse_config(
+        "profile: fbs\ninit: {D7: [1, 2], D8: 3, M800: 1, WM800: 3, T5: 1, TMR5: 2}\n", "t.yaml");
+    EXPECT_EQ(c.init.size(), 6u);
+}
+
+TEST(Config, PlantChannelNamedTwiceIsRefusedAtTheSecondKey) {
+    expect_error("profile: fbs\nplant:\n  channels:\n    3: {k: 100}\n    3: {k: 200}\n", 5, 5,
+                 "plant.channels: duplicate channel '3' (first at line 4)");
+    expect_error("profile: fbs\nplant:\n  channels:\n    1: {}\n    2: {}\n    01: {}\n", 6, 5,
+                 "plant.channels: duplicate channel '01' (first at line 4 as '1')");
+    expect_error("profile: fbs\nplant: {channels: {0x1F: {}, 31: {}}}\n", 2, 30,
+                 "duplicate channel '31' (first at line 2 as '0x1F')");
+    const Config c =
+        parse_config("profile: fbs\nplant: {channels: {0: {k: 1}, 1: {k: 2}}}\n", "t.yaml");
+    ASSERT_EQ(c.plant.channels.size(), 2u);
+    EXPECT_EQ(c.plant.channels[1].first, 1);
+}
+
 // An error quotes at most 40 characters of what the user wrote, escaped: a pasted megabyte does
 // not flood the log, and a value cannot start a log line of its own.
 TEST(Config, ExcerptCutsAndEscapes) {
