@@ -6,7 +6,9 @@
 #include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <cstring>
+#include <system_error>
 
 #include "crc.hpp"
 
@@ -113,11 +115,37 @@ Request parse(const std::uint8_t* pdu, std::size_t n) {
 
 }  // namespace
 
+// libmodbus writes its replies to a descriptor (it has no buffer API in 3.1): it gets one end
+// of a socket pair, and the reply is read back from the other end into the caller's buffer. A
+// reply is one write of at most 260 bytes, so one read takes it whole.
 struct Dispatcher::Contexts {
     ModbusPtr tcp{modbus_new_tcp("127.0.0.1", 502), &modbus_free};
     ModbusPtr rtu{modbus_new_rtu("/dev/null", 9600, 'N', 8, 1), &modbus_free};
+    std::array<int, 2> pair{-1, -1};
+
+    Contexts() {
+        if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, pair.data()) !=
+            0) {
+            throw std::system_error(errno, std::generic_category(), "dispatcher: socketpair");
+        }
+        modbus_set_socket(tcp.get(), pair[0]);
+        modbus_set_socket(rtu.get(), pair[0]);
+    }
+    ~Contexts() {
+        // modbus_free does not close the socket it was given.
+        ::close(pair[0]);
+        ::close(pair[1]);
+    }
+    Contexts(const Contexts&) = delete;
+    Contexts& operator=(const Contexts&) = delete;
 
     modbus_t* get(Transport t) const { return t == Transport::Tcp ? tcp.get() : rtu.get(); }
+
+    /// Reads back what libmodbus wrote (0 when it wrote nothing).
+    std::size_t take(ReplyBuffer out) const noexcept {
+        const ssize_t n = ::recv(pair[1], out.data(), out.size(), MSG_DONTWAIT);
+        return n > 0 ? static_cast<std::size_t>(n) : 0;
+    }
 };
 
 Dispatcher::Dispatcher(Unit& plc, const std::uint8_t& station, Identity identity)
@@ -135,25 +163,29 @@ void Dispatcher::set_simulator(Unit* sim, std::uint8_t unit_id) {
     sim_unit_ = unit_id;
 }
 
-void Dispatcher::serve_tcp(int fd, std::span<const std::uint8_t> adu) noexcept {
-    serve(Transport::Tcp, fd, adu);
+std::size_t Dispatcher::serve_tcp(std::span<const std::uint8_t> adu, ReplyBuffer out) noexcept {
+    return serve(Transport::Tcp, adu, out);
 }
 
-void Dispatcher::serve_rtu(int fd, std::span<const std::uint8_t> frame) noexcept {
-    serve(Transport::Rtu, fd, frame);
+std::size_t Dispatcher::serve_rtu(std::span<const std::uint8_t> frame, ReplyBuffer out) noexcept {
+    return serve(Transport::Rtu, frame, out);
 }
 
 namespace {
 
-// Frames a PDU like the request it answers and writes it; for the replies libmodbus cannot
-// build (FC 08, 11h, 17h, 2Bh).
-void send_pdu(
-    Transport t, int fd, const std::uint8_t* req, const std::uint8_t* pdu, std::size_t n) noexcept {
-    std::array<std::uint8_t, 7 + 253 + 2> out{};
+// Frames a PDU like the request it answers, into `out`; for the replies libmodbus cannot build
+// (FC 08, 11h, 17h, 2Bh, and exceptions for function codes of 80h and up). Returns the length.
+std::size_t frame_pdu(Transport t,
+                      const std::uint8_t* req,
+                      const std::uint8_t* pdu,
+                      std::size_t n,
+                      ReplyBuffer out) noexcept {
     std::size_t len = 0;
     if (t == Transport::Tcp) {
         out[0] = req[0];
         out[1] = req[1];
+        out[2] = 0;
+        out[3] = 0;
         out[4] = static_cast<std::uint8_t>((n + 1) >> 8);
         out[5] = static_cast<std::uint8_t>((n + 1) & 0xFF);
         out[6] = req[6];
@@ -168,20 +200,20 @@ void send_pdu(
         const std::uint16_t crc = crc16(out.data(), len);
         out[len++] = static_cast<std::uint8_t>(crc & 0xFF);
         out[len++] = static_cast<std::uint8_t>(crc >> 8);
-        [[maybe_unused]] ssize_t w = ::write(fd, out.data(), len);
-    } else {
-        [[maybe_unused]] ssize_t w = ::send(fd, out.data(), len, MSG_NOSIGNAL);
     }
+    return len;
 }
 
 }  // namespace
 
-void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) noexcept {
+std::size_t Dispatcher::serve(Transport t,
+                              std::span<const std::uint8_t> adu,
+                              ReplyBuffer reply) noexcept {
     const std::size_t header = t == Transport::Tcp ? 7 : 1;
     const std::size_t trailer = t == Transport::Rtu ? 2 : 0;
     if (adu.size() < header + 1 + trailer) {
         ++stats_.ignored;
-        return;
+        return 0;
     }
     const std::uint8_t* req = adu.data();
     const std::uint8_t unit = req[header - 1];
@@ -190,36 +222,35 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
     const std::uint8_t fc = pdu[0];
     const bool broadcast = t == Transport::Rtu && unit == 0;
     modbus_t* ctx = ctx_->get(t);
-    // No descriptor for a broadcast: nothing can be sent back, whatever path a request takes.
-    modbus_set_socket(ctx, broadcast ? -1 : fd);
 
-    auto exception = [&](Status s) {
+    auto exception = [&](Status s) -> std::size_t {
         ++stats_.requests;
         // Refused requests are what a SCADA integrator hunts for; debug keeps them off by default.
         spdlog::debug("modbus: unit {} function {:02X}h address {} refused: exception {:02X}h{}",
                       unit, fc, n >= 3 ? be16(pdu + 1) : 0, static_cast<unsigned>(s),
                       broadcast ? " (broadcast, not sent)" : "");
-        if (broadcast) return;  // a broadcast is never answered
+        if (broadcast) return 0;  // a broadcast is never answered
         ++stats_.exceptions;
         // Set the high bit rather than add 80h as modbus_reply_exception does, which would wrap
         // a function code of 80h or more to a normal-looking reply.
         const std::array<std::uint8_t, 2> e{static_cast<std::uint8_t>(fc | 0x80),
                                             static_cast<std::uint8_t>(s)};
-        send_pdu(t, fd, req, e.data(), e.size());
+        return frame_pdu(t, req, e.data(), e.size(), reply);
     };
 
     Unit* target = nullptr;
-    if (unit == station_ || broadcast || (t == Transport::Tcp && unit == 0xFF)) {
+    // Over TCP, 0 and 255 address the device itself (Modbus TCP implementation guide §4.4.1.2:
+    // clients such as Node-RED's fall back to 0); over RTU, 0 is the broadcast address.
+    if (unit == station_ || broadcast || (t == Transport::Tcp && (unit == 0xFF || unit == 0))) {
         target = &plc_;
     } else if (sim_ != nullptr && unit == sim_unit_) {
         target = sim_;
     } else {
         if (t == Transport::Tcp && unknown_unit_ == UnknownUnitPolicy::Exception) {
-            exception(Status::GatewayTargetFailed);
-        } else {
-            ++stats_.ignored;
+            return exception(Status::GatewayTargetFailed);
         }
-        return;
+        ++stats_.ignored;
+        return 0;
     }
 
     std::array<std::uint8_t, 253> out{};
@@ -228,13 +259,13 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
             // Subfunction 00 (return query data) only.
             if (n < 3) return exception(Status::IllegalDataValue);
             if (be16(pdu + 1) != 0) return exception(Status::IllegalFunction);
-            if (broadcast) return;
+            if (broadcast) return 0;
             ++stats_.requests;
-            return send_pdu(t, fd, req, pdu, n);
+            return frame_pdu(t, req, pdu, n, reply);
         }
         case kReportSlaveId: {
             if (n != 1) return exception(Status::IllegalDataValue);
-            if (broadcast) return;
+            if (broadcast) return 0;
             const std::string text =
                 identity_.vendor + " " + identity_.product + " plcemu " + identity_.revision;
             std::size_t k = 0;
@@ -249,7 +280,7 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
             }
             out[1] = static_cast<std::uint8_t>(k - 2);
             ++stats_.requests;
-            return send_pdu(t, fd, req, out.data(), k);
+            return frame_pdu(t, req, out.data(), k, reply);
         }
         case kEncapsulated: {
             if (n < 2 || pdu[1] != kReadDeviceId) return exception(Status::IllegalFunction);
@@ -257,7 +288,7 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
             const std::uint8_t code = pdu[2];
             std::uint8_t object = pdu[3];
             if (code < 1 || code > 4) return exception(Status::IllegalDataValue);
-            if (broadcast) return;
+            if (broadcast) return 0;
             struct Object {
                 std::uint8_t id;
                 const std::string* value;
@@ -295,7 +326,7 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
             }
             out[count_at] = count;
             ++stats_.requests;
-            return send_pdu(t, fd, req, out.data(), k);
+            return frame_pdu(t, req, out.data(), k, reply);
         }
         case kReadWriteRegisters: {
             if (n < 10) return exception(Status::IllegalDataValue);
@@ -312,7 +343,7 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
             }
             if (ww.status != Status::Ok) return exception(ww.status);
             if (rw.status != Status::Ok) return exception(rw.status);
-            if (broadcast) return;  // has a read part: not a broadcast request
+            if (broadcast) return 0;  // has a read part: not a broadcast request
             for (std::size_t i = 0; i < wqty; ++i) ww.words[i] = be16(pdu + 10 + 2 * i);
             target->written(Table::HoldingRegisters, waddr, wqty);
             std::size_t k = 0;
@@ -323,7 +354,7 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
                 out[k++] = static_cast<std::uint8_t>(rw.words[i] & 0xFF);
             }
             ++stats_.requests;
-            return send_pdu(t, fd, req, out.data(), k);
+            return frame_pdu(t, req, out.data(), k, reply);
         }
         default:
             break;
@@ -336,8 +367,8 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
     if (r.status != Status::Ok) return exception(r.status);
     if (w.status != Status::Ok) return exception(w.status);
     if (broadcast && !r.write) {
-        ++stats_.ignored;  // SPEC §2: broadcast reads are ignored
-        return;
+        ++stats_.ignored;  // broadcast reads are ignored
+        return 0;
     }
 
     // A window onto the resolved range: libmodbus reads and writes the image in place.
@@ -366,7 +397,10 @@ void Dispatcher::serve(Transport t, int fd, std::span<const std::uint8_t> adu) n
     }
     ++stats_.requests;
     modbus_reply(ctx, req, static_cast<int>(adu.size()), &m);
+    // libmodbus writes nothing for a broadcast; drain the pair either way.
+    const std::size_t len = ctx_->take(reply);
     if (r.write) target->written(r.table, r.addr, r.qty);
+    return broadcast ? 0 : len;
 }
 
 }  // namespace plcemu::modbus

@@ -177,10 +177,12 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
                           verdict_name(f.verdict));
             return;
         }
-        // The dispatcher filters the station and broadcasts and writes the reply to the
-        // non-blocking descriptor: a reply that does not fit in the tty's buffer is dropped,
-        // never waited for (no tcdrain).
-        dispatcher.serve_rtu(line.native_handle(), f.bytes);
+        // The dispatcher filters the station and broadcasts; the reply goes to the non-blocking
+        // descriptor: one that does not fit in the tty's buffer is dropped, never waited for
+        // (no tcdrain), as a master that floods the line gets no answers anyway.
+        const std::size_t n = dispatcher.serve_rtu(f.bytes, reply);
+        if (n == 0) return;
+        [[maybe_unused]] const ssize_t w = ::write(line.native_handle(), reply.data(), n);
     }
 
     // A read error (EIO or hang-up of a device that went away): re-reading the same descriptor
@@ -252,6 +254,7 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
     asio::steady_timer reopen_timer;
     RtuFramer framer;
     std::array<std::uint8_t, 512> buf{};
+    std::array<std::uint8_t, kMaxReplyAdu> reply{};
     // Up: reading; Lost: closed, waiting to reopen; Settling: reopened, not yet proven.
     enum class Link { Up, Lost, Settling };
     Link link = Link::Up;

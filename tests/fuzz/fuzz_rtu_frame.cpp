@@ -52,8 +52,7 @@ void serve(fuzz::Rig& rig, fuzz::Peer& peer, std::span<const std::uint8_t> frame
                 "frame size out of range");
     fuzz::Snapshot before;
     before.take(rig.plc->image());
-    rig.plc->dispatcher().serve_rtu(peer.server(), frame);
-    const auto rep = peer.drain();
+    const auto rep = peer.take(rig.plc->dispatcher().serve_rtu(frame, peer.buffer()));
     fuzz::exchange().reply = rep;
     check_reply(rig, frame, rep);
     // A broadcast write is applied without an answer; judge it as answered.

@@ -1,15 +1,13 @@
 #pragma once
-// Shared by the request harnesses: the PLC under test, a socket pair standing in for the
-// connection or the serial port, image snapshots and the invariants every reply must keep.
+// Shared by the request harnesses: the PLC under test, the reply buffer a transport would own,
+// image snapshots and the invariants every reply must keep.
 
-#include <fcntl.h>
 #include <spdlog/spdlog.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <memory>
 #include <span>
@@ -110,37 +108,19 @@ inline Rig make_rig() {
     return r;
 }
 
-/// A connected socket pair: the dispatcher writes to `server()`, the harness reads `client()`.
+/// The reply buffer the dispatcher writes into, as a transport owns one.
 class Peer {
 public:
-    Peer() {
-        if (::socketpair(AF_UNIX, SOCK_STREAM, 0, fds_) != 0) fail("socketpair");
-        for (int fd : fds_) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
-    }
-    ~Peer() {
-        ::close(fds_[0]);
-        ::close(fds_[1]);
-    }
-    Peer(const Peer&) = delete;
-    Peer& operator=(const Peer&) = delete;
+    /// The buffer handed to the dispatcher.
+    modbus::ReplyBuffer buffer() { return out_; }
 
-    /// The descriptor handed to the dispatcher.
-    int server() const { return fds_[0]; }
-
-    /// Everything written since the last call (empty when nothing was).
-    std::vector<std::uint8_t> drain() {
-        std::vector<std::uint8_t> out;
-        std::uint8_t buf[1024];
-        for (;;) {
-            const ssize_t n = ::read(fds_[1], buf, sizeof buf);
-            if (n <= 0) break;
-            out.insert(out.end(), buf, buf + n);
-        }
-        return out;
+    /// The first `n` bytes of the buffer: the reply just built.
+    std::vector<std::uint8_t> take(std::size_t n) const {
+        return {out_.begin(), out_.begin() + static_cast<std::ptrdiff_t>(n)};
     }
 
 private:
-    int fds_[2] = {-1, -1};
+    std::array<std::uint8_t, modbus::kMaxReplyAdu> out_{};
 };
 
 /// Function codes that only read: a request with one of these never changes the image.

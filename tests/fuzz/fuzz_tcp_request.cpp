@@ -66,8 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         stream = stream.subspan(f.size);
 
         before.take(plc->image());
-        plc->dispatcher().serve_tcp(peer.server(), req);
-        const auto rep = peer.drain();
+        const auto rep = peer.take(plc->dispatcher().serve_tcp(req, peer.buffer()));
         fuzz::exchange() = {{req.begin(), req.end()}, rep};
         check_reply(rig, silent, req, rep);
         const bool answered = rep.size() > 7 && (rep[7] & 0x80) == 0;

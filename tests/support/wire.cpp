@@ -1,9 +1,5 @@
 #include "support/wire.hpp"
 
-#include <fcntl.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <stdexcept>
 
 #include "modbus/crc.hpp"
@@ -11,21 +7,10 @@
 namespace plcemu::testing {
 
 Wire::Wire(modbus::Dispatcher& d)
-    : d_(d) {
-    if (::socketpair(AF_UNIX, SOCK_STREAM, 0, fds_) != 0) throw std::runtime_error("socketpair");
-    ::fcntl(fds_[1], F_SETFL, ::fcntl(fds_[1], F_GETFL) | O_NONBLOCK);
-}
+    : d_(d) {}
 
-Wire::~Wire() {
-    ::close(fds_[0]);
-    ::close(fds_[1]);
-}
-
-std::vector<std::uint8_t> Wire::drain() {
-    std::vector<std::uint8_t> out(1024);
-    const ssize_t n = ::read(fds_[1], out.data(), out.size());
-    out.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
-    return out;
+std::vector<std::uint8_t> Wire::reply(std::size_t n) const {
+    return {out_.begin(), out_.begin() + static_cast<std::ptrdiff_t>(n)};
 }
 
 std::vector<std::uint8_t> Wire::tcp(std::uint8_t unit, const std::vector<std::uint8_t>& pdu) {
@@ -38,8 +23,7 @@ std::vector<std::uint8_t> Wire::tcp(std::uint8_t unit, const std::vector<std::ui
                                   static_cast<std::uint8_t>((pdu.size() + 1) & 0xFF),
                                   unit};
     adu.insert(adu.end(), pdu.begin(), pdu.end());
-    d_.serve_tcp(fds_[0], adu);
-    auto r = drain();
+    auto r = reply(d_.serve_tcp(adu, out_));
     if (r.empty()) return r;
     if (r.size() < 8 || r[0] != adu[0] || r[1] != adu[1] || r[2] != 0 || r[3] != 0 ||
         r[6] != unit || static_cast<std::size_t>(r[4] << 8 | r[5]) != r.size() - 6) {
@@ -54,8 +38,7 @@ std::vector<std::uint8_t> Wire::rtu(std::uint8_t unit, const std::vector<std::ui
     const std::uint16_t crc = modbus::crc16(f.data(), f.size());
     f.push_back(static_cast<std::uint8_t>(crc & 0xFF));
     f.push_back(static_cast<std::uint8_t>(crc >> 8));
-    d_.serve_rtu(fds_[0], f);
-    auto r = drain();
+    auto r = reply(d_.serve_rtu(f, out_));
     if (r.empty()) return r;
     if (r.size() < 4 || r[0] != unit) throw std::runtime_error("malformed RTU reply");
     const std::uint16_t got = static_cast<std::uint16_t>(r[r.size() - 2] | r[r.size() - 1] << 8);

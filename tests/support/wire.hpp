@@ -1,7 +1,8 @@
 #pragma once
-// Test support: drives a Dispatcher through a real socket pair, the way the TCP and RTU
-// transports do, and returns the reply bytes.
+// Test support: drives a Dispatcher the way the TCP and RTU transports do, and returns the
+// reply bytes.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -14,7 +15,6 @@ namespace plcemu::testing {
 class Wire {
 public:
     explicit Wire(modbus::Dispatcher& d);
-    ~Wire();
 
     /// Serves a TCP request with unit `unit` and PDU `pdu`; returns the reply PDU (without
     /// MBAP), empty when nothing was sent. Checks the MBAP header of the reply.
@@ -24,10 +24,10 @@ public:
     std::vector<std::uint8_t> rtu(std::uint8_t unit, const std::vector<std::uint8_t>& pdu);
 
 private:
-    std::vector<std::uint8_t> drain();
+    std::vector<std::uint8_t> reply(std::size_t n) const;
 
     modbus::Dispatcher& d_;
-    int fds_[2] = {-1, -1};
+    std::array<std::uint8_t, modbus::kMaxReplyAdu> out_{};
     std::uint16_t tid_ = 0x1234;
 };
 

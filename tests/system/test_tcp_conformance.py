@@ -230,10 +230,11 @@ def test_half_a_request_does_not_delay_others(daemon):
 def test_unknown_unit_exception_policy(start_plcemud):
     d = start_plcemud(BASE_CONFIG + "station: 3\n")
     s = connect(d)
-    for tid, unit in enumerate((3, 255), start=1):
+    # Unit 0 addresses the device itself over TCP (implementation guide §4.4.1.2).
+    for tid, unit in enumerate((3, 255, 0), start=1):
         s.sendall(mbap(tid, unit, read_pdu(4055, 1)))
         assert recv_adu(s) == (tid, unit, b"\x03\x02\x00\x03")
-    for tid, unit in enumerate((0, 1, 2, 4, 254), start=10):
+    for tid, unit in enumerate((1, 2, 4, 254), start=10):
         s.sendall(mbap(tid, unit, read_pdu(4055, 1)))
         assert recv_adu(s) == (tid, unit, b"\x83\x0b"), unit
     c = d.client()
@@ -246,7 +247,7 @@ def test_unknown_unit_silent_policy(start_plcemud):
     s = connect(d)
     s.sendall(mbap(1, 9, read_pdu(4055, 1)))
     assert no_reply(s), "unknown unit must get no answer"
-    s.sendall(mbap(2, 0, b"\x08\x00\x00\x12\x34"))
+    s.sendall(mbap(2, 7, b"\x08\x00\x00\x12\x34"))
     assert no_reply(s)
     # the connection stays open and is served for the station and 255
     s.sendall(mbap(3, 1, read_pdu(4055, 1)))

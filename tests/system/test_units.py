@@ -1,6 +1,6 @@
-"""SPEC §2 "Unit IDs and transports" over TCP: the station and 255 are answered, other units get
-exception 0Bh (or nothing, when configured); the station changes when a master writes 55xxh to
-R4055."""
+"""Unit IDs over TCP (README, "Unit IDs and transports"): the station, 0 and 255 are answered,
+other units get exception 0Bh (or nothing, when configured); the station changes when a master
+writes 55xxh to R4055."""
 
 import socket
 import struct
@@ -16,11 +16,12 @@ def read_r0(port, unit):
     return raw_request(port, READ_R0, unit=unit)
 
 
-def test_station_and_255_answered_others_0b(start_plcemud):
+def test_station_0_and_255_answered_others_0b(start_plcemud):
     d = start_plcemud(BASE_CONFIG + "init: {R0: 4242}\n")
-    for unit in (1, 255):
+    # Modbus TCP implementation guide §4.4.1.2: over TCP, unit 0 addresses the device itself.
+    for unit in (1, 0, 255):
         assert read_r0(d.port, unit) == bytes([3, 2]) + struct.pack(">H", 4242), unit
-    for unit in (0, 2, 17, 200, 247 + 1, 254):
+    for unit in (2, 17, 200, 247 + 1, 254):
         assert read_r0(d.port, unit) == bytes([0x83, GATEWAY_TARGET_FAILED]), unit
     # A write to another unit is refused and does not land.
     assert raw_request(d.port, struct.pack(">BHH", 6, 0, 1), unit=2) == bytes(

@@ -671,7 +671,10 @@ TEST_F(ModbusMap, TcpUnitIds) {
               std::vector<std::uint16_t>{77});
     EXPECT_EQ(wire::reply_words(tcp(wire::read_pdu(0x03, 7, 1), 255)),
               std::vector<std::uint16_t>{77});
-    for (std::uint8_t u : std::vector<std::uint8_t>{0, 2, 17, 247, 254}) {
+    // Modbus TCP implementation guide §4.4.1.2: unit 0 addresses the device itself over TCP.
+    EXPECT_EQ(wire::reply_words(tcp(wire::read_pdu(0x03, 7, 1), 0)),
+              std::vector<std::uint16_t>{77});
+    for (std::uint8_t u : std::vector<std::uint8_t>{2, 17, 247, 254}) {
         EXPECT_EQ(wire::exception_of(tcp(wire::read_pdu(0x03, 7, 1), u)), kGatewayTarget)
             << "unit " << int(u);
         // A write to another unit does not land.

@@ -32,7 +32,12 @@ struct DispatchStats {
     std::uint64_t ignored = 0;     ///< requests dropped without an answer
 };
 
-/// Turns complete request frames into replies written to a file descriptor.
+/// Largest reply ADU: MBAP header (7) + PDU (253); an RTU reply (1 + 253 + 2) is shorter.
+inline constexpr std::size_t kMaxReplyAdu = 260;
+/// Where a reply is built; the transport writes it (the dispatcher never touches a socket).
+using ReplyBuffer = std::span<std::uint8_t, kMaxReplyAdu>;
+
+/// Turns complete request frames into reply frames in a buffer the transport owns.
 class Dispatcher {
 public:
     /// `plc` and `station` must outlive the dispatcher; `station` is read on every request
@@ -47,18 +52,19 @@ public:
     /// Sets the TCP policy for unknown unit IDs.
     void set_unknown_unit_policy(UnknownUnitPolicy p) { unknown_unit_ = p; }
 
-    /// Serves one complete TCP ADU (MBAP header + PDU) and writes the reply, if any, to `fd`.
-    void serve_tcp(int fd, std::span<const std::uint8_t> adu) noexcept;
-    /// Serves one complete RTU frame (address, PDU, CRC already checked) and writes the reply,
-    /// if any, to `fd`.
-    void serve_rtu(int fd, std::span<const std::uint8_t> frame) noexcept;
+    /// Serves one complete TCP ADU (MBAP header + PDU); the reply ADU goes to `out`. Returns its
+    /// length, 0 when nothing is to be sent.
+    std::size_t serve_tcp(std::span<const std::uint8_t> adu, ReplyBuffer out) noexcept;
+    /// Serves one complete RTU frame (address, PDU, CRC already checked); the reply frame with
+    /// its CRC goes to `out`. Returns its length, 0 when nothing is to be sent (broadcasts).
+    std::size_t serve_rtu(std::span<const std::uint8_t> frame, ReplyBuffer out) noexcept;
 
     /// Counters since start.
     const DispatchStats& stats() const { return stats_; }
 
 private:
     struct Contexts;
-    void serve(Transport t, int fd, std::span<const std::uint8_t> adu) noexcept;
+    std::size_t serve(Transport t, std::span<const std::uint8_t> adu, ReplyBuffer out) noexcept;
 
     Unit& plc_;
     const std::uint8_t& station_;
