@@ -216,7 +216,8 @@ void check_ranges_exist(const Reader& r,
 void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
     r.check_keys(
         n, "modbus.tcp",
-        {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients", "idle_timeout_s"});
+        {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients", "idle_timeout_s",
+         "frame_timeout_ms"});
     if (n["enabled"]) tcp.enabled = r.boolean(n["enabled"], "modbus.tcp.enabled");
     if (n["bind"]) {
         tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");
@@ -258,6 +259,10 @@ void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
     if (n["idle_timeout_s"]) {
         tcp.idle_timeout_s =
             static_cast<int>(r.integer(n["idle_timeout_s"], "modbus.tcp.idle_timeout_s", 0, 86400));
+    }
+    if (n["frame_timeout_ms"]) {
+        tcp.frame_timeout_ms = static_cast<int>(
+            r.integer(n["frame_timeout_ms"], "modbus.tcp.frame_timeout_ms", 100, 60000));
     }
 }
 
@@ -532,9 +537,10 @@ Config read_root(const Reader& r, const YAML::Node& root) {
     if (root["temperature"]) read_temperature(r, root["temperature"], c.temperature);
     if (root["plant"]) read_plant(r, root["plant"], c.plant);
     if (const auto s = root["simulator"]) {
-        r.check_keys(s, "simulator", {"unit"});
+        r.check_keys(s, "simulator", {"unit", "writable"});
         if (s["unit"])
             c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
+        if (s["writable"]) c.simulator.writable = r.boolean(s["writable"], "simulator.writable");
     }
     if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
     if (const auto m = root["modbus"]) {

@@ -1,16 +1,22 @@
 #include "tcp_server.hpp"
 
+#include "log_limiter.hpp"
 #include "mbap.hpp"
 
-#include <linux/sockios.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <spdlog/spdlog.h>
-#include <sys/ioctl.h>
+#include <sys/socket.h>
 
+#include <algorithm>
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <system_error>
 #include <unordered_set>
+#include <utility>
+#include <vector>
 
 namespace plcemu::modbus {
 
@@ -19,11 +25,35 @@ namespace {
 using asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
-constexpr std::size_t kMaxReply = 260;     // largest Modbus TCP ADU
 constexpr std::size_t kBufferSize = 4096;  // room for many pipelined requests
+// Frames served per turn before the other connections get theirs (round-robin).
+constexpr std::size_t kFramesPerTurn = 16;
+// At max_clients, a connection stuck this long, or silent this long, gives way to a new one.
+constexpr auto kEvictStuck = std::chrono::seconds(1);
+constexpr auto kEvictSilent = std::chrono::seconds(30);
+// Keepalive: a peer that vanished (cable, power) is found after 60 + 3 x 10 s of silence.
+constexpr int kKeepIdleS = 60;
+constexpr int kKeepIntervalS = 10;
+constexpr int kKeepCount = 3;
+// Per-cause log budget: lines per window, then one summary line.
+constexpr std::size_t kLogBurst = 50;
+constexpr auto kLogWindow = std::chrono::seconds(10);
+// Back-off while accept() runs out of descriptors.
+constexpr auto kAcceptBackoffFirst = std::chrono::milliseconds(50);
+constexpr auto kAcceptBackoffMax = std::chrono::seconds(1);
 
 std::string peer_name(const tcp::endpoint& ep) {
     return ep.address().to_string() + ":" + std::to_string(ep.port());
+}
+
+void set_keepalive(tcp::socket& s) {
+    asio::error_code ec;
+    s.set_option(asio::socket_base::keep_alive(true), ec);
+    // Asio has no option types for the keepalive timings.
+    const int fd = s.native_handle();
+    ::setsockopt(fd, IPPROTO_TCP, TCP_KEEPIDLE, &kKeepIdleS, sizeof kKeepIdleS);
+    ::setsockopt(fd, IPPROTO_TCP, TCP_KEEPINTVL, &kKeepIntervalS, sizeof kKeepIntervalS);
+    ::setsockopt(fd, IPPROTO_TCP, TCP_KEEPCNT, &kKeepCount, sizeof kKeepCount);
 }
 
 }  // namespace
@@ -45,6 +75,12 @@ bool Cidr::parse(const std::string& text, Cidr& out) {
         }
         if (v > max) return false;
         out.prefix = v;
+    }
+    // "::ffff:10.0.0.0/104" names IPv4 peers: keep it as 10.0.0.0/8, so that it matches them on
+    // an IPv4 listener as well as on a dual-stack one.
+    if (out.network.is_v6() && out.network.to_v6().is_v4_mapped() && out.prefix >= 96) {
+        out.network = asio::ip::make_address_v4(asio::ip::v4_mapped, out.network.to_v6());
+        out.prefix -= 96;
     }
     return true;
 }
@@ -77,38 +113,49 @@ struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
           dispatcher(&d),
           options(std::move(o)),
           acceptor(io_),
-          sweep(io_) {}
+          sweep(io_),
+          accept_retry(io_) {}
 
     void accept();
+    void accept_failed(const asio::error_code& ec);
     void arm_sweep();
+    void check_connections();
+    /// Makes room for a new client when every slot is taken by one that is stuck or silent.
+    bool evict_one(Clock::time_point now);
+    /// Logs `line` unless the cause's budget is spent.
+    template <typename... Args>
+    void log(LogCause cause, spdlog::format_string_t<Args...> fmt, Args&&... args) {
+        if (limiter.allow(cause, Clock::now())) spdlog::info(fmt, std::forward<Args>(args)...);
+    }
 
     asio::io_context& io;
     Dispatcher* dispatcher;  // replaced on reload; connections keep going
     TcpOptions options;
     tcp::acceptor acceptor;
     asio::steady_timer sweep;
+    asio::steady_timer accept_retry;
     std::unordered_set<std::shared_ptr<Connection>> connections;
+    LogLimiter limiter{kLogBurst, kLogWindow};
+    std::uint64_t accept_failures = 0;  // in the current episode of running out of descriptors
+    Clock::time_point accept_failing_since{};
+    Clock::duration accept_backoff{};
     bool stopped = false;
 };
 
-// One client: reads MBAP frames into its own buffer and serves each complete one.
+// One client: reads MBAP frames into its own buffer, serves a few complete ones per turn and
+// writes their replies. While replies are waiting for the client to take them, it is not read.
 class Connection : public std::enable_shared_from_this<Connection> {
 public:
     Connection(tcp::socket s, std::weak_ptr<TcpServer::State> server, std::string peer)
         : socket_(std::move(s)),
           server_(std::move(server)),
           peer_(std::move(peer)),
-          last_activity_(Clock::now()) {
-        int size = 0;
-        socklen_t len = sizeof size;
-        if (::getsockopt(socket_.native_handle(), SOL_SOCKET, SO_SNDBUF, &size, &len) == 0) {
-            sndbuf_ = static_cast<std::size_t>(size);
-        }
+          last_request_(Clock::now()) {
+        out_.reserve(kFramesPerTurn * kMaxReplyAdu);
     }
 
     void start() {
-        // Non-blocking for good: reads and the replies libmodbus sends on this descriptor never
-        // wait (replies are only sent when the send buffer has room, see room_for_reply).
+        // Non-blocking for good: a reply that does not fit is left to an asynchronous write.
         asio::error_code ec;
         socket_.non_blocking(true, ec);
         read();
@@ -120,11 +167,22 @@ public:
         asio::error_code ec;
         socket_.shutdown(tcp::socket::shutdown_both, ec);
         socket_.close(ec);
-        spdlog::info("tcp: {} disconnected ({})", peer_, why);
-        if (auto s = server_.lock()) s->connections.erase(shared_from_this());
+        if (auto s = server_.lock()) {
+            s->log(LogCause::Disconnected, "tcp: {} disconnected ({})", peer_, why);
+            s->connections.erase(shared_from_this());
+        }
     }
 
-    Clock::time_point last_activity() const { return last_activity_; }
+    /// When the last complete request arrived (the connect, before the first one).
+    Clock::time_point last_request() const { return last_request_; }
+    /// How long a begun request has been waiting for its last bytes (zero when none is).
+    Clock::duration partial_for(Clock::time_point now) const {
+        return frame_started_ == Clock::time_point{} ? Clock::duration{0} : now - frame_started_;
+    }
+    /// How long replies have been waiting for the client to take them (zero when none are).
+    Clock::duration unsent_for(Clock::time_point now) const {
+        return write_started_ == Clock::time_point{} ? Clock::duration{0} : now - write_started_;
+    }
     /// The peer's address ("unspecified" when it could not be read).
     asio::ip::address address() const {
         asio::error_code ec;
@@ -146,74 +204,95 @@ private:
                     return;
                 }
                 self->used_ += n;
-                self->last_activity_ = Clock::now();
-                self->serve_and_continue();
+                self->serve();
             });
     }
 
-    void serve_and_continue() {
-        if (!serve_frames()) return;
-        if (waiting_) return;
-        read();
-    }
-
-    // Serves every complete frame in the buffer. False when the connection was closed.
-    bool serve_frames() {
+    // Serves up to kFramesPerTurn complete frames, then writes their replies.
+    void serve() {
         auto server = server_.lock();
-        if (!server || closed_) return false;
+        if (!server || closed_) return;
         std::size_t off = 0;
-        while (true) {
+        std::size_t served = 0;
+        while (served < kFramesPerTurn) {
             const std::uint8_t* f = buf_.data() + off;
             const MbapFrame frame = next_mbap_frame({f, used_ - off});
             if (frame.status == MbapStatus::Incomplete) break;
-            // SPEC §2: a bad MBAP header closes the connection (and only this one).
+            // A bad MBAP header closes the connection (and only this one).
             if (frame.status == MbapStatus::Bad) {
                 spdlog::debug("tcp: {} bad MBAP header (protocol {}, length {})", peer_,
                               frame.protocol, frame.length);
+                // The requests before it are answered first, as far as the socket takes them.
+                asio::error_code ec;
+                if (!out_.empty()) socket_.write_some(asio::buffer(out_), ec);
                 close("bad MBAP header");
-                return false;
+                return;
             }
-            if (!room_for_reply()) {
-                wait_writable();
-                break;
-            }
-            server->dispatcher->serve_tcp(socket_.native_handle(), {f, frame.size});
-            unacked_ += kMaxReply;
+            const std::size_t n = server->dispatcher->serve_tcp({f, frame.size}, reply_);
+            out_.insert(out_.end(), reply_.begin(), reply_.begin() + static_cast<long>(n));
             off += frame.size;
+            ++served;
         }
         if (off > 0) {
             std::memmove(buf_.data(), buf_.data() + off, used_ - off);
             used_ -= off;
         }
-        return true;
+        const auto now = Clock::now();
+        if (served > 0) last_request_ = now;
+        // The frame deadline runs from the first byte of a request that is not whole yet.
+        if (used_ == 0) {
+            frame_started_ = {};
+        } else if (served > 0 || frame_started_ == Clock::time_point{}) {
+            frame_started_ = now;
+        }
+        write();
     }
 
-    // Replies are written straight to the socket; never write one that might not fit in the
-    // send buffer (a client that does not read its replies stops being read instead).
-    bool room_for_reply() {
-        if (unacked_ + kMaxReply <= sndbuf_ / 2) return true;
-        int queued = 0;
-        if (::ioctl(socket_.native_handle(), SIOCOUTQ, &queued) != 0) return false;
-        unacked_ = static_cast<std::size_t>(queued);
-        return unacked_ + kMaxReply <= sndbuf_ / 2;
+    void write() {
+        if (closed_) return;
+        if (!out_.empty()) {
+            asio::error_code ec;
+            const std::size_t n = socket_.write_some(asio::buffer(out_), ec);
+            if (ec && ec != asio::error::would_block && ec != asio::error::try_again) {
+                close("write error");
+                return;
+            }
+            out_.erase(out_.begin(), out_.begin() + static_cast<long>(n));
+        }
+        if (!out_.empty()) {
+            // The client is not taking its replies: stop reading it until it has. The wait
+            // costs nothing (the reactor waits for room) and a reset ends it at once.
+            write_started_ = Clock::now();
+            asio::async_write(socket_, asio::buffer(out_),
+                              [self = shared_from_this()](const asio::error_code& ec, std::size_t) {
+                                  if (ec) {
+                                      self->close(ec == asio::error::operation_aborted
+                                                      ? "closed"
+                                                      : "write error");
+                                      return;
+                                  }
+                                  self->out_.clear();
+                                  self->write_started_ = {};
+                                  // The client was not read while it did not read: its frame clock
+                                  // restarts.
+                                  if (self->frame_started_ != Clock::time_point{}) {
+                                      self->frame_started_ = Clock::now();
+                                  }
+                                  self->next();
+                              });
+            return;
+        }
+        next();
     }
 
-    void wait_writable() {
-        waiting_ = true;
-        socket_.async_wait(tcp::socket::wait_write,
-                           [self = shared_from_this()](const asio::error_code& ec) {
-                               self->waiting_ = false;
-                               if (ec) {
-                                   self->close("write wait failed");
-                                   return;
-                               }
-                               self->unacked_ = 0;
-                               int queued = 0;
-                               if (::ioctl(self->socket_.native_handle(), SIOCOUTQ, &queued) == 0) {
-                                   self->unacked_ = static_cast<std::size_t>(queued);
-                               }
-                               self->serve_and_continue();
-                           });
+    // More whole frames buffered: the others get their turn first. Otherwise: read.
+    void next() {
+        if (closed_) return;
+        if (next_mbap_frame({buf_.data(), used_}).status != MbapStatus::Incomplete) {
+            asio::post(socket_.get_executor(), [self = shared_from_this()] { self->serve(); });
+            return;
+        }
+        read();
     }
 
     tcp::socket socket_;
@@ -221,22 +300,29 @@ private:
     std::string peer_;
     std::array<std::uint8_t, kBufferSize> buf_{};
     std::size_t used_ = 0;
-    std::size_t sndbuf_ = 16384;
-    std::size_t unacked_ = 0;
-    bool waiting_ = false;
+    std::array<std::uint8_t, kMaxReplyAdu> reply_{};
+    std::vector<std::uint8_t> out_;  // replies not yet taken by the client
+    Clock::time_point last_request_;
+    Clock::time_point frame_started_{};
+    Clock::time_point write_started_{};
     bool closed_ = false;
-    Clock::time_point last_activity_;
 };
 
 void TcpServer::State::accept() {
     acceptor.async_accept([self = shared_from_this()](const asio::error_code& ec, tcp::socket s) {
         if (self->stopped) return;
         if (ec) {
-            if (ec != asio::error::operation_aborted) {
-                spdlog::warn("tcp: accept failed: {}", ec.message());
-                self->accept();
-            }
+            if (ec != asio::error::operation_aborted) self->accept_failed(ec);
             return;
+        }
+        const auto now = Clock::now();
+        if (self->accept_failures > 0) {
+            spdlog::info("tcp: accepting again after {} failed accepts in {} ms",
+                         self->accept_failures,
+                         std::chrono::duration_cast<std::chrono::milliseconds>(
+                             now - self->accept_failing_since)
+                             .count());
+            self->accept_failures = 0;
         }
         asio::error_code pec;
         const auto ep = s.remote_endpoint(pec);
@@ -245,15 +331,22 @@ void TcpServer::State::accept() {
         for (const auto& c : self->options.allow)
             allowed = allowed || (!pec && c.contains(ep.address()));
         if (!allowed) {
-            spdlog::warn("tcp: {} refused: not in modbus.tcp.allow", peer);
+            if (self->limiter.allow(LogCause::RefusedNotAllowed, now)) {
+                spdlog::warn("tcp: {} refused: not in modbus.tcp.allow", peer);
+            }
             s.close(pec);
-        } else if (static_cast<int>(self->connections.size()) >= self->options.max_clients) {
-            spdlog::warn("tcp: {} refused: {} clients already connected (modbus.tcp.max_clients)",
-                         peer, self->connections.size());
+        } else if (static_cast<int>(self->connections.size()) >= self->options.max_clients &&
+                   !self->evict_one(now)) {
+            if (self->limiter.allow(LogCause::RefusedFull, now)) {
+                spdlog::warn(
+                    "tcp: {} refused: {} clients already connected (modbus.tcp.max_clients)", peer,
+                    self->connections.size());
+            }
             s.close(pec);
         } else {
             s.set_option(tcp::no_delay(true), pec);
-            spdlog::info("tcp: {} connected", peer);
+            set_keepalive(s);
+            self->log(LogCause::Connected, "tcp: {} connected", peer);
             auto c = std::make_shared<Connection>(std::move(s), self, peer);
             self->connections.insert(c);
             c->start();
@@ -262,17 +355,93 @@ void TcpServer::State::accept() {
     });
 }
 
+void TcpServer::State::accept_failed(const asio::error_code& ec) {
+    const int e = ec.value();
+    if (e != EMFILE && e != ENFILE && e != ENOBUFS && e != ENOMEM) {
+        // A peer that reset before it was accepted, and the like: nothing to wait for.
+        spdlog::debug("tcp: accept: {}", ec.message());
+        accept();
+        return;
+    }
+    // Out of descriptors or memory: the listener stays readable, so retrying at once would
+    // spin. Back off, and log once per episode (the count comes when accepts work again).
+    if (accept_failures++ == 0) {
+        accept_failing_since = Clock::now();
+        accept_backoff = kAcceptBackoffFirst;
+        spdlog::warn(
+            "tcp: accept failed: {}; pausing accepts until a descriptor is free (raise the "
+            "descriptor limit, LimitNOFILE=, or lower modbus.tcp.max_clients)",
+            ec.message());
+    } else {
+        accept_backoff = std::min<Clock::duration>(accept_backoff * 2, kAcceptBackoffMax);
+    }
+    accept_retry.expires_after(accept_backoff);
+    accept_retry.async_wait([self = shared_from_this()](const asio::error_code& wec) {
+        if (wec || self->stopped) return;
+        self->accept();
+    });
+}
+
+bool TcpServer::State::evict_one(Clock::time_point now) {
+    // Only a connection that is stuck mid-request or on unsent replies, or silent for long, gives
+    // up its slot: the one stuck longest first, else the one silent longest.
+    std::shared_ptr<Connection> victim;
+    Clock::duration worst{0};
+    for (const auto& c : connections) {
+        const auto stuck = std::max(c->partial_for(now), c->unsent_for(now));
+        if (stuck >= kEvictStuck && stuck > worst) {
+            worst = stuck;
+            victim = c;
+        }
+    }
+    const char* why = "evicted for a new client: stuck mid-request";
+    if (!victim) {
+        for (const auto& c : connections) {
+            const auto silent = now - c->last_request();
+            if (silent >= kEvictSilent && silent > worst) {
+                worst = silent;
+                victim = c;
+            }
+        }
+        why = "evicted for a new client: no request for 30 s";
+    }
+    if (!victim) return false;
+    victim->close(why);
+    return true;
+}
+
+void TcpServer::State::check_connections() {
+    const auto now = Clock::now();
+    const auto frame_limit = std::chrono::milliseconds(options.frame_timeout_ms);
+    std::vector<std::pair<std::shared_ptr<Connection>, const char*>> doomed;
+    for (const auto& c : connections) {
+        // While its replies wait, a client is not read: a partial request then is not its fault.
+        if (c->unsent_for(now) > frame_limit) {
+            doomed.emplace_back(c, "replies not taken within modbus.tcp.frame_timeout_ms");
+        } else if (c->unsent_for(now) == Clock::duration{0} && c->partial_for(now) > frame_limit) {
+            doomed.emplace_back(c, "request not completed within modbus.tcp.frame_timeout_ms");
+        } else if (options.idle_timeout_s > 0 &&
+                   now - c->last_request() > std::chrono::seconds(options.idle_timeout_s)) {
+            doomed.emplace_back(c, "idle timeout");
+        }
+    }
+    for (const auto& [c, why] : doomed) c->close(why);
+    limiter.flush(now, [&](LogCause cause, std::uint64_t n) {
+        spdlog::warn("tcp: {} more {} in the last {} s (not logged one by one)", n, describe(cause),
+                     std::chrono::duration_cast<std::chrono::seconds>(limiter.window()).count());
+    });
+}
+
 void TcpServer::State::arm_sweep() {
-    if (options.idle_timeout_s <= 0 || stopped) return;
-    sweep.expires_after(std::chrono::seconds(1));
+    if (stopped) return;
+    // Fine enough for the frame deadline; a few hundred checks a second cost nothing.
+    const auto period =
+        std::clamp<Clock::duration>(std::chrono::milliseconds(options.frame_timeout_ms) / 4,
+                                    std::chrono::milliseconds(50), std::chrono::seconds(1));
+    sweep.expires_after(period);
     sweep.async_wait([self = shared_from_this()](const asio::error_code& ec) {
         if (ec || self->stopped) return;
-        const auto limit = Clock::now() - std::chrono::seconds(self->options.idle_timeout_s);
-        std::vector<std::shared_ptr<Connection>> idle;
-        for (const auto& c : self->connections) {
-            if (c->last_activity() < limit) idle.push_back(c);
-        }
-        for (const auto& c : idle) c->close("idle timeout");
+        self->check_connections();
         self->arm_sweep();
     });
 }
@@ -309,12 +478,11 @@ std::string TcpServer::endpoint() const {
 
 std::size_t TcpServer::connections() const { return state_->connections.size(); }
 
-void TcpServer::set_limits(int max_clients, int idle_timeout_s, std::vector<Cidr> allow) {
-    const bool rearm = idle_timeout_s > 0 && state_->options.idle_timeout_s <= 0;
-    state_->options.max_clients = max_clients;
-    state_->options.idle_timeout_s = idle_timeout_s;
-    state_->options.allow = std::move(allow);
-    if (rearm) state_->arm_sweep();
+void TcpServer::set_limits(const TcpOptions& o) {
+    state_->options.max_clients = o.max_clients;
+    state_->options.idle_timeout_s = o.idle_timeout_s;
+    state_->options.frame_timeout_ms = o.frame_timeout_ms;
+    state_->options.allow = o.allow;
     // A peer taken off the allow list loses its connection now, not at its next reconnect.
     if (state_->options.allow.empty()) return;
     std::vector<std::shared_ptr<Connection>> refused;
@@ -334,6 +502,7 @@ void TcpServer::stop() {
     asio::error_code ec;
     state_->acceptor.close(ec);
     state_->sweep.cancel();
+    state_->accept_retry.cancel();
     auto conns = state_->connections;
     for (const auto& c : conns) c->close("server stopping");
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Modbus TCP transport: MBAP framing on an Asio event loop. Many clients, one thread; a client
-// that stalls mid-frame only holds its own buffer.
+// that stalls mid-frame only holds its own buffer, a client that does not take its replies is
+// no longer read, and connections are served round-robin a few frames at a time.
 
 #include <asio.hpp>
 #include <cstdint>
@@ -28,7 +29,8 @@ struct TcpOptions {
     std::string bind = "0.0.0.0";  ///< address
     std::uint16_t port = 502;      ///< port (0 = any free port)
     int max_clients = 64;          ///< connections beyond this are closed at accept
-    int idle_timeout_s = 0;        ///< close a connection silent this long (0 = never)
+    int idle_timeout_s = 0;        ///< close a connection without a request this long (0 = never)
+    int frame_timeout_ms = 5000;   ///< a begun request must be whole, and replies taken, by then
     std::vector<Cidr> allow;       ///< peers allowed (empty = all)
 };
 
@@ -47,9 +49,9 @@ public:
     std::string endpoint() const;
     /// Open connections.
     std::size_t connections() const;
-    /// Updates limits that do not need a new listener (reload); open connections from peers no
-    /// longer allowed are closed, the others kept.
-    void set_limits(int max_clients, int idle_timeout_s, std::vector<Cidr> allow);
+    /// Takes the limits of `options` that need no new listener (max_clients, timeouts, allow:
+    /// a reload); open connections from peers no longer allowed are closed, the others kept.
+    void set_limits(const TcpOptions& options);
     /// Serves every later request with `dispatcher` (reload: a new PLC, same connections).
     void set_dispatcher(Dispatcher& dispatcher);
     /// Closes the listener and every connection.

@@ -64,7 +64,8 @@ struct TcpConfig {
     UnknownUnit unknown_unit = UnknownUnit::Exception;  ///< SPEC §2 unit-ID policy
     std::vector<std::string> allow;                     ///< CIDR allow list (empty = all)
     int max_clients = 64;                               ///< concurrent connections
-    int idle_timeout_s = 0;                             ///< 0 = never
+    int idle_timeout_s = 0;                             ///< no request this long: close (0 = never)
+    int frame_timeout_ms = 5000;  ///< a begun request must be whole, and replies taken, by then
 };
 
 /// `modbus.rtu` (absent = no serial port)
@@ -129,6 +130,8 @@ struct PlantConfig {
 /// `simulator`
 struct SimulatorConfig {
     int unit = 247;  ///< Modbus unit of the simulator-control registers (0 = none)
+    /// Writes to the unit: by default as modbus.read_only allows (read-only gateway: none).
+    std::optional<bool> writable;
 };
 
 /// When `init:` presets reach retentive devices.

@@ -1,0 +1,36 @@
+#include "log_limiter.hpp"
+
+namespace plcemu::modbus {
+
+bool LogLimiter::allow(LogCause cause, Clock::time_point now) noexcept {
+    Budget& b = budgets_[static_cast<std::size_t>(cause)];
+    // A window with nothing suppressed simply ends; one with suppressed lines ends at flush().
+    if (b.suppressed == 0 && now - b.window_start >= window_) {
+        b.window_start = now;
+        b.logged = 0;
+    }
+    if (b.logged < burst_) {
+        ++b.logged;
+        return true;
+    }
+    ++b.suppressed;
+    return false;
+}
+
+std::string_view describe(LogCause cause) noexcept {
+    switch (cause) {
+        case LogCause::RefusedNotAllowed:
+            return "connections refused (not in modbus.tcp.allow)";
+        case LogCause::RefusedFull:
+            return "connections refused (modbus.tcp.max_clients reached)";
+        case LogCause::Connected:
+            return "connects";
+        case LogCause::Disconnected:
+            return "disconnects";
+        case LogCause::Count:
+            break;
+    }
+    return "lines";
+}
+
+}  // namespace plcemu::modbus

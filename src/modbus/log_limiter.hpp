@@ -1,0 +1,66 @@
+#pragma once
+// Rate limit for log lines that remote peers can cause (refused connects, connects and
+// disconnects): the first few lines of each cause in a window are logged, the rest are counted
+// and summed up in one line when the window ends. spdlog has no such limit of its own.
+
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+namespace plcemu::modbus {
+
+/// What a rate-limited log line is about.
+enum class LogCause : std::uint8_t {
+    RefusedNotAllowed,  ///< a peer outside modbus.tcp.allow
+    RefusedFull,        ///< max_clients reached
+    Connected,          ///< a client connected
+    Disconnected,       ///< a client went away or was closed
+    Count,
+};
+
+/// Per-cause budget of log lines.
+class LogLimiter {
+public:
+    using Clock = std::chrono::steady_clock;
+
+    /// `burst` lines per cause in each `window`.
+    LogLimiter(std::size_t burst, Clock::duration window) noexcept
+        : burst_(burst),
+          window_(window) {}
+
+    /// True when a line for `cause` may be written now; otherwise counts it as suppressed.
+    bool allow(LogCause cause, Clock::time_point now) noexcept;
+
+    /// For each cause whose window is over with lines suppressed: calls `report(cause, count)`
+    /// once and starts a new window. Call it now and then (the transports' sweep timer does).
+    template <typename F>
+    void flush(Clock::time_point now, F&& report) {
+        for (std::size_t i = 0; i < budgets_.size(); ++i) {
+            Budget& b = budgets_[i];
+            if (b.suppressed == 0 || now - b.window_start < window_) continue;
+            report(static_cast<LogCause>(i), b.suppressed);
+            b = Budget{};
+        }
+    }
+
+    /// The window.
+    Clock::duration window() const noexcept { return window_; }
+
+private:
+    struct Budget {
+        Clock::time_point window_start{};
+        std::size_t logged = 0;
+        std::uint64_t suppressed = 0;
+    };
+
+    std::size_t burst_;
+    Clock::duration window_;
+    std::array<Budget, static_cast<std::size_t>(LogCause::Count)> budgets_{};
+};
+
+/// A few words for a cause, for the summary line ("refused: not in modbus.tcp.allow").
+std::string_view describe(LogCause cause) noexcept;
+
+}  // namespace plcemu::modbus
