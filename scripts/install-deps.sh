@@ -8,12 +8,14 @@ want=(cmake g++ make pkg-config libmodbus-dev libasio-dev libyaml-cpp-dev libspd
 for what in "${@:-run}"; do
     case "$what" in
         run) ;;
-        test) want+=(libgtest-dev python3-pymodbus python3-pytest python3-serial mbpoll socat
-                     clang-14 libclang-rt-14-dev systemd) ;;
-        bench) want+=(libbenchmark-dev python3-pymodbus socat) ;;
+        # Debian's pymodbus only recommends serial-asyncio, yet its client package imports it.
+        test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
+                     python3-serial mbpoll socat clang-14 libclang-rt-14-dev systemd iproute2
+                     util-linux) ;;
+        bench) want+=(libbenchmark-dev python3-pymodbus python3-serial-asyncio socat) ;;
         fuzz) want+=(clang-14 libclang-rt-14-dev) ;;
         plot) want+=(python3-matplotlib) ;;
-        trace) want+=(python3-pymodbus python3-yaml) ;;
+        trace) want+=(python3-pymodbus python3-serial-asyncio python3-yaml) ;;
         *) echo "install-deps: unknown set '$what'" >&2; exit 2 ;;
     esac
 done

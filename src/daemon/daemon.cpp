@@ -6,7 +6,10 @@
 
 #include <cstdlib>
 #include <ctime>
+#include <memory>
+#include <thread>
 
+#include "daemon/fd_limit.hpp"
 #include "daemon/notify.hpp"
 #include "daemon/persistence.hpp"
 #include "daemon/reload.hpp"
@@ -14,6 +17,7 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/engine/special.hpp"
 #include "plcemu/image/state_file.hpp"
+#include "plcemu/instructions/instructions.hpp"
 #include "plant/simulator_unit.hpp"
 #include "modbus/rtu_server.hpp"
 #include "modbus/tcp_server.hpp"
@@ -33,6 +37,7 @@ modbus::TcpOptions tcp_options(const config::Config& c) {
     o.port = c.modbus.tcp.port;
     o.max_clients = c.modbus.tcp.max_clients;
     o.idle_timeout_s = c.modbus.tcp.idle_timeout_s;
+    o.frame_timeout_ms = c.modbus.tcp.frame_timeout_ms;
     for (const auto& a : c.modbus.tcp.allow) {
         modbus::Cidr cidr;
         if (!modbus::Cidr::parse(a, cidr)) {
@@ -53,18 +58,21 @@ public:
           overrides_(overrides) {}
 
     int run() {
-        cfg_ = config::load_config(config_path_);
-        apply_overrides(cfg_, overrides_);
-        spdlog::set_level(spdlog::level::from_str(cfg_.log.level));
+        {
+            config::Config loaded = config::load_config(config_path_);
+            apply_overrides(loaded, overrides_);
+            cfg_ = std::make_shared<const config::Config>(std::move(loaded));
+        }
+        spdlog::set_level(spdlog::level::from_str(cfg_->log.level));
         // Everything the config can get wrong, found before any file or port is touched.
-        { Plc probe(cfg_); }
-        tcp_options(cfg_);
+        { Plc probe(*cfg_); }
+        tcp_options(*cfg_);
 
         Start start = Start::Fresh;
-        if (cfg_.persistence.enabled) {
+        if (cfg_->persistence.enabled) {
             const char* dir = std::getenv("STATE_DIRECTORY");
-            const std::string path = state_file_path(cfg_, dir ? dir : "");
-            state_ = std::make_unique<image::StateFile>(path, cfg_.profile, plc_layout(cfg_),
+            const std::string path = state_file_path(*cfg_, dir ? dir : "");
+            state_ = std::make_unique<image::StateFile>(path, cfg_->profile, plc_layout(*cfg_),
                                                         std::time(nullptr));
             for (const auto& n : state_->notes()) {
                 if (n.warning) {
@@ -74,24 +82,25 @@ public:
                 }
             }
             sync_ = std::make_unique<SyncThread>(
-                *state_, std::chrono::milliseconds(cfg_.persistence.sync_ms));
+                *state_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
             if (state_->retained()) start = Start::Retained;
         } else {
             spdlog::info("persistence disabled: nothing is retained across restarts");
-            heap_.assign(image::Image::storage_size(plc_layout(cfg_)), std::byte{0});
+            heap_.assign(image::Image::storage_size(plc_layout(*cfg_)), std::byte{0});
         }
         plc_ = std::make_unique<Plc>(cfg_, storage(), start);
 
-        if (cfg_.modbus.tcp.enabled) {
-            tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(cfg_));
+        if (cfg_->modbus.tcp.enabled) {
+            ensure_fd_limit(cfg_->modbus.tcp.max_clients);
+            tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(*cfg_));
         }
         open_rtu();
         start_scanning();
 
         spdlog::info("plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
-                     version(), image::profile_name(cfg_.profile), cfg_.model, int(cfg_.station),
-                     cfg_.scan_ms, cfg_.time_scale);
-        spdlog::info("program: {} instruction(s); power-ups (R4057): {}", cfg_.program.size(),
+                     version(), image::profile_name(cfg_->profile), cfg_->model, int(cfg_->station),
+                     cfg_->scan_ms, cfg_->time_scale);
+        spdlog::info("program: {} instruction(s); power-ups (R4057): {}", cfg_->program.size(),
                      plc_->image().word(image::Area::R, engine::special::kPowerUps));
         if (tcp_) spdlog::info("listening on tcp {}", tcp_->endpoint());
 
@@ -99,6 +108,7 @@ public:
         arm_watchdog_timer();
         notify_.ready(status_line());
         io_.run();
+        if (reload_thread_.joinable()) reload_thread_.join();
 
         spdlog::info("stopped after {} scans", plc_->engine().scans());
         if (driver_) {
@@ -127,8 +137,8 @@ private:
 
     // The serial slave shares the loop and the dispatcher: both transports see one image.
     void open_rtu() {
-        if (!cfg_.modbus.rtu) return;
-        const config::RtuConfig& r = *cfg_.modbus.rtu;
+        if (!cfg_->modbus.rtu) return;
+        const config::RtuConfig& r = *cfg_->modbus.rtu;
         rtu_ = std::make_unique<modbus::RtuServer>(
             io_, plc_->dispatcher(),
             modbus::RtuOptions{r.device, r.baud, r.parity, r.data_bits, r.stop_bits});
@@ -136,17 +146,21 @@ private:
     }
 
     void start_scanning() {
-        // A frozen simulation stays frozen across a reload.
+        // A frozen simulation stays frozen across a reload, with the steps it was asked for.
         const bool frozen = driver_ && driver_->frozen();
-        driver_ = std::make_unique<ScanDriver>(io_, plc_->engine(), cfg_.time_scale);
+        const std::uint64_t steps = driver_ ? driver_->pending_steps() : 0;
+        driver_ = std::make_unique<ScanDriver>(io_, plc_->engine(), cfg_->time_scale);
         if (frozen) driver_->set_frozen(true);
-        // SPEC §6: the simulator-control unit, on the same listeners as the PLC.
-        sim_ = std::make_unique<plant::SimulatorUnit>(plc_->plant(), *driver_);
+        // The simulator-control unit, on the same listeners as the PLC; a read-only gateway
+        // keeps it read-only too unless simulator.writable says otherwise.
+        sim_ = std::make_unique<plant::SimulatorUnit>(
+            plc_->plant(), *driver_, cfg_->simulator.writable.value_or(!cfg_->modbus.read_only));
         plc_->dispatcher().set_simulator(sim_.get(),
-                                         static_cast<std::uint8_t>(cfg_.simulator.unit));
+                                         static_cast<std::uint8_t>(cfg_->simulator.unit));
         // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
         driver_->on_scan([this] { notify_.watchdog(Notifier::Clock::now()); });
         driver_->start();
+        if (steps > 0) driver_->step(steps);
     }
 
     // A frozen simulation runs no scans, but the loop is alive: ping for it.
@@ -164,7 +178,7 @@ private:
         signals_.async_wait([this](const asio::error_code& ec, int sig) {
             if (ec) return;
             if (sig == SIGHUP) {
-                reload();
+                begin_reload();
                 arm_signals();
                 return;
             }
@@ -186,33 +200,69 @@ private:
         return s;
     }
 
-    // SIGHUP: validate the whole new config off to the side; apply it only if it is good.
-    void reload() {
-        notify_.reloading();
-        spdlog::info("SIGHUP: reloading {}", config_path_);
-        config::Config next;
-        try {
-            next = config::load_config(config_path_);
-            apply_overrides(next, overrides_);
-            { Plc probe(next); }  // its own image: the live one is not touched
-            tcp_options(next);
-        } catch (const std::exception& e) {
-            spdlog::error("reload: {}", e.what());
-            spdlog::error("reload: configuration rejected; still running the previous one");
-            notify_.ready(status_line());
+    // What a reload thread prepared: the new config, validated, with its program built; or why
+    // it was rejected.
+    struct Prepared {
+        config::Config config;
+        engine::Program program;
+        std::string error;
+    };
+
+    // SIGHUP: the new config is read, validated and its program built on a thread of its own
+    // (a program of 100,000 instructions takes seconds), then swapped in on the loop. A SIGHUP
+    // during a reload runs one more reload after it.
+    void begin_reload() {
+        if (reloading_) {
+            reload_again_ = true;
             return;
         }
-        const bool new_listener = tcp_listener_changed(cfg_, next);
+        reloading_ = true;
+        notify_.reloading();
+        spdlog::info("SIGHUP: reloading {}", config_path_);
+        if (reload_thread_.joinable()) reload_thread_.join();
+        reload_thread_ = std::thread([this] {
+            auto p = std::make_shared<Prepared>();
+            try {
+                p->config = config::load_config(config_path_);
+                apply_overrides(p->config, overrides_);
+                { Plc probe(p->config); }  // its own image: the live one is not touched
+                tcp_options(p->config);
+                p->program = instructions::make_program(p->config, plc_layout(p->config));
+            } catch (const std::exception& e) {
+                p->error = e.what();
+            }
+            asio::post(io_, [this, p] { finish_reload(std::move(*p)); });
+        });
+    }
+
+    void finish_reload(Prepared p) {
+        reloading_ = false;
+        if (!p.error.empty()) {
+            spdlog::error("reload: {}", p.error);
+            spdlog::error("reload: configuration rejected; still running the previous one");
+            notify_.ready(status_line());
+        } else {
+            reload(std::move(p.config), std::move(p.program));
+        }
+        if (reload_again_) {
+            reload_again_ = false;
+            begin_reload();
+        }
+    }
+
+    // Applies a validated config on the loop.
+    void reload(config::Config next, engine::Program program) {
+        const bool new_listener = tcp_listener_changed(*cfg_, next);
         std::unique_ptr<modbus::TcpServer> new_tcp;
-        if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_.profile) {
+        if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_->profile) {
             spdlog::error(
                 "reload: the profile's image layout changed; restart plcemud to "
                 "apply it. Still running the previous configuration");
             notify_.ready(status_line());
             return;
         }
-        if (next.persistence.enabled != cfg_.persistence.enabled ||
-            next.persistence.file != cfg_.persistence.file) {
+        if (next.persistence.enabled != cfg_->persistence.enabled ||
+            next.persistence.file != cfg_->persistence.file) {
             spdlog::warn(
                 "reload: persistence.enabled and persistence.file take effect at the "
                 "next start; the image stays in {}",
@@ -226,7 +276,7 @@ private:
             } catch (const std::exception& e) {
                 // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
                 if (!tcp_ || next.modbus.tcp.port == 0 ||
-                    next.modbus.tcp.port != cfg_.modbus.tcp.port) {
+                    next.modbus.tcp.port != cfg_->modbus.tcp.port) {
                     spdlog::error("reload: {}; still running the previous configuration", e.what());
                     notify_.ready(status_line());
                     return;
@@ -244,7 +294,7 @@ private:
                                   e2.what());
                     try {
                         tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(),
-                                                                   tcp_options(cfg_));
+                                                                   tcp_options(*cfg_));
                     } catch (const std::exception& e3) {
                         tcp_.reset();
                         spdlog::error("tcp: cannot listen again: {}; serving no TCP", e3.what());
@@ -255,15 +305,20 @@ private:
             }
         }
 
+        const auto changes = config_changes(*cfg_, next);
         // A station a master set through R4055 stays, unless the config's station changed.
-        config::Config applied = next;
-        if (next.station == cfg_.station) applied.station = plc_->engine().station();
+        if (next.station == cfg_->station) next.station = plc_->engine().station();
+        // The state file stays the one in use until a restart, and later reloads compare with it.
+        next.persistence.enabled = cfg_->persistence.enabled;
+        next.persistence.file = cfg_->persistence.file;
+        // Moved, not copied: a program of 100,000 instructions costs a second to copy.
+        auto applied = std::make_shared<const config::Config>(std::move(next));
         driver_->stop();
         if (rtu_) rtu_->stop();
         rtu_.reset();
         std::unique_ptr<Plc> plc;
         try {
-            plc = std::make_unique<Plc>(applied, storage(), Start::Reload);
+            plc = std::make_unique<Plc>(applied, storage(), Start::Reload, std::move(program));
         } catch (const std::exception& e) {
             spdlog::error("reload: {}; still running the previous configuration", e.what());
             if (new_tcp) new_tcp->stop();
@@ -276,19 +331,19 @@ private:
             notify_.ready(status_line());
             return;
         }
-        const auto changes = config_changes(cfg_, next);
         plc->plant().continue_from(plc_->plant());
+        std::unique_ptr<Plc> old = std::move(plc_);
         plc_ = std::move(plc);
-        cfg_ = applied;
+        cfg_ = std::move(applied);
 
         if (new_listener) {
             if (tcp_) tcp_->stop();
             tcp_ = std::move(new_tcp);
             if (tcp_) spdlog::info("listening on tcp {}", tcp_->endpoint());
         } else if (tcp_) {
-            const auto o = tcp_options(cfg_);
-            tcp_->set_limits(o.max_clients, o.idle_timeout_s, o.allow);
+            tcp_->set_limits(tcp_options(*cfg_));
         }
+        if (tcp_) ensure_fd_limit(cfg_->modbus.tcp.max_clients);
         if (tcp_) tcp_->set_dispatcher(plc_->dispatcher());
         try {
             open_rtu();
@@ -296,19 +351,27 @@ private:
             spdlog::error("reload: rtu: {}; serving without the serial port", e.what());
         }
         start_scanning();
-        if (state_) state_->set_retentive(plc_layout(cfg_).retentive);
-        if (sync_) sync_->set_period(std::chrono::milliseconds(cfg_.persistence.sync_ms));
-        spdlog::set_level(spdlog::level::from_str(cfg_.log.level));
+        if (state_) state_->set_retentive(plc_layout(*cfg_).retentive);
+        if (sync_) sync_->set_period(std::chrono::milliseconds(cfg_->persistence.sync_ms));
+        spdlog::set_level(spdlog::level::from_str(cfg_->log.level));
 
         if (changes.empty()) spdlog::info("reload: no setting changed; program restarted");
         for (const auto& c : changes) spdlog::info("reload: {}", c);
         spdlog::info("reload: done; station {}, image kept", int(plc_->engine().station()));
         notify_.ready(status_line());
+        retire(std::move(old));
+    }
+
+    // The previous PLC is freed off the loop (its program may be large); nothing on the loop
+    // refers to it any more: transports, scan driver and simulator unit were replaced.
+    void retire(std::unique_ptr<Plc> old) {
+        if (reload_thread_.joinable()) reload_thread_.join();
+        reload_thread_ = std::thread([p = std::move(old)]() mutable { p.reset(); });
     }
 
     std::string config_path_;
     Overrides overrides_;
-    config::Config cfg_;
+    std::shared_ptr<const config::Config> cfg_;  // shared with the running Plc
     asio::io_context io_{1};
     Notifier notify_;
     std::unique_ptr<image::StateFile> state_;
@@ -320,6 +383,9 @@ private:
     std::unique_ptr<ScanDriver> driver_;
     std::unique_ptr<plant::SimulatorUnit> sim_;
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
+    std::thread reload_thread_;
+    bool reloading_ = false;
+    bool reload_again_ = false;
     asio::steady_timer watchdog_timer_{io_};
 };
 

@@ -3,6 +3,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <iostream>
 #include <string>
@@ -35,6 +36,9 @@ int usage_error(const std::string& msg) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // A reader of stderr that goes away (`plcemud | tee`, a log shipper restarting) must not
+    // kill the PLC: writes to it fail with EPIPE instead, and so do sends to a vanished client.
+    std::signal(SIGPIPE, SIG_IGN);
     auto logger = spdlog::stderr_color_mt("plcemud");
     spdlog::set_default_logger(logger);
     spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%-5l%$ %v");

@@ -20,10 +20,19 @@ image::Layout plc_layout(const config::Config& config) {
     return layout;
 }
 
-Plc::Plc(const config::Config& config, std::span<std::byte> storage, Start start)
-    : config_(config),
+Plc::Plc(const config::Config& config,
+         std::span<std::byte> storage,
+         Start start,
+         std::optional<engine::Program> program)
+    : Plc(std::make_shared<const config::Config>(config), storage, start, std::move(program)) {}
+
+Plc::Plc(std::shared_ptr<const config::Config> config,
+         std::span<std::byte> storage,
+         Start start,
+         std::optional<engine::Program> program)
+    : config_(std::move(config)),
       start_(storage.empty() ? Start::Fresh : start) {
-    image::Layout layout = plc_layout(config_);
+    image::Layout layout = plc_layout(*config_);
     if (storage.empty()) {
         image_ = std::make_unique<image::Image>(layout);
     } else {
@@ -33,22 +42,22 @@ Plc::Plc(const config::Config& config, std::span<std::byte> storage, Start start
     }
 
     engine::EngineOptions eo;
-    eo.scan_period = std::chrono::milliseconds(config_.scan_ms);
-    eo.station = config_.station;
-    eo.model_code = config::model_code(config_.model).value_or(0);
-    engine_ =
-        std::make_unique<engine::Engine>(*image_, eo, instructions::make_program(config_, layout));
+    eo.scan_period = std::chrono::milliseconds(config_->scan_ms);
+    eo.station = config_->station;
+    eo.model_code = config::model_code(config_->model).value_or(0);
+    engine_ = std::make_unique<engine::Engine>(
+        *image_, eo, program ? std::move(*program) : instructions::make_program(*config_, layout));
     if (start_ != Start::Reload) engine_->power_up();
     apply_init();
     // SPEC §3: the plant and the temperature readings before the program, outputs to the plant
     // after it.
-    plant_ = plant::attach(*engine_, config_).plant;
+    plant_ = plant::attach(*engine_, *config_).plant;
 
-    modbus::WritePolicy policy{config_.modbus.read_only, config_.modbus.write_protect};
+    modbus::WritePolicy policy{config_->modbus.read_only, config_->modbus.write_protect};
     unit_ = std::make_unique<modbus::PlcUnit>(*image_, modbus::fbs_map(), policy);
     dispatcher_ = std::make_unique<modbus::Dispatcher>(
-        *unit_, engine_->station(), modbus::Identity{"FATEK", config_.model, version()});
-    dispatcher_->set_unknown_unit_policy(config_.modbus.tcp.unknown_unit ==
+        *unit_, engine_->station(), modbus::Identity{"FATEK", config_->model, version()});
+    dispatcher_->set_unknown_unit_policy(config_->modbus.tcp.unknown_unit ==
                                                  config::UnknownUnit::Silent
                                              ? modbus::UnknownUnitPolicy::Silent
                                              : modbus::UnknownUnitPolicy::Exception);
@@ -59,14 +68,14 @@ Plc::~Plc() = default;
 void Plc::apply_init() {
     const image::Layout& layout = image_->layout();
     const bool spare_retained =
-        start_ != Start::Fresh && config_.persistence.init == config::InitPolicy::Fresh;
+        start_ != Start::Fresh && config_->persistence.init == config::InitPolicy::Fresh;
     auto retentive = [&](image::Area a, std::uint32_t index) {
         for (const auto& r : layout.retentive) {
             if (r.area == a && index >= r.start && index < r.end()) return true;
         }
         return false;
     };
-    for (const auto& e : config_.init) {
+    for (const auto& e : config_->init) {
         const std::uint32_t per = e.device.word_of_bits ? 16 : 1;
         const image::Range r{e.device.area, e.device.index,
                              static_cast<std::uint32_t>(e.values.size()) * per};

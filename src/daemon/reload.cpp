@@ -92,6 +92,8 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     cmp("modbus.tcp.allow", a.modbus.tcp.allow, b.modbus.tcp.allow);
     cmp("modbus.tcp.max_clients", a.modbus.tcp.max_clients, b.modbus.tcp.max_clients);
     cmp("modbus.tcp.idle_timeout_s", a.modbus.tcp.idle_timeout_s, b.modbus.tcp.idle_timeout_s);
+    cmp("modbus.tcp.frame_timeout_ms", a.modbus.tcp.frame_timeout_ms,
+        b.modbus.tcp.frame_timeout_ms);
     if (rtu_changed(a, b)) {
         out.push_back("modbus.rtu: " + text(a.modbus.rtu) + " -> " + text(b.modbus.rtu));
     }
@@ -105,6 +107,9 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     }
     if (!same_temperature(a.temperature, b.temperature)) out.push_back("temperature: changed");
     cmp("simulator.unit", a.simulator.unit, b.simulator.unit);
+    cmp("simulator.writable",
+        a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),
+        b.simulator.writable ? text(*b.simulator.writable) : std::string("default"));
     cmp("persistence.enabled", a.persistence.enabled, b.persistence.enabled);
     cmp("persistence.file", a.persistence.file, b.persistence.file);
     if (a.persistence.retentive != b.persistence.retentive) {

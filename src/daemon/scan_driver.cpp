@@ -11,6 +11,8 @@ namespace {
 
 // Longest stretch of back-to-back scans before the loop lets I/O in.
 constexpr auto kBudget = std::chrono::milliseconds(2);
+// Longest stretch of queued steps before the loop lets I/O in.
+constexpr auto kStepSlice = std::chrono::milliseconds(1);
 // Further behind than this, the driver stops trying to catch up.
 constexpr auto kMaxBehind = std::chrono::seconds(1);
 
@@ -39,7 +41,8 @@ std::chrono::microseconds LatenessStats::percentile(double fraction) const noexc
 }
 
 ScanDriver::ScanDriver(asio::io_context& io, engine::Engine& engine, double time_scale)
-    : timer_(io),
+    : io_(io),
+      timer_(io),
       engine_(engine),
       scale_(time_scale) {}
 
@@ -84,11 +87,33 @@ void ScanDriver::set_frozen(bool frozen) noexcept {
 }
 
 void ScanDriver::step(std::uint64_t n) noexcept {
-    for (std::uint64_t i = 0; i < n; ++i) {
+    pending_steps_ = n > UINT64_MAX - pending_steps_ ? UINT64_MAX : pending_steps_ + n;
+    if (stepping_ || pending_steps_ == 0) return;
+    stepping_ = true;
+    asio::post(io_, [this, alive = std::weak_ptr<char>(alive_)] {
+        if (!alive.expired()) run_steps();
+    });
+}
+
+void ScanDriver::run_steps() {
+    const auto start = Clock::now();
+    std::uint64_t done = 0;
+    while (pending_steps_ > 0) {
         run_one(next_sim_);
         next_sim_ += engine_.scan_period();
+        --pending_steps_;
+        // Reading the clock costs more than a small scan: look every 64 scans.
+        if ((++done & 63) == 0 && Clock::now() - start > kStepSlice) break;
     }
     rebase(Clock::now());
+    if (pending_steps_ == 0) {
+        stepping_ = false;
+        return;
+    }
+    // The rest after whatever else is waiting on the loop.
+    asio::post(io_, [this, alive = std::weak_ptr<char>(alive_)] {
+        if (!alive.expired()) run_steps();
+    });
 }
 
 void ScanDriver::run_one(engine::Duration sim) {
@@ -107,8 +132,10 @@ void ScanDriver::run_one(engine::Duration sim) {
 void ScanDriver::arm() {
     if (!running_ || frozen_) return;
     timer_.expires_at(deadline(next_sim_));
-    timer_.async_wait([this](const asio::error_code& ec) {
-        if (!ec) tick();
+    timer_.async_wait([this, alive = std::weak_ptr<char>(alive_)](const asio::error_code& ec) {
+        // A wait that completed before stop() or a newer arm() may still be queued.
+        if (ec || alive.expired() || !running_ || frozen_) return;
+        tick();
     });
 }
 

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/time_control.hpp"
@@ -49,8 +50,11 @@ public:
     void set_frozen(bool frozen) noexcept override;
     /// True while frozen.
     bool frozen() const noexcept override { return frozen_; }
-    /// Runs `n` scans at once (meant for a frozen engine).
+    /// Queues `n` scans (meant for a frozen engine); they run back to back in slices between
+    /// other work on the loop, so a long step never starves the clients.
     void step(std::uint64_t n) noexcept override;
+    /// Scans queued by step() and not yet run.
+    std::uint64_t pending_steps() const noexcept { return pending_steps_; }
     /// Simulated time of the last scan.
     engine::Duration simulated_time() const noexcept override { return engine_.now(); }
     /// Called after every scan (e.g. the systemd watchdog).
@@ -61,12 +65,19 @@ public:
 private:
     void arm();
     void tick();
+    void run_steps();
     Clock::time_point deadline(engine::Duration sim) const;
     void run_one(engine::Duration sim);
     void rebase(Clock::time_point real_now);
 
+    asio::io_context& io_;
     asio::steady_timer timer_;
     engine::Engine& engine_;
+    // Completions hold a weak reference: one already queued when the driver is destroyed (a
+    // reload swaps engines) finds it expired instead of running on a freed engine.
+    std::shared_ptr<char> alive_ = std::make_shared<char>();
+    std::uint64_t pending_steps_ = 0;
+    bool stepping_ = false;
     double scale_;
     bool frozen_ = false;
     bool running_ = false;

@@ -28,9 +28,10 @@ std::uint16_t fault_bits(const Faults& f) {
 
 }  // namespace
 
-SimulatorUnit::SimulatorUnit(ThermalPlant& plant, engine::TimeControl& time)
+SimulatorUnit::SimulatorUnit(ThermalPlant& plant, engine::TimeControl& time, bool writable)
     : plant_(plant),
-      time_(time) {
+      time_(time),
+      writable_(writable) {
     refresh();
 }
 
@@ -78,6 +79,7 @@ Window SimulatorUnit::resolve(Table table,
         w.status = Status::IllegalFunction;
         return w;
     }
+    if (write && !writable_) return w;
     const std::uint32_t end = std::uint32_t{addr} + qty;
     for (std::uint32_t a = addr; a < end; ++a) {
         const auto x = static_cast<std::uint16_t>(a);

@@ -38,8 +38,9 @@ inline constexpr std::uint16_t kEnd = kChannelBase + kChannelStride * kChannels;
 /// ranges of the table (the reply is already on the wire, so no exception 03 is possible).
 class SimulatorUnit final : public modbus::Unit {
 public:
-    /// `plant` and `time` must outlive the unit.
-    SimulatorUnit(ThermalPlant& plant, engine::TimeControl& time);
+    /// `plant` and `time` must outlive the unit. Not `writable`: every write is refused with
+    /// exception 02, as the PLC's registers are under modbus.read_only.
+    SimulatorUnit(ThermalPlant& plant, engine::TimeControl& time, bool writable = true);
 
     modbus::Window resolve(modbus::Table table,
                            std::uint16_t addr,
@@ -58,6 +59,7 @@ private:
 
     ThermalPlant& plant_;
     engine::TimeControl& time_;
+    bool writable_;
     std::array<std::uint16_t, sim::kEnd> regs_{};
 };
 

@@ -1,8 +1,9 @@
 """Fixtures for the system tests: run the real plcemud binary on a free port and talk to it.
 
 API (used by every tests/system/test_*.py):
-  start_plcemud(config_yaml, *extra_args, name=None) -> Daemon   (fixture returning a function;
-      `name` reuses tmp_path/<name>.yaml, so a restart keeps the same state file)
+  start_plcemud(config_yaml, *extra_args, name=None, **popen) -> Daemon   (fixture returning a
+      function; `name` reuses tmp_path/<name>.yaml, so a restart keeps the same state file;
+      `popen` goes to subprocess.Popen, e.g. preexec_fn, or stderr to replace the log file)
   Daemon: .port .proc .config_path .log_text() .client(**kw) .stop() -> exit code
   BASE_CONFIG   minimal config text listening on 127.0.0.1
   free_port()   a TCP port nobody listens on right now
@@ -103,7 +104,7 @@ class Daemon:
         return self.proc.returncode
 
 
-def _spawn(tmp_path: Path, index: int, config_yaml: str, extra_args, name=None) -> Daemon:
+def _spawn(tmp_path: Path, index: int, config_yaml: str, extra_args, name=None, **popen) -> Daemon:
     stem = name or f"plcemud-{index}"
     config_path = tmp_path / f"{stem}.yaml"
     config_path.write_text(config_yaml)
@@ -113,8 +114,9 @@ def _spawn(tmp_path: Path, index: int, config_yaml: str, extra_args, name=None) 
     env = dict(os.environ)
     env.pop("STATE_DIRECTORY", None)  # state files stay beside the config, in tmp_path
     with open(log_path, "wb") as log:
+        popen.setdefault("stderr", log)
         proc = subprocess.Popen(
-            args, stdin=subprocess.DEVNULL, stdout=log, stderr=log, env=env, cwd=tmp_path
+            args, stdin=subprocess.DEVNULL, stdout=log, env=env, cwd=tmp_path, **popen
         )
     d = Daemon(proc, port, config_path, log_path)
     deadline = time.monotonic() + START_TIMEOUT_S
@@ -142,8 +144,8 @@ def start_plcemud(tmp_path):
         pytest.fail(f"plcemud binary not found at {PLCEMUD} (build it or set PLCEMUD)")
     daemons = []
 
-    def start(config_yaml: str = BASE_CONFIG, *extra_args, name=None) -> Daemon:
-        d = _spawn(tmp_path, len(daemons), config_yaml, extra_args, name)
+    def start(config_yaml: str = BASE_CONFIG, *extra_args, name=None, **popen) -> Daemon:
+        d = _spawn(tmp_path, len(daemons), config_yaml, extra_args, name, **popen)
         daemons.append(d)
         return d
 

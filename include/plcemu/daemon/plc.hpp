@@ -4,6 +4,7 @@
 // benchmarks all build this.
 
 #include <memory>
+#include <optional>
 #include <span>
 
 #include "plcemu/config/config.hpp"
@@ -34,9 +35,17 @@ public:
     /// Builds everything; throws config::ConfigError for what the config loader could not see
     /// (operands, presets out of range). With `storage`, the image lives there (a state file)
     /// and `start` says what it holds; otherwise the image is its own and starts cleared.
+    /// `program`, when given, is the config's program already built (a reload builds it off the
+    /// event loop).
     explicit Plc(const config::Config& config,
                  std::span<std::byte> storage = {},
-                 Start start = Start::Retained);
+                 Start start = Start::Retained,
+                 std::optional<engine::Program> program = std::nullopt);
+    /// The same, sharing the config instead of copying it (a reload's config may be large).
+    explicit Plc(std::shared_ptr<const config::Config> config,
+                 std::span<std::byte> storage = {},
+                 Start start = Start::Retained,
+                 std::optional<engine::Program> program = std::nullopt);
     ~Plc();
 
     /// The register image.
@@ -48,7 +57,9 @@ public:
     /// The request dispatcher.
     modbus::Dispatcher& dispatcher() { return *dispatcher_; }
     /// The config it was built from.
-    const config::Config& config() const { return config_; }
+    const config::Config& config() const { return *config_; }
+    /// The config, shared.
+    const std::shared_ptr<const config::Config>& shared_config() const { return config_; }
     /// The thermal plant (SPEC §6), owned by the engine.
     plant::ThermalPlant& plant() { return *plant_; }
 
@@ -57,7 +68,7 @@ public:
     void apply_init();
 
 private:
-    config::Config config_;
+    std::shared_ptr<const config::Config> config_;
     Start start_ = Start::Fresh;
     std::unique_ptr<image::Image> image_;
     std::unique_ptr<engine::Engine> engine_;
