@@ -40,7 +40,8 @@ bool Operands::has(const char* key) const { return find(key) != nullptr; }
 
 void Operands::fail(const char* key, const std::string& message) const {
     const config::Operand* op = find(key);
-    throw config::ConfigError(op ? op->pos : ic_.pos, ic_.mnemonic + "." + key + ": " + message);
+    throw config::ConfigError(op ? op->pos : ic_.pos,
+                              config::excerpt(ic_.mnemonic) + "." + key + ": " + message);
 }
 
 const config::Operand& Operands::require(const char* key) {
@@ -62,9 +63,11 @@ BitSource Operands::bit_source(const char* key, bool fallback) {
     }
     auto d = image::parse_device(op->text);
     if (!d || d->word_of_bits || !layout_.contains({d->area, d->index, 1})) {
-        fail(key, "expected a bit device (X, Y, M, S, T, C) or 0/1, got '" + op->text + "'");
+        fail(key, "expected a bit device (X, Y, M, S, T, C) or 0/1, got '" +
+                      config::excerpt(op->text) + "'");
     }
-    if (!image::is_bit_area(d->area)) fail(key, "expected a bit device, got '" + op->text + "'");
+    if (!image::is_bit_area(d->area))
+        fail(key, "expected a bit device, got '" + config::excerpt(op->text) + "'");
     return {false, false, *d};
 }
 
@@ -74,7 +77,7 @@ image::Device Operands::bit_output(const char* key) {
     if (!d || d->word_of_bits ||
         !(d->area == image::Area::Y || d->area == image::Area::M || d->area == image::Area::S) ||
         !layout_.contains({d->area, d->index, 1})) {
-        fail(key, "expected a Y, M or S output, got '" + op.text + "'");
+        fail(key, "expected a Y, M or S output, got '" + config::excerpt(op.text) + "'");
     }
     return *d;
 }
@@ -88,12 +91,12 @@ WordSource Operands::word_source(const char* key) {
     }
     auto d = image::parse_device(op.text);
     if (!d)
-        fail(key,
-             "expected a register (R, D), WMn-style bits or a constant, got '" + op.text + "'");
+        fail(key, "expected a register (R, D), WMn-style bits or a constant, got '" +
+                      config::excerpt(op.text) + "'");
     const std::uint32_t span = d->word_of_bits ? 16 : 1;
     if ((!d->word_of_bits && image::is_bit_area(d->area)) ||
         !layout_.contains({d->area, d->index, span})) {
-        fail(key, "'" + op.text + "' is not a word operand of this PLC");
+        fail(key, "'" + config::excerpt(op.text) + "' is not a word operand of this PLC");
     }
     return {false, 0, *d};
 }
@@ -116,7 +119,7 @@ image::Device Operands::word_device(const char* key,
         for (auto a : areas)
             names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
         fail(key, "expected " + std::to_string(span) + " word(s) in " + names + ", got '" +
-                      op.text + "'");
+                      config::excerpt(op.text) + "'");
     }
     return *d;
 }
@@ -137,7 +140,7 @@ image::Device Operands::device(const char* key,
         for (auto a : areas)
             names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
         fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names +
-                      ", got '" + op.text + "'");
+                      ", got '" + config::excerpt(op.text) + "'");
     }
     return *d;
 }
@@ -145,9 +148,11 @@ image::Device Operands::device(const char* key,
 long long Operands::integer(const char* key, long long lo, long long hi) {
     const auto& op = require(key);
     long long v = 0;
-    if (!parse_constant(op.text, v)) fail(key, "expected an integer, got '" + op.text + "'");
+    if (!parse_constant(op.text, v))
+        fail(key, "expected an integer, got '" + config::excerpt(op.text) + "'");
     if (v < lo || v > hi) {
-        fail(key, op.text + " is out of range " + std::to_string(lo) + ".." + std::to_string(hi));
+        fail(key, config::excerpt(op.text) + " is out of range " + std::to_string(lo) + ".." +
+                      std::to_string(hi));
     }
     return v;
 }
@@ -155,7 +160,8 @@ long long Operands::integer(const char* key, long long lo, long long hi) {
 void Operands::finish() const {
     for (const auto& [k, v] : ic_.operands) {
         if (!used_.count(k)) {
-            throw config::ConfigError(v.pos, ic_.mnemonic + ": unknown operand '" + k + "'");
+            throw config::ConfigError(v.pos, config::excerpt(ic_.mnemonic) + ": unknown operand '" +
+                                                 config::excerpt(k) + "'");
         }
     }
 }

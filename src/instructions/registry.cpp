@@ -31,7 +31,7 @@ std::unique_ptr<engine::Instruction> make_instruction(const config::InstructionC
     if (it == b.end()) {
         std::string names;
         for (const auto& [k, v] : b) names += std::string(names.empty() ? "" : ", ") + k;
-        throw config::ConfigError(ic.pos, "unknown instruction '" + ic.mnemonic +
+        throw config::ConfigError(ic.pos, "unknown instruction '" + config::excerpt(ic.mnemonic) +
                                               "' (this profile knows: " + names + ")");
     }
     return it->second(ic, ctx);

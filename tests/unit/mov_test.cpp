@@ -189,3 +189,23 @@ TEST(Mov, UnknownInstructionNamesItsPosition) {
 
 }  // namespace
 }  // namespace plcemu::instructions
+
+namespace plcemu::instructions {
+namespace {
+
+// An operand of a megabyte is quoted in an excerpt, not echoed whole into the log.
+TEST(Mov, OperandErrorsQuoteAnExcerptOfAHugeValue) {
+    const std::string huge(1 << 20, 'Q');
+    for (const std::string ops : {"s: HUGE, d: D0", "s: K1, d: HUGE", "en: HUGE, s: K1, d: D0"}) {
+        SCOPED_TRACE(ops);
+        std::string text = "  - MOV: {" + ops + "}\n";
+        text.replace(text.find("HUGE"), 4, huge);
+        const auto f = testing::config_failure([&] { Rig rig(text); });
+        ASSERT_TRUE(f.thrown);
+        EXPECT_LT(f.what.size(), 300u) << f.what.substr(0, 300);
+        EXPECT_NE(f.what.find("QQQQ"), std::string::npos);
+    }
+}
+
+}  // namespace
+}  // namespace plcemu::instructions
