@@ -41,7 +41,8 @@ modbus::TcpOptions tcp_options(const config::Config& c) {
     for (const auto& a : c.modbus.tcp.allow) {
         modbus::Cidr cidr;
         if (!modbus::Cidr::parse(a, cidr)) {
-            throw config::ConfigError({c.path, 0, 0}, "modbus.tcp.allow: bad CIDR '" + a + "'");
+            throw config::ConfigError({c.path, 0, 0},
+                                      "modbus.tcp.allow: bad CIDR '" + config::excerpt(a) + "'");
         }
         o.allow.push_back(cidr);
     }
@@ -109,6 +110,7 @@ public:
         notify_.ready(status_line());
         io_.run();
         if (reload_thread_.joinable()) reload_thread_.join();
+        if (retire_thread_.joinable()) retire_thread_.join();
 
         spdlog::info("stopped after {} scans", plc_->engine().scans());
         if (driver_) {
@@ -365,8 +367,8 @@ private:
     // The previous PLC is freed off the loop (its program may be large); nothing on the loop
     // refers to it any more: transports, scan driver and simulator unit were replaced.
     void retire(std::unique_ptr<Plc> old) {
-        if (reload_thread_.joinable()) reload_thread_.join();
-        reload_thread_ = std::thread([p = std::move(old)]() mutable { p.reset(); });
+        if (retire_thread_.joinable()) retire_thread_.join();
+        retire_thread_ = std::thread([p = std::move(old)]() mutable { p.reset(); });
     }
 
     std::string config_path_;
@@ -384,6 +386,7 @@ private:
     std::unique_ptr<plant::SimulatorUnit> sim_;
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
     std::thread reload_thread_;
+    std::thread retire_thread_;
     bool reloading_ = false;
     bool reload_again_ = false;
     asio::steady_timer watchdog_timer_{io_};

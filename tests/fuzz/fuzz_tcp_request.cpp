@@ -28,8 +28,8 @@ void check_reply(fuzz::Rig& rig,
     const std::uint8_t unit = req[6];
     if (rep.empty()) {
         const std::uint8_t station = rig.plc->engine().station();
-        fuzz::check(silent && unit != station && unit != 0xFF && !rig.is_sim(unit),
-                    "no reply to a request for the station, unit 255 or the simulator");
+        fuzz::check(silent && unit != station && unit != 0xFF && unit != 0 && !rig.is_sim(unit),
+                    "no reply to a request for the station, unit 0 or 255 or the simulator");
         return;
     }
     fuzz::check(rep.size() >= 9 && rep.size() <= modbus::kMaxTcpAdu, "reply size out of range");
