@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "instructions/operands.hpp"
 #include "plcemu/engine/special.hpp"
 
 namespace plcemu::instructions {
@@ -81,6 +82,35 @@ std::uint16_t encode_register(const image::Device& d) {
     return static_cast<std::uint16_t>((d.area == image::Area::D ? 20000u : 10000u) + d.index);
 }
 
+std::uint32_t main_unit_outputs(const config::Config& config) {
+    // The modules follow the main unit on the expansion chain: their outputs come after the
+    // main unit's (FBs-24MC: Y0-Y9, so the first module has Y10-Y17).
+    switch (config::model_code(config.model).value_or(24) & 0xFF) {
+        case 10:
+            return 4;
+        case 14:
+            return 6;
+        case 20:
+            return 8;
+        case 32:
+            return 12;
+        case 40:
+            return 16;
+        case 44:
+            return 20;
+        case 60:
+            return 24;
+        default:
+            return 10;
+    }
+}
+
+std::optional<image::Range> module_outputs(const config::Config& config) {
+    if (config.temperature.modules.empty()) return std::nullopt;
+    const auto n = static_cast<std::uint32_t>(config.temperature.modules.size());
+    return image::Range{image::Area::Y, main_unit_outputs(config), 8 * n};
+}
+
 }  // namespace temperature
 
 namespace {
@@ -89,6 +119,8 @@ namespace sp = engine::special;
 using namespace temperature;
 
 constexpr std::int64_t kNsPerMs = 1'000'000;
+// R4015's largest code: 2^4 = 16 readings.
+constexpr int kMaxAverageCode = 4;
 
 bool fits(const image::Image& img, const image::Device& d, std::uint32_t count) {
     return img.layout().contains({d.area, d.index, count});
@@ -105,39 +137,19 @@ TemperatureOptions TemperatureTable::options_of(const config::Config& config) {
     if (config.temperature.table) o.table = *config.temperature.table;
     o.installed = config.temperature.modules;
     o.fast = config.temperature.fast;
-    // The modules follow the main unit on the expansion chain: their outputs come after the
-    // main unit's (FBs-24MC: Y0-Y9, so the first module has Y10-Y17).
-    const int points = config::model_code(config.model).value_or(24) & 0xFF;
-    switch (points) {
-        case 10:
-            o.main_unit_outputs = 4;
-            break;
-        case 14:
-            o.main_unit_outputs = 6;
-            break;
-        case 20:
-            o.main_unit_outputs = 8;
-            break;
-        case 24:
-            o.main_unit_outputs = 10;
-            break;
-        case 32:
-            o.main_unit_outputs = 12;
-            break;
-        case 40:
-            o.main_unit_outputs = 16;
-            break;
-        case 44:
-            o.main_unit_outputs = 20;
-            break;
-        case 60:
-            o.main_unit_outputs = 24;
-            break;
-        default:
-            o.main_unit_outputs = 10;
-            break;
-    }
+    o.main_unit_outputs = main_unit_outputs(config);
     return o;
+}
+
+void refuse_module_outputs(const Operands& ops,
+                           const char* key,
+                           const image::Range& written,
+                           const config::Config& config) {
+    const std::optional<image::Range> own = module_outputs(config);
+    if (!own || !written.overlaps(*own)) return;
+    ops.fail(key, image::format_range(written) + " overlaps " + image::format_range(*own) +
+                      ", the digital outputs of the temperature modules in temperature.modules "
+                      "(each module occupies 8 DO; the program cannot drive them)");
 }
 
 void TemperatureTable::put(image::Image& img,
@@ -199,16 +211,17 @@ void TemperatureTable::convert(engine::ScanContext& ctx, ModuleState& m) noexcep
     image::Image& img = ctx.image;
     const std::int64_t due = (ctx.now.count() - start_ns_) / m.slot_ns;
     // After a long pause (a huge step) only the last rounds matter: they fill the averages.
-    const std::int64_t keep = 8LL * m.channels;
+    const std::int64_t keep = 16LL * m.channels;
     if (due - m.done > keep) {
         const std::int64_t skipped = due - m.done - keep;
         m.current = static_cast<int>((m.current + skipped) % m.channels);
         m.done += skipped;
     }
     const std::uint16_t* r = img.words(image::Area::R);
-    const bool fahrenheit = r[sp::kTempUnit] == 1;
-    const std::uint16_t avg_code = r[sp::kTempAverage];
-    const int depth = avg_code == 0 ? 1 : avg_code == 1 ? 2 : avg_code == 2 ? 4 : 8;
+    // FB manual (FUN73 special registers): R4009's low byte decides, so 0101h reads °F.
+    const bool fahrenheit = (r[sp::kTempUnit] & 0xFFu) == 1;
+    // R4015 0…4: 1, 2, 4, 8, 16 readings (FB manual, FUN73); larger values count as 4.
+    const int depth = 1 << std::min<int>(r[sp::kTempAverage], kMaxAverageCode);
     while (m.done < due) {
         const int g = m.first + m.current;
         ChannelState& c = ch_[static_cast<std::size_t>(g)];
@@ -224,23 +237,26 @@ void TemperatureTable::convert(engine::ScanContext& ctx, ModuleState& m) noexcep
             double celsius = 0.0;
             if (!broken) {
                 const plant::SensorSample s = sensors_.sense(g);
-                celsius = s.celsius;
-                broken = s.broken || !(celsius >= m.lo_c && celsius <= m.hi_c);
+                // Only an open sensor is a broken line; beyond the range the module reads its
+                // range's limit (README, "Temperature measurement").
+                broken = s.broken || std::isnan(s.celsius);
+                celsius = broken ? 0.0 : std::clamp(s.celsius, m.lo_c, m.hi_c);
             }
             if (broken) {
-                // SPEC §4: broken sensor or beyond the sensor's range.
+                // Open sensor, a module that is not the installed one, or an unknown sensor code.
                 value = kBroken;
                 c.broken = true;
                 c.count = 0;
             } else {
                 c.broken = false;
+                constexpr int kRing = static_cast<int>(std::tuple_size_v<decltype(c.avg)>);
                 c.avg[static_cast<std::size_t>(c.next)] = celsius;
-                c.next = (c.next + 1) % 8;
-                c.count = std::min(c.count + 1, 8);
+                c.next = (c.next + 1) % kRing;
+                c.count = std::min(c.count + 1, kRing);
                 const int n = std::min(depth, c.count);
                 double sum = 0.0;
                 for (int i = 1; i <= n; ++i)
-                    sum += c.avg[static_cast<std::size_t>((c.next - i + 8) % 8)];
+                    sum += c.avg[static_cast<std::size_t>((c.next - i + kRing) % kRing)];
                 double x = sum / n;
                 if (fahrenheit) x = x * 9.0 / 5.0 + 32.0;
                 // Fast scan rate: 1° resolution, still in 0.1° units.

@@ -19,7 +19,7 @@ namespace plcemu::instructions {
 /// SPEC §4 constants.
 namespace temperature {
 inline constexpr std::uint16_t kValidTable = 0xA556;    ///< SR+0 of a valid table
-inline constexpr std::uint16_t kBroken = 32767;         ///< reading of a broken/out-of-range sensor
+inline constexpr std::uint16_t kBroken = 32767;         ///< reading of an open (broken) sensor
 inline constexpr std::uint8_t kIdle = 0x00;             ///< execute code: idle / invalid table
 inline constexpr std::uint8_t kBadModuleCount = 0xFE;   ///< execute code: N = 0 or N > 8
 inline constexpr std::uint8_t kTooManyChannels = 0xFF;  ///< execute code: more than 32 channels
@@ -43,7 +43,21 @@ bool sensor_range(std::uint8_t name_code, std::uint8_t sensor, double& lo_c, dou
 std::optional<image::Device> decode_register(std::uint16_t v);
 /// Encodes a word device as an R4004-style reference.
 std::uint16_t encode_register(const image::Device& d);
+/// Y points of the main unit of the config's model (FBs-24MC: 10, Y0–Y9).
+std::uint32_t main_unit_outputs(const config::Config& config);
+/// The Y points the declared modules occupy, 8 each after the main unit's (FBs manual §21.3:
+/// "each module occupies 1 IR and 8 DO"); nothing when `temperature.modules` is empty.
+std::optional<image::Range> module_outputs(const config::Config& config);
 }  // namespace temperature
+
+class Operands;
+
+/// Refuses (at the operand `key`) a program output `written` that lands on a temperature
+/// module's own outputs: the module drives them, not the program.
+void refuse_module_outputs(const Operands& ops,
+                           const char* key,
+                           const image::Range& written,
+                           const config::Config& config);
 
 /// How the measurement is set up (from `temperature:` and the model).
 struct TemperatureOptions {
@@ -83,11 +97,11 @@ private:
         int current = 0;            // module-local channel being converted
     };
     struct ChannelState {
-        bool read = false;            // read at least once since the restart
-        bool broken = false;          // abnormal bit
-        std::array<double, 8> avg{};  // last raw samples, °C (moving average)
-        int count = 0;                // samples held in avg
-        int next = 0;                 // ring position
+        bool read = false;             // read at least once since the restart
+        bool broken = false;           // abnormal bit
+        std::array<double, 16> avg{};  // last samples, °C (moving average of up to 16)
+        int count = 0;                 // samples held in avg
+        int next = 0;                  // ring position
     };
 
     void restart(const image::Image& img, std::int64_t now) noexcept;

@@ -51,13 +51,21 @@ def frozen(start_plcemud, config=CONFIG, *args):
 
 
 def step_seconds(client, seconds, scan_ms=10):
-    """Runs `seconds` of simulated time in steps of at most 5000 scans (each step is served
-    before the next request, so a step must end within the client's timeout)."""
+    """Runs `seconds` of simulated time in steps of at most 5000 scans. The reply to a step comes
+    before its scans ran (README, "Simulator-control unit"), so this polls the simulated time
+    (registers 3-4, whole seconds) until it moved on, then gives the last second a moment."""
+    target = sim_seconds(client) + int(seconds)
     n = round(seconds * 1000 / scan_ms)
     while n > 0:
         k = min(n, 5000)
         write(client, 2, k, unit=SIM)
         n -= k
+    deadline = time.monotonic() + 60
+    # One second short: after a reload the clock restarts a scan behind a whole second.
+    while sim_seconds(client) < target - 1:
+        assert time.monotonic() < deadline, f"simulated time did not reach {target - 1} s"
+        time.sleep(0.01)
+    time.sleep(0.1)  # the last second's scans, under 1 ms of work
 
 
 def sim_seconds(client):
@@ -137,6 +145,48 @@ def test_fahrenheit_by_R4009(start_plcemud):
     assert signed(regs(c, 0)[0]) == 250
 
 
+def test_R4009_low_byte_decides_the_unit(start_plcemud):
+    # FB manual (FUN73 special registers): low byte 0 °C, 1 °F; the high byte does not count.
+    _, c = frozen(start_plcemud)
+    write(c, 4009, 0x0101)
+    step_seconds(c, 5)
+    assert [signed(v) for v in regs(c, 0, 12)] == [770] * 12
+    write(c, 4009, 0x0100)
+    step_seconds(c, 5)
+    assert [signed(v) for v in regs(c, 0, 12)] == [250] * 12
+
+
+def test_R4015_4_averages_16_readings(start_plcemud):
+    # FB manual (FUN73 special registers): R4015 = 4 is a 16-reading moving average. Channel 0
+    # jumps from 25 °C to 125 °C (τ 1 s); it is read once per 4 s round, so after 8 rounds half
+    # of the 16 readings are new: about 75 °C (an 8-reading average would show 125 °C).
+    _, c = frozen(start_plcemud)
+    write(c, 4015, 4)
+    write_many(c, 102, [0, 1, 0], unit=SIM)  # channel 0: K 0, τ 1 s, θ 0 s
+    step_seconds(c, 70)  # 16 rounds at 25.0 °C
+    assert signed(regs(c, 0)[0]) == 250
+    write(c, 101, 1250, unit=SIM)  # ambient 125.0 °C
+    step_seconds(c, 32)
+    assert 650 <= signed(regs(c, 0)[0]) <= 850, regs(c, 0)
+    step_seconds(c, 40)
+    assert signed(regs(c, 0)[0]) == 1250
+
+
+def test_reading_below_the_range_is_clamped_not_broken(start_plcemud):
+    # README decision: a B thermocouple (350-1800 °C) at room temperature reads 350.0 °C with
+    # no abnormal bit; a Pt1000 above 600 °C reads 600.0 °C; only an open sensor reads 32767.
+    _, c = frozen(start_plcemud)
+    write_many(c, TABLE + 4, [0x0501, 0x0202])  # TC6 with B, RTD6 with Pt1000 DIN
+    write(c, 100 + 10 * 6 + 1, 7000, unit=SIM)  # channel 6: ambient 700.0 °C
+    write_many(c, 100 + 10 * 6 + 3, [1, 0], unit=SIM)  # τ 1 s, θ 0
+    write(c, 100 + 10 * 2, 0b0001, unit=SIM)  # channel 2: open
+    step_seconds(c, 10)
+    readings = regs(c, 0, 12)
+    assert readings[:6] == [3500, 3500, 32767, 3500, 3500, 3500]
+    assert readings[6] == 6000 and readings[7:] == [250] * 5
+    assert regs(c, D0 + 1)[0] == 1 << 2
+
+
 def test_sensor_broken_fault_through_unit_247(start_plcemud):
     # SPEC §6 fault "sensor broken", SPEC §4: 32767 and the WR+1 bit; clears when repaired.
     _, c = frozen(start_plcemud)
@@ -189,8 +239,12 @@ def test_freeze_and_step_control_simulated_time(start_plcemud):
     t0 = sim_seconds(c)
     time.sleep(0.3)
     assert sim_seconds(c) == t0  # frozen: no scans
-    write(c, 2, 1000, unit=SIM)  # 1000 scans of 10 ms
-    assert sim_seconds(c) in (t0 + 10, t0 + 9, t0 + 11)
+    write(c, 2, 1000, unit=SIM)  # 1000 scans of 10 ms, run after the reply
+    deadline = time.monotonic() + 20
+    while sim_seconds(c) < t0 + 10 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    time.sleep(0.2)
+    assert sim_seconds(c) == t0 + 10
 
 
 def test_simulated_time_is_32_bit(start_plcemud):

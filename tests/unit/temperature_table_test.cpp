@@ -325,7 +325,7 @@ TEST(TemperatureTable, NormalResolutionIsTenthsSigned) {
 }
 
 TEST(TemperatureTable, R4009SelectsCelsiusOrFahrenheit) {
-    // SPEC §4: R4009 0 °C, 1 °F.
+    // R4009 0 °C, 1 °F (FBs manual §21.3).
     Rig rig;
     rig.sensors.celsius[0] = 100.0;
     rig.standard_table();
@@ -337,6 +337,44 @@ TEST(TemperatureTable, R4009SelectsCelsiusOrFahrenheit) {
     rig.sensors.celsius[0] = -40.0;
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), -400);
+}
+
+TEST(TemperatureTable, R4009LowByteDecidesTheUnit) {
+    // FB manual (FUN73 special registers): "low byte = 0 °C, low byte = 1 °F"; the high byte
+    // does not count, so 0101h is °F and 0100h °C.
+    Rig rig;
+    rig.sensors.celsius[0] = 100.0;
+    rig.standard_table();
+    rig.image.set_word(Area::R, engine::special::kTempUnit, 0x0101);
+    rig.run_ms(4010);
+    EXPECT_EQ(rig.reading(0), 2120);
+    rig.image.set_word(Area::R, engine::special::kTempUnit, 0x0100);
+    rig.run_ms(4000);
+    EXPECT_EQ(rig.reading(0), 1000);
+    rig.image.set_word(Area::R, engine::special::kTempUnit, 0x0002);  // neither: °C
+    rig.run_ms(4000);
+    EXPECT_EQ(rig.reading(0), 1000);
+}
+
+TEST(TemperatureTable, R4015FourAveragesSixteenReadings) {
+    // FB manual (FUN73 special registers): R4015 = 4 is a 16-reading average; above 4 counts
+    // as 4 (README decision).
+    Rig rig;
+    rig.standard_table();
+    rig.image.set_word(Area::R, engine::special::kTempAverage, 4);
+    for (int i = 1; i <= 20; ++i) {
+        rig.sensors.celsius[0] = 10.0 * i;
+        rig.run_ms(4000);  // one conversion of channel 0 per round
+    }
+    EXPECT_EQ(rig.reading(0), 1250);  // mean of 50..200: 125.0
+    rig.image.set_word(Area::R, engine::special::kTempAverage, 9);
+    rig.sensors.celsius[0] = 210.0;
+    rig.run_ms(4000);
+    EXPECT_EQ(rig.reading(0), 1350);  // mean of 60..210
+    rig.image.set_word(Area::R, engine::special::kTempAverage, 3);
+    rig.sensors.celsius[0] = 220.0;
+    rig.run_ms(4000);
+    EXPECT_EQ(rig.reading(0), 1850);  // mean of 150..220
 }
 
 TEST(TemperatureTable, R4015MovingAverageOfTwoFourEightReadings) {
@@ -383,26 +421,34 @@ TEST(TemperatureTable, BrokenSensorReads32767AndSetsWr1Wr2Bit) {
     EXPECT_EQ(rig.wr(1), 0);
 }
 
-TEST(TemperatureTable, ReadingBeyondTheSensorRangeReads32767) {
-    // SPEC §4 Decision: a reading beyond the sensor type's range counts as broken.
+TEST(TemperatureTable, ReadingBeyondTheSensorRangeIsClampedNotBroken) {
+    // FBs manual §21.1 gives ranges, not a broken-line rule: beyond its range a channel reads
+    // the range's limit with no abnormal bit; only an open sensor reads 32767 (README).
     Rig rig;
     rig.write_table({0xA556, 2, 10000, 20000, module(kTC6, kK), module(kRTD6, kPt1000)});
-    rig.sensors.celsius[0] = 1300.0;  // K: top of the range, fine
-    rig.sensors.celsius[1] = 1300.5;  // beyond
-    rig.sensors.celsius[2] = -190.5;  // below
-    rig.sensors.celsius[6] = 600.0;   // Pt1000: fine
-    rig.sensors.celsius[7] = 650.0;   // Pt1000: beyond 600
+    rig.sensors.celsius[0] = 1300.0;  // K: top of the range
+    rig.sensors.celsius[1] = 1300.5;  // above: reads 1300.0
+    rig.sensors.celsius[2] = -190.5;  // below: reads -190.0
+    rig.sensors.celsius[6] = 600.0;   // Pt1000: top of the range
+    rig.sensors.celsius[7] = 650.0;   // Pt1000: above 600, reads 600.0
+    rig.sensors.broken[3] = true;     // open: broken
     rig.run_ms(4010);
     EXPECT_EQ(rig.reading(0), 13000);
-    EXPECT_EQ(rig.reading(1), t::kBroken);
-    EXPECT_EQ(rig.reading(2), t::kBroken);
+    EXPECT_EQ(rig.reading(1), 13000);
+    EXPECT_EQ(rig.reading(2), -1900);
+    EXPECT_EQ(rig.reading(3), t::kBroken);
     EXPECT_EQ(rig.reading(6), 6000);
-    EXPECT_EQ(rig.reading(7), t::kBroken);
-    EXPECT_EQ(rig.wr(1), 0b10000110);
-    // Type B starts at 350 °C: a cold B thermocouple is out of range.
+    EXPECT_EQ(rig.reading(7), 6000);
+    EXPECT_EQ(rig.wr(1), 1u << 3);
+    // Type B starts at 350 °C: a B thermocouple at room temperature reads 350.0 °C, not broken.
     rig.write_table({0xA556, 1, 10000, 20000, module(kTC6, kB)});
     rig.run_ms(4010);
-    EXPECT_EQ(rig.reading(3), t::kBroken);
+    EXPECT_EQ(rig.reading(4), 3500);
+    EXPECT_EQ(rig.wr(1), 1u << 3);  // only the open one
+    // In °F the limit converts too: 350 °C is 662 °F.
+    rig.image.set_word(Area::R, engine::special::kTempUnit, 1);
+    rig.run_ms(4000);
+    EXPECT_EQ(rig.reading(4), 6620);
 }
 
 TEST(TemperatureTable, R4010R4011BitZeroReadsZeroWithoutBrokenCheck) {
