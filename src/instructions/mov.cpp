@@ -1,6 +1,7 @@
 #include "mov.hpp"
 
 #include "operands.hpp"
+#include "temperature_table.hpp"
 
 namespace plcemu::instructions {
 
@@ -37,6 +38,7 @@ std::unique_ptr<engine::Instruction> make_mov(const config::InstructionConfig& i
                         {image::Area::R, image::Area::D, image::Area::M, image::Area::Y,
                          image::Area::S, image::Area::TV, image::Area::CV});
     ops.finish();
+    if (d.word_of_bits) refuse_module_outputs(ops, "d", {d.area, d.index, 16}, ctx.config);
     return std::make_unique<Mov>(en, s, d);
 }
 

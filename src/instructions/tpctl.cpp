@@ -454,6 +454,10 @@ std::optional<TpctlOutputs> tpctl_outputs(const config::InstructionConfig& ic,
 std::unique_ptr<engine::Instruction> make_tpctl(const config::InstructionConfig& ic,
                                                 const BindContext& ctx) {
     Bound b = bind(ic, ctx.layout);
+    Operands ops(ic, ctx.layout);
+    refuse_module_outputs(ops, "yn", block(b.yn, b.points), ctx.config);
+    if (b.err) refuse_module_outputs(ops, "err", block(*b.err, 1), ctx.config);
+    if (b.alm) refuse_module_outputs(ops, "alm", block(*b.alm, 1), ctx.config);
     check_overlaps(b, ic, ctx);
     return std::make_unique<Tpctl>(std::move(b), ctx.config.temperature.table);
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "instructions/tpctl.hpp"
+#include "support/config_errors.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/special.hpp"
@@ -199,6 +200,40 @@ TEST(Tpctl, WorkingRegistersCantBeRepeatedRefusedAtLoad) {
     const std::string own = load_error(tpctl(
         std::string(kOps).replace(std::string(kOps).find("sv: R100"), 8, "sv: R305") + "wr: R300"));
     EXPECT_NE(own.find("TPCTL.sv"), std::string::npos) << own;
+}
+
+// FBs manual §21.3: "each module occupies 1 IR and 8 DO"; the declared chain's modules follow
+// the FBs-24MC's Y0–Y9, so TC6 has Y10–Y17 and RTD6 Y18–Y25: no program output may land there.
+TEST(Tpctl, OutputsOnATemperatureModulesOwnDigitalOutputsAreRefusedAtTheirPosition) {
+    const std::string head =
+        "profile: fbs\nmodel: FBs-24MC\ntemperature:\n  table: R5000\n"
+        "  modules: [TC6:K, RTD6:PT100_DIN]\nprogram:\n";
+    auto failure = [&](const std::string& program) {
+        return testing::config_failure([&] {
+            const config::Config cfg = config::parse_config(head + program, "chain.yaml");
+            (void)make_program(cfg, image::fbs_layout());
+        });
+    };
+    const std::string ops =
+        "en: M0, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, ir: R130, dr: R140, or: R200, "
+        "wr: R300";
+    // yn on the first module's outputs, and a block running into them from below.
+    testing::expect_config_error(failure("  - TPCTL: {yn: Y10, " + ops + "}\n"), "chain.yaml", 7,
+                                 17, "Y10-Y19 overlaps Y10-Y25");
+    testing::expect_config_error(failure("  - TPCTL: {yn: Y1, " + ops + "}\n"), "chain.yaml", 7, 17,
+                                 "digital outputs of the temperature modules");
+    // ALM on the second module's last output.
+    testing::expect_config_error(
+        failure("  - TPCTL: {yn: Y30, " + ops + ", alm: Y25}\n"), "chain.yaml", 7,
+        static_cast<int>(std::string("  - TPCTL: {yn: Y30, " + ops + ", alm: ").size()) + 1,
+        "TPCTL.alm");
+    // A word move onto them (WY8 is Y8–Y23).
+    testing::expect_config_error(failure("  - MOV: {en: 1, s: R0, d: WY8}\n"), "chain.yaml", 7, 28,
+                                 "Y8-Y23 overlaps Y10-Y25");
+    // Right after the chain, and with no chain declared, the same outputs are the program's.
+    EXPECT_FALSE(failure("  - TPCTL: {yn: Y26, " + ops + "}\n").thrown);
+    EXPECT_FALSE(failure("  - MOV: {en: 1, s: R0, d: WY26}\n").thrown);
+    EXPECT_EQ(load_error(tpctl("yn: Y10, " + ops)), "");
 }
 
 // ---------------------------------------------------------------------------------------------
