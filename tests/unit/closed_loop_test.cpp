@@ -1,5 +1,5 @@
-// Closed loop (SPEC §5 with §4 and §6): FUN86 TPCTL heating the default plant through the
-// temperature measurement, in virtual time, on the whole PLC built from a config.
+// Closed loop (FBs manual §21.7 with §21.3): FUN86 TPCTL heating config/default.yaml's plant
+// through the temperature measurement, in virtual time, on the whole PLC built from that file.
 
 #include <gtest/gtest.h>
 
@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -29,27 +30,23 @@ constexpr int kBand = 50;  // ±5.0 °C
 constexpr std::uint32_t kOr = 200, kWr = 300, kY = 30;
 constexpr std::uint32_t kAlm = 101;
 
-// config/default.yaml's loops (FBs manual's FUN86 example): TC6 (K) on channels 0–5, RTD6
-// (Pt100) on 6–9, readings at R0, measurement WR at D0, SP 150.0 °C, in-zone ±5.0 °C, the
-// default plant (K 400 °C, τ 120 s, θ 5 s, ambient 25 °C, no noise), default gains (PR = 0 at
-// the first execution). `extra_init` adds presets.
+// config/default.yaml as shipped: the FBs manual's FUN86 example (§21.7) with its indicator
+// moves, R4005 at the system default 0102h (4 s solution, 2 s PWM), TC6 (K) on channels 0–5 and
+// RTD6 (Pt100) on 6–9, SP 150.0 °C, in-zone ±5.0 °C, default gains (PR = 0 at the first
+// execution), on its plant (K 400 °C, τ 1200 s, θ 60 s, ambient 25 °C, no noise). `extra_init`
+// adds presets at the top of `init:`.
 std::string config_text(const std::string& extra_init = "") {
-    return R"(profile: fbs
-scan_ms: 10
-temperature:
-  table: R5000
-  modules: [TC6:K, RTD6:PT100_DIN]
-  scan_rate: normal
-init:
-  R5000: [0xA556, 2, 10000, 20000, 0x0101, 0x0002]
-  R100: [1500, 1500, 1500, 1500, 1500, 1500, 1500, 1500, 1500, 1500]
-  R110: [50, 50, 50, 50, 50, 50, 50, 50, 50, 50]
-)" + extra_init +
-           R"(program:
-  - MOV: {en: M1926, s: WM800, d: R4012}
-  - TPCTL: {en: M0, hc: 1, md: 0, sn: 0, zn: 10, yn: Y30, sv: R100, os: R110, pr: R120,
-            ir: R130, dr: R140, or: R200, wr: R300, err: M100, alm: M101}
-)";
+    const std::string path = std::string(PLCEMU_SOURCE_DIR) + "/config/default.yaml";
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    const std::size_t init = s.find("\ninit:\n");
+    if (init == std::string::npos) {
+        ADD_FAILURE() << path << " has no init: section";
+        return s;
+    }
+    return s.insert(init + 7, extra_init);
 }
 
 /// Per-point figures of a step response (readings, as the PLC sees them).
@@ -120,20 +117,28 @@ std::string describe(const std::vector<Step>& s) {
     return o.str();
 }
 
-// The manual's defaults R4005 = 0102h (4 s solution, 2 s PWM) with its default gains do not
-// settle on the default plant: the derivative (rate time 30 s, Kc·30/4 = 825 counts per 0.1°
-// of PV change) against a process that heats at up to 3.3 °C/s with a 5 s dead time limit-
-// cycles 30–38 °C above SP (README, "FUN86 TPCTL"). The manual's note 2 is to match the solution
-// interval and PWM cycle to the process: with R4005 = 0000h (1 s and 1 s) the default gains
-// settle, so that is what these loops run with.
-const char* kFastTiming = "  R4005: [0x0000]\n";
+constexpr std::uint32_t kInZoneM = 400, kWarnM = 416;
+constexpr double kSettled = 3000;  // simulated s by which the example's loops are in zone  // the
+                                   // example's indicator relays
 
-TEST(ClosedLoop, StepTo150WithDefaultGainsSettlesWithin5DegreesIn30Minutes) {
-    Loop loop(config_text(kFastTiming));
+// The indicator relays the example's MOVs copy: M400+i is WR+0 bit i, M416+i WR+2 bit i.
+std::uint16_t indicators(Loop& loop, std::uint32_t first) {
+    std::uint16_t w = 0;
+    for (std::uint32_t i = 0; i < 16; ++i)
+        w = static_cast<std::uint16_t>(w | (loop.img().bit(Area::M, first + i) ? 1u << i : 0u));
+    return w;
+}
+
+// Issue 14 point 2: the shipped example, R4005 untouched, settles within SP ± 5.0 °C by 50
+// simulated minutes with ALM off.
+TEST(ClosedLoop, DefaultYamlSettlesWithin5DegreesBy50MinutesWithR4005Default) {
+    Loop loop(config_text());
     loop.start();
-    const auto s = loop.run_step(1800);
+    loop.scan();
+    EXPECT_EQ(loop.r(engine::special::kPidTiming), 0x0102);
+    const auto s = loop.run_step(3600);
     std::cout << describe(s);
-    double worst = -1e9;
+    double worst = -1e9, latest = 0;
     for (int p = 0; p < kPoints; ++p) {
         const auto& x = s[static_cast<std::size_t>(p)];
         SCOPED_TRACE("point " + std::to_string(p));
@@ -141,21 +146,25 @@ TEST(ClosedLoop, StepTo150WithDefaultGainsSettlesWithin5DegreesIn30Minutes) {
         EXPECT_EQ(loop.r(120 + static_cast<std::uint32_t>(p)), 110);
         EXPECT_EQ(loop.r(130 + static_cast<std::uint32_t>(p)), 17);
         EXPECT_EQ(loop.r(140 + static_cast<std::uint32_t>(p)), 50);
-        // Settled: inside ±5.0 °C for (at least) the last 10 of the 30 minutes.
-        EXPECT_LE(x.settled_s, 1200.0);
+        // Inside ±5.0 °C from 50 minutes on (the last 10 of the 60 minutes run).
+        EXPECT_LE(x.settled_s, 3000.0);
         EXPECT_TRUE(x.in_zone_at_end);
         EXPECT_NEAR(x.last, kSp, kBand);
-        // Overshoot: measured 1.6–3.7 °C. Bounded by the in-zone offset itself (5.0 °C): "minimum
-        // overshoot" (Md 0) means a loop that has reached its zone from below never leaves it
-        // again, so the SCADA sees no alarm after the first entry.
         EXPECT_GE(x.overshoot(), 0.0);  // it does reach SP
-        EXPECT_LT(x.overshoot(), 5.0);
+        EXPECT_LT(x.overshoot(), 5.0);  // and never leaves the zone from above
         worst = std::max(worst, x.overshoot());
+        latest = std::max(latest, x.settled_s);
     }
-    std::cout << "largest overshoot " << worst << " °C\n";
+    std::cout << "largest overshoot " << worst << " °C, all within ±5.0 °C from " << latest
+              << " s\n";
     RecordProperty("largest_overshoot_0.1C", static_cast<int>(std::lround(worst * 10)));
+    RecordProperty("settled_s", static_cast<int>(std::lround(latest)));
     EXPECT_FALSE(loop.img().bit(Area::M, kAlm));  // all in zone, no warning
     EXPECT_EQ(loop.r(kWr + 2), 0);
+    EXPECT_EQ(loop.r(kWr + 4), 0x0204);  // in effect: PWM 2 s, solution 4 s
+    // The example's indicators follow WR+0 / WR+2.
+    EXPECT_EQ(indicators(loop, kInZoneM), 0x03FF);
+    EXPECT_EQ(indicators(loop, kWarnM), 0);
 }
 
 TEST(ClosedLoop, HeaterOpenWarningSetsAfterR4007SecondsAndClearsWhenHeatingResumes) {
@@ -163,9 +172,9 @@ TEST(ClosedLoop, HeaterOpenWarningSetsAfterR4007SecondsAndClearsWhenHeatingResum
     // the point leaves its zone; 600 s (R4007) of that sets bit 3 of WR+2.
     constexpr int p = 3;
     constexpr std::uint32_t bit = 1u << p;
-    Loop loop(config_text(kFastTiming));
+    Loop loop(config_text());
     loop.start();
-    loop.run_step(300);
+    loop.run_step(kSettled);
     ASSERT_EQ(loop.r(kWr) & 0x3FF, 0x3FF);
     plant::Faults f;
     f.heater_open = true;
@@ -174,7 +183,7 @@ TEST(ClosedLoop, HeaterOpenWarningSetsAfterR4007SecondsAndClearsWhenHeatingResum
     auto condition = [&] { return loop.r(kOr + p) >= threshold && (loop.r(kWr) & bit) == 0; };
     double since = -1;
     double set_at = -1;
-    while (loop.seconds() < 300 + 1200 && set_at < 0) {
+    while (loop.seconds() < kSettled + 1200 && set_at < 0) {
         loop.scan();
         if (condition()) {
             if (since < 0) since = loop.seconds() - 0.01;  // the scan that just ran
@@ -191,7 +200,8 @@ TEST(ClosedLoop, HeaterOpenWarningSetsAfterR4007SecondsAndClearsWhenHeatingResum
     EXPECT_EQ(loop.r(kWr + 7), bit);            // cause: heater open
     EXPECT_EQ(loop.r(kWr + 5), 0);
     EXPECT_TRUE(loop.img().bit(Area::M, kAlm));
-    EXPECT_LT(loop.plant().true_temperature(p), 40.0);  // cooled towards ambient meanwhile
+    EXPECT_LT(loop.plant().true_temperature(p), 120.0);  // cooled towards ambient meanwhile
+    EXPECT_EQ(indicators(loop, kWarnM), bit);            // M416 + 3, the example's indicator
 
     // Repaired: the warning holds while the condition holds, and clears the scan it stops
     // holding (in zone again, or output below 90 %).
@@ -204,27 +214,29 @@ TEST(ClosedLoop, HeaterOpenWarningSetsAfterR4007SecondsAndClearsWhenHeatingResum
         cleared = !warn;
     }
     EXPECT_TRUE(cleared);
-    const auto s = loop.run_step(600);
+    const auto s = loop.run_step(1200);
     EXPECT_TRUE(s[p].in_zone_at_end);
     EXPECT_EQ(loop.r(kWr + 2), 0);
     EXPECT_FALSE(loop.img().bit(Area::M, kAlm));
 }
 
 TEST(ClosedLoop, OverTemperatureWarningAfter10ScansAtR4008AndClearsBelowIt) {
-    // A shorted heater (u = 1) on channel 5 drives it towards 425 °C, past R4008 = 350.0 °C.
+    // A shorted heater (u = 1) on channel 5 drives it towards 425 °C, past R4008, set to
+    // 170.0 °C (within its 100–65535 range) so the slow plant gets there in minutes.
     constexpr int p = 5;
     constexpr std::uint32_t bit = 1u << p;
-    Loop loop(config_text(kFastTiming));
+    constexpr int kLimit = 1700;
+    Loop loop(config_text("  R4008: 1700\n"));
     loop.start();
-    loop.run_step(300);
+    loop.run_step(kSettled);
     plant::Faults f;
     f.heater_shorted = true;
     loop.plant().set_faults(p, f);
     int scans_at_limit = 0;
     bool set = false;
-    while (loop.seconds() < 300 + 900 && !set) {
+    while (loop.seconds() < kSettled + 900 && !set) {
         loop.scan();
-        scans_at_limit = loop.reading(p) >= 3500 ? scans_at_limit + 1 : 0;
+        scans_at_limit = loop.reading(p) >= kLimit ? scans_at_limit + 1 : 0;
         set = (loop.r(kWr + 2) & bit) != 0;
         if (!set) {
             ASSERT_LT(scans_at_limit, 10);
@@ -236,19 +248,21 @@ TEST(ClosedLoop, OverTemperatureWarningAfter10ScansAtR4008AndClearsBelowIt) {
     EXPECT_EQ(loop.r(kWr + 7), 0);
     EXPECT_EQ(loop.r(kOr + p), 0);  // the PID itself has long turned the output off
     EXPECT_TRUE(loop.img().bit(Area::M, kAlm));
+    EXPECT_EQ(indicators(loop, kWarnM), bit);  // M416 + 5, the example's indicator
 
     // Repaired: cools; the warning holds while the reading is at or above R4008 and clears the
     // scan it drops below.
     loop.plant().set_faults(p, plant::Faults{});
     bool cleared = false;
-    while (loop.seconds() < 300 + 2400 && !cleared) {
+    while (loop.seconds() < kSettled + 2400 && !cleared) {
         loop.scan();
         const bool warn = (loop.r(kWr + 2) & bit) != 0;
-        ASSERT_EQ(warn, loop.reading(p) >= 3500) << "at " << loop.seconds() << " s";
+        ASSERT_EQ(warn, loop.reading(p) >= kLimit) << "at " << loop.seconds() << " s";
         cleared = !warn;
     }
     EXPECT_TRUE(cleared);
-    const auto s = loop.run_step(600);
+    EXPECT_EQ(indicators(loop, kWarnM), 0);
+    const auto s = loop.run_step(1200);
     EXPECT_TRUE(s[p].in_zone_at_end);
     EXPECT_FALSE(loop.img().bit(Area::M, kAlm));
 }
