@@ -101,9 +101,12 @@ class Plc:
 
     def step(self, scans):
         while scans > 0:
-            n = min(scans, 2000)  # each step is served before the next request
+            n = min(scans, 2000)
             self.write_reg(2, n, unit=self.sim)
             scans -= n
+        # Steps run in slices after the reply; register 2 reads the scans still queued.
+        while self.c.read_holding_registers(2, 1, slave=self.sim).registers[0] != 0:
+            time.sleep(0.001)
 
 
 def free_port():

@@ -11,6 +11,7 @@
 
 #include "daemon/fd_limit.hpp"
 #include "daemon/notify.hpp"
+#include "daemon/retirer.hpp"
 #include "daemon/persistence.hpp"
 #include "daemon/reload.hpp"
 #include "daemon/scan_driver.hpp"
@@ -57,6 +58,10 @@ public:
     Runtime(std::string config_path, Overrides overrides)
         : config_path_(std::move(config_path)),
           overrides_(overrides) {}
+    // An exception out of run() after a reload must not meet a joinable thread.
+    ~Runtime() { join_threads(); }
+    Runtime(const Runtime&) = delete;
+    Runtime& operator=(const Runtime&) = delete;
 
     int run() {
         {
@@ -109,8 +114,7 @@ public:
         arm_watchdog_timer();
         notify_.ready(status_line());
         io_.run();
-        if (reload_thread_.joinable()) reload_thread_.join();
-        if (retire_thread_.joinable()) retire_thread_.join();
+        join_threads();
 
         spdlog::info("stopped after {} scans", plc_->engine().scans());
         if (driver_) {
@@ -222,7 +226,7 @@ private:
         notify_.reloading();
         spdlog::info("SIGHUP: reloading {}", config_path_);
         if (reload_thread_.joinable()) reload_thread_.join();
-        reload_thread_ = std::thread([this] {
+        auto prepare = [this] {
             auto p = std::make_shared<Prepared>();
             try {
                 p->config = config::load_config(config_path_);
@@ -234,7 +238,19 @@ private:
                 p->error = e.what();
             }
             asio::post(io_, [this, p] { finish_reload(std::move(*p)); });
-        });
+        };
+        try {
+            reload_thread_ = std::thread(prepare);
+        } catch (const std::system_error& e) {
+            // No thread to be had: prepare on the loop rather than not at all.
+            spdlog::warn("reload: no thread ({}); preparing on the event loop", e.what());
+            prepare();
+        }
+    }
+
+    void join_threads() noexcept {
+        if (reload_thread_.joinable()) reload_thread_.join();
+        retirer_.stop();
     }
 
     void finish_reload(Prepared p) {
@@ -256,6 +272,7 @@ private:
     void reload(config::Config next, engine::Program program) {
         const bool new_listener = tcp_listener_changed(*cfg_, next);
         std::unique_ptr<modbus::TcpServer> new_tcp;
+        bool old_tcp_stopped = false;  // the new listener needed the old one's port
         if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_->profile) {
             spdlog::error(
                 "reload: the profile's image layout changed; restart plcemud to "
@@ -288,19 +305,14 @@ private:
                 spdlog::info("reload: closing tcp {} to listen on {}:{}", tcp_->endpoint(),
                              next.modbus.tcp.bind, next.modbus.tcp.port);
                 tcp_->stop();
+                old_tcp_stopped = true;
                 try {
                     new_tcp = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(),
                                                                   tcp_options(next));
                 } catch (const std::exception& e2) {
                     spdlog::error("reload: {}; still running the previous configuration",
                                   e2.what());
-                    try {
-                        tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(),
-                                                                   tcp_options(*cfg_));
-                    } catch (const std::exception& e3) {
-                        tcp_.reset();
-                        spdlog::error("tcp: cannot listen again: {}; serving no TCP", e3.what());
-                    }
+                    listen_again();
                     notify_.ready(status_line());
                     return;
                 }
@@ -324,6 +336,8 @@ private:
         } catch (const std::exception& e) {
             spdlog::error("reload: {}; still running the previous configuration", e.what());
             if (new_tcp) new_tcp->stop();
+            new_tcp.reset();
+            if (old_tcp_stopped) listen_again();
             try {
                 open_rtu();
             } catch (const std::exception& re) {
@@ -364,12 +378,19 @@ private:
         retire(std::move(old));
     }
 
+    // The previous listener again, after a reload that had to close it failed.
+    void listen_again() {
+        try {
+            tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(*cfg_));
+        } catch (const std::exception& e) {
+            tcp_.reset();
+            spdlog::error("tcp: cannot listen again: {}; serving no TCP", e.what());
+        }
+    }
+
     // The previous PLC is freed off the loop (its program may be large); nothing on the loop
     // refers to it any more: transports, scan driver and simulator unit were replaced.
-    void retire(std::unique_ptr<Plc> old) {
-        if (retire_thread_.joinable()) retire_thread_.join();
-        retire_thread_ = std::thread([p = std::move(old)]() mutable { p.reset(); });
-    }
+    void retire(std::unique_ptr<Plc> old) { retirer_.retire(std::move(old)); }
 
     std::string config_path_;
     Overrides overrides_;
@@ -386,7 +407,7 @@ private:
     std::unique_ptr<plant::SimulatorUnit> sim_;
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
     std::thread reload_thread_;
-    std::thread retire_thread_;
+    Retirer<Plc> retirer_;
     bool reloading_ = false;
     bool reload_again_ = false;
     asio::steady_timer watchdog_timer_{io_};

@@ -13,6 +13,8 @@ namespace {
 constexpr auto kBudget = std::chrono::milliseconds(2);
 // Longest stretch of queued steps before the loop lets I/O in.
 constexpr auto kStepSlice = std::chrono::milliseconds(1);
+// Scans that may be queued at once (46 simulated hours at 10 ms).
+constexpr std::uint64_t kMaxPendingSteps = 16'777'215;
 // Further behind than this, the driver stops trying to catch up.
 constexpr auto kMaxBehind = std::chrono::seconds(1);
 
@@ -87,7 +89,8 @@ void ScanDriver::set_frozen(bool frozen) noexcept {
 }
 
 void ScanDriver::step(std::uint64_t n) noexcept {
-    pending_steps_ = n > UINT64_MAX - pending_steps_ ? UINT64_MAX : pending_steps_ + n;
+    // A bound on what clients can queue: hours of simulated time, never an endless busy loop.
+    pending_steps_ = std::min(pending_steps_ + std::min(n, kMaxPendingSteps), kMaxPendingSteps);
     if (stepping_ || pending_steps_ == 0) return;
     stepping_ = true;
     asio::post(io_, [this, alive = std::weak_ptr<char>(alive_)] {
@@ -95,15 +98,16 @@ void ScanDriver::step(std::uint64_t n) noexcept {
     });
 }
 
+void ScanDriver::cancel_steps() noexcept { pending_steps_ = 0; }
+
 void ScanDriver::run_steps() {
     const auto start = Clock::now();
-    std::uint64_t done = 0;
     while (pending_steps_ > 0) {
         run_one(next_sim_);
         next_sim_ += engine_.scan_period();
         --pending_steps_;
-        // Reading the clock costs more than a small scan: look every 64 scans.
-        if ((++done & 63) == 0 && Clock::now() - start > kStepSlice) break;
+        // A clock read costs tens of ns, a scan of a big program milliseconds: look every scan.
+        if (Clock::now() - start > kStepSlice) break;
     }
     rebase(Clock::now());
     if (pending_steps_ == 0) {

@@ -54,7 +54,9 @@ public:
     /// other work on the loop, so a long step never starves the clients.
     void step(std::uint64_t n) noexcept override;
     /// Scans queued by step() and not yet run.
-    std::uint64_t pending_steps() const noexcept { return pending_steps_; }
+    std::uint64_t pending_steps() const noexcept override { return pending_steps_; }
+    /// Drops the queued scans.
+    void cancel_steps() noexcept override;
     /// Simulated time of the last scan.
     engine::Duration simulated_time() const noexcept override { return engine_.now(); }
     /// Called after every scan (e.g. the systemd watchdog).

@@ -158,6 +158,11 @@ public:
         // Non-blocking for good: a reply that does not fit is left to an asynchronous write.
         asio::error_code ec;
         socket_.non_blocking(true, ec);
+        // A blocking socket would let one slow reader stop the loop: better no connection.
+        if (ec) {
+            close("cannot make the socket non-blocking");
+            return;
+        }
         read();
     }
 
@@ -364,7 +369,9 @@ void TcpServer::State::accept_failed(const asio::error_code& ec) {
         return;
     }
     // Out of descriptors or memory: the listener stays readable, so retrying at once would
-    // spin. Back off, and log once per episode (the count comes when accepts work again).
+    // spin. A stuck or silent connection gives its descriptor up first; then back off, and log
+    // once per episode (the count comes when accepts work again).
+    evict_one(Clock::now());
     if (accept_failures++ == 0) {
         accept_failing_since = Clock::now();
         accept_backoff = kAcceptBackoffFirst;

@@ -49,7 +49,9 @@ void SimulatorUnit::refresh() noexcept {
     const double scale = std::round(time_.time_scale());
     regs_[sim::kTimeScale] = static_cast<std::uint16_t>(std::clamp(scale, 1.0, 10000.0));
     regs_[sim::kFreeze] = time_.frozen() ? 1 : 0;
-    regs_[sim::kStep] = 0;
+    // Reads the scans still queued: a client polls it for 0 to know its steps have run.
+    regs_[sim::kStep] =
+        static_cast<std::uint16_t>(std::min<std::uint64_t>(time_.pending_steps(), 0xFFFF));
     const auto secs = static_cast<std::uint32_t>(
         std::chrono::duration_cast<std::chrono::seconds>(time_.simulated_time()).count());
     regs_[sim::kSimSecondsLo] = static_cast<std::uint16_t>(secs & 0xFFFF);
@@ -102,7 +104,12 @@ void SimulatorUnit::apply(std::uint16_t addr, std::uint16_t v) noexcept {
         return;
     }
     if (addr == sim::kStep) {
-        if (v > 0) time_.step(v);
+        // 0 cancels what is still queued.
+        if (v > 0) {
+            time_.step(v);
+        } else {
+            time_.cancel_steps();
+        }
         return;
     }
     const int c = (addr - sim::kChannelBase) / sim::kChannelStride;

@@ -13,9 +13,9 @@ namespace plcemu::plant {
 
 /// Wire addresses of the simulator unit's holding registers (README, "Simulator-control unit").
 namespace sim {
-inline constexpr std::uint16_t kTimeScale = 0;       ///< 1–10000 simulated s per real s
-inline constexpr std::uint16_t kFreeze = 1;          ///< 1 = scans stopped
-inline constexpr std::uint16_t kStep = 2;            ///< write N: run N scans now
+inline constexpr std::uint16_t kTimeScale = 0;  ///< 1–10000 simulated s per real s
+inline constexpr std::uint16_t kFreeze = 1;     ///< 1 = scans stopped
+inline constexpr std::uint16_t kStep = 2;       ///< write N: queue N scans; reads the scans queued
 inline constexpr std::uint16_t kSimSecondsLo = 3;    ///< simulated seconds, low word (read-only)
 inline constexpr std::uint16_t kSimSecondsHi = 4;    ///< simulated seconds, high word (read-only)
 inline constexpr std::uint16_t kChannelBase = 100;   ///< channel c at 100 + 10·c

@@ -36,8 +36,16 @@ public:
         return fixed_time ? *fixed_time : engine_.now();
     }
 
-    double scale = 1.0;                          ///< the time scale last set
-    std::vector<bool> frozen_log;                ///< every set_frozen, in order
+    double scale = 1.0;            ///< the time scale last set
+    std::vector<bool> frozen_log;  ///< every set_frozen, in order
+    std::uint64_t pending_steps() const noexcept override { return queued; }
+    void cancel_steps() noexcept override {
+        queued = 0;
+        ++cancels;
+    }
+
+    std::uint64_t queued = 0;                    ///< what pending_steps() says
+    int cancels = 0;                             ///< cancel_steps() calls
     std::vector<std::uint64_t> steps;            ///< every step request, in order
     std::vector<bool> frozen_when_stepped;       ///< frozen state at each step
     std::optional<engine::Duration> fixed_time;  ///< reported instead of the engine's time

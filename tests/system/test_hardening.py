@@ -302,17 +302,33 @@ def test_long_steps_do_not_starve_other_clients(start_plcemud):
             time.sleep(0.02)
     # Before slicing, one client's 20 steps held another's read for 1.7 s.
     assert worst < 0.5, worst
-    # Every step still runs: 20 x 65535 scans of 10 ms.
+    # Every step still runs: 20 x 65535 scans of 10 ms; register 2 counts those still queued.
     want = 20 * 65535 * 10 // 1000
+    queued = c.read_holding_registers(2, 1, slave=SIM).registers[0]
     deadline = t0 + 120
-    while time.monotonic() < deadline:
-        lo, hi = c.read_holding_registers(3, 2, slave=SIM).registers
-        if (hi << 16 | lo) - (t_start[1] << 16 | t_start[0]) >= want:
-            break
+    while time.monotonic() < deadline and queued != 0:
         time.sleep(0.2)
+        queued = c.read_holding_registers(2, 1, slave=SIM).registers[0]
+    assert queued == 0
     lo, hi = c.read_holding_registers(3, 2, slave=SIM).registers
     assert (hi << 16 | lo) - (t_start[1] << 16 | t_start[0]) == want
     stepper.close()
+
+
+def test_writing_0_to_step_cancels_the_queued_scans(start_plcemud):
+    d = start_plcemud(BASE_CONFIG + "program:\n" + "  - MOV: {s: K1, d: D0}\n" * 2000)
+    c = d.client()
+    assert not c.write_register(1, 1, slave=SIM).isError()  # freeze
+    for _ in range(20):
+        assert not c.write_register(2, 65535, slave=SIM).isError()
+    assert c.read_holding_registers(2, 1, slave=SIM).registers[0] > 0
+    assert not c.write_register(2, 0, slave=SIM).isError()
+    assert c.read_holding_registers(2, 1, slave=SIM).registers == [0]
+    lo, hi = c.read_holding_registers(3, 2, slave=SIM).registers
+    time.sleep(0.5)
+    # Nothing runs any more, and far from all of the 13,107 simulated seconds ran.
+    assert c.read_holding_registers(3, 2, slave=SIM).registers == [lo, hi]
+    assert (hi << 16 | lo) < 20 * 65535 * 10 // 1000
 
 
 # --- 8: SIGPIPE

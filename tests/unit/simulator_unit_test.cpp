@@ -34,7 +34,7 @@ public:
 };
 
 struct Rig {
-    Rig()
+    explicit Rig(bool writable = true)
         : image(image::fbs_layout()) {
         engine::EngineOptions o;
         o.scan_period = std::chrono::milliseconds(10);
@@ -45,7 +45,7 @@ struct Rig {
         plant = p.get();
         engine->add_subsystem(std::move(p));
         time = std::make_unique<FakeTime>(*engine);
-        unit = std::make_unique<SimulatorUnit>(*plant, *time);
+        unit = std::make_unique<SimulatorUnit>(*plant, *time, writable);
         dispatcher = std::make_unique<modbus::Dispatcher>(plc, station, modbus::Identity{});
         dispatcher->set_simulator(unit.get(), kSim);
         wire = std::make_unique<testing::Wire>(*dispatcher);
@@ -100,7 +100,7 @@ TEST(SimulatorUnit, FreezeRegister1StopsScans) {
     EXPECT_EQ(rig.read(1, 1)[0], 0);
 }
 
-TEST(SimulatorUnit, StepRegister2RunsNScansAndReadsZero) {
+TEST(SimulatorUnit, StepRegister2RunsNScans) {
     Rig rig;
     rig.write(1, 1);
     EXPECT_EQ(rig.write(2, 250), 0);
@@ -109,6 +109,27 @@ TEST(SimulatorUnit, StepRegister2RunsNScansAndReadsZero) {
     EXPECT_EQ(rig.read(2, 1)[0], 0);
     EXPECT_EQ(rig.write(2, 0), 0);  // zero steps: nothing
     EXPECT_EQ(rig.time->steps.size(), 1u);
+}
+
+TEST(SimulatorUnit, StepRegister2ReadsTheScansStillQueued) {
+    // The daemon runs steps in slices after the reply: a client polls register 2 for 0.
+    Rig rig;
+    rig.time->queued = 12;
+    EXPECT_EQ(rig.read(2, 1)[0], 12);
+    rig.time->queued = 1'000'000;  // more than a register holds: reads its largest value
+    EXPECT_EQ(rig.read(2, 1)[0], 65535);
+    // Writing 0 cancels what is still queued.
+    EXPECT_EQ(rig.write(2, 0), 0);
+    EXPECT_EQ(rig.time->cancels, 1);
+    EXPECT_EQ(rig.read(2, 1)[0], 0);
+}
+
+TEST(SimulatorUnit, ReadOnlyUnitRefusesEveryWriteWithException02) {
+    Rig rig(false);
+    EXPECT_EQ(rig.write(1, 1), 2);
+    EXPECT_EQ(rig.write(100, 2), 2);
+    EXPECT_FALSE(rig.time->frozen());
+    EXPECT_EQ(rig.read(1, 1)[0], 0);
 }
 
 TEST(SimulatorUnit, FreezeAndStepInOneWriteFreezeFirst) {

@@ -20,8 +20,12 @@ public:
     virtual bool frozen() const noexcept = 0;
     /// Stops (true) or resumes (false) the scans.
     virtual void set_frozen(bool frozen) noexcept = 0;
-    /// Runs `n` scans at once, back to back in simulated time.
+    /// Runs `n` scans, back to back in simulated time (at once, or queued: see pending_steps).
     virtual void step(std::uint64_t n) noexcept = 0;
+    /// Scans asked for by step() that have not run yet.
+    virtual std::uint64_t pending_steps() const noexcept { return 0; }
+    /// Drops the scans asked for by step() that have not run yet.
+    virtual void cancel_steps() noexcept {}
     /// Simulated time of the last scan.
     virtual Duration simulated_time() const noexcept = 0;
 };

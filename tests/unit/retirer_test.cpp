@@ -1,0 +1,54 @@
+// The reload's retired PLCs are destroyed off the event loop, in order, and none is lost.
+
+#include "daemon/retirer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+namespace plcemu::daemon {
+namespace {
+
+struct Tracked {
+    Tracked(std::vector<int>& log, std::mutex& m, int id, std::thread::id* where)
+        : log_(log),
+          m_(m),
+          id_(id),
+          where_(where) {}
+    ~Tracked() {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a big program
+        std::lock_guard lock(m_);
+        log_.push_back(id_);
+        if (where_) *where_ = std::this_thread::get_id();
+    }
+    std::vector<int>& log_;
+    std::mutex& m_;
+    int id_;
+    std::thread::id* where_;
+};
+
+TEST(Retirer, DestroysOffTheCallersThreadInOrderWithoutBlockingIt) {
+    std::vector<int> log;
+    std::mutex m;
+    std::thread::id where;
+    Retirer<Tracked> r;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < 5; ++i) r.retire(std::make_unique<Tracked>(log, m, i, &where));
+    // Five 20 ms destructions queued without waiting for any of them.
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(50));
+    r.stop();
+    EXPECT_EQ(log, (std::vector<int>{0, 1, 2, 3, 4}));
+    EXPECT_NE(where, std::this_thread::get_id());
+}
+
+TEST(Retirer, StopWithNothingQueuedAndTwiceIsFine) {
+    Retirer<Tracked> r;
+    r.stop();
+    r.stop();
+}
+
+}  // namespace
+}  // namespace plcemu::daemon
