@@ -9,9 +9,10 @@ for what in "${@:-run}"; do
     case "$what" in
         run) ;;
         # Debian's pymodbus only recommends serial-asyncio, yet its client package imports it.
+        # man-db and groff-base render the man pages (tests/system/test_docs.py).
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
                      python3-serial mbpoll socat clang-14 libclang-rt-14-dev systemd iproute2
-                     util-linux) ;;
+                     util-linux man-db groff-base) ;;
         bench) want+=(libbenchmark-dev python3-pymodbus python3-serial-asyncio socat) ;;
         fuzz) want+=(clang-14 libclang-rt-14-dev) ;;
         plot) want+=(python3-matplotlib) ;;

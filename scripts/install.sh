@@ -5,6 +5,7 @@
 #   /etc/plcemu/plcemud.yaml   (config/default.yaml, only if there is none: never overwritten)
 #   /etc/plcemu/example.yaml   (config/example.yaml: every key, commented)
 #   PREFIX/share/doc/plcemu/README.md
+#   PREFIX/share/man/man8/plcemud.8, man5/plcemud.yaml.5
 # It creates no user (the units use DynamicUser=) and no state directory (StateDirectory=), and
 # enables nothing. Run as root.
 #
@@ -20,7 +21,7 @@ while (($#)); do
     case "$1" in
         --prefix) prefix=${2:?--prefix needs a directory}; shift 2 ;;
         --binary) binary=${2:?--binary needs a file}; shift 2 ;;
-        -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) echo "install: unknown argument '$1'" >&2; exit 2 ;;
     esac
 done
@@ -48,6 +49,8 @@ else
     install -D -m 0644 config/default.yaml "$destdir/etc/plcemu/plcemud.yaml"
 fi
 install -D -m 0644 README.md "$destdir$prefix/share/doc/plcemu/README.md"
+install -D -m 0644 man/plcemud.8 "$destdir$prefix/share/man/man8/plcemud.8"
+install -D -m 0644 man/plcemud.yaml.5 "$destdir$prefix/share/man/man5/plcemud.yaml.5"
 
 if [[ -z $destdir && -d /run/systemd/system ]]; then
     systemctl daemon-reload

@@ -1,0 +1,91 @@
+"""The man pages: plcemud(8) and plcemud.yaml(5) render without warnings and cover every option
+of `plcemud --help` and every configuration key (docs/operations.md, "Packaging")."""
+
+import os
+import re
+import shutil
+import subprocess
+
+import pytest
+
+from conftest import PLCEMUD, REPO
+
+MAN = REPO / "man"
+PAGES = (MAN / "plcemud.8", MAN / "plcemud.yaml.5")
+
+
+def render(page) -> str:
+    """The page as plain text: no hyphenation, no justification, wide lines, no overstrikes."""
+    env = {**os.environ, "MANWIDTH": "250", "LC_ALL": "C.UTF-8", "MAN_KEEP_FORMATTING": ""}
+    r = subprocess.run(["man", "--nh", "--nj", "-P", "cat", "-l", str(page)], env=env,
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    text = re.sub(".\b", "", r.stdout)
+    # Hyphens and minus signs as typed.
+    return text.translate({0x2010: "-", 0x2212: "-", 0x2011: "-"})
+
+
+def need(tool):
+    if shutil.which(tool) is None:
+        pytest.skip(f"{tool} is not installed (scripts/install-deps.sh test installs it)")
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
+def test_man_page_renders_without_warnings(page):
+    need("man")
+    need("groff")
+    r = subprocess.run(["man", "--warnings", "-l", str(page)], capture_output=True, text=True,
+                       timeout=60, env={**os.environ, "MANWIDTH": "80", "LC_ALL": "C.UTF-8"})
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    r = subprocess.run(["groff", "-mandoc", "-ww", "-z", str(page)], capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+
+
+def test_a_warning_is_caught():
+    """The check above can fail: an unknown macro is reported."""
+    need("groff")
+    r = subprocess.run(["groff", "-mandoc", "-ww", "-z"], input=".Dd June 1, 2025\n.Xyzzy\n",
+                       capture_output=True, text=True, timeout=60)
+    assert r.stderr != ""
+
+
+def test_plcemud_8_documents_every_option_of_help():
+    need("man")
+    r = subprocess.run([PLCEMUD, "--help"], capture_output=True, text=True, timeout=30)
+    assert r.returncode == 0
+    options = set(re.findall(r"(?<![\w-])(--?[a-z][a-z-]*)", r.stdout))
+    assert {"-c", "--config", "--check-config", "--print-map", "--port", "--help"} <= options
+    text = render(MAN / "plcemud.8")
+    missing = [o for o in sorted(options) if not re.search(rf"(?<![\w-]){o}(?![\w-])", text)]
+    assert not missing, missing
+    for section in ("SYNOPSIS", "OPTIONS", "SIGNALS", "ENVIRONMENT", "FILES", "EXIT STATUS",
+                    "EXAMPLES"):
+        assert f"\n{section}\n" in text, section
+    for word in ("SIGHUP", "SIGTERM", "SIGINT", "STATE_DIRECTORY", "NOTIFY_SOCKET"):
+        assert word in text, word
+
+
+def top_level_keys(yaml_text):
+    return {m.group(1) for m in re.finditer(r"^([a-z_]+):", yaml_text, re.M)}
+
+
+def test_plcemud_yaml_5_documents_every_key():
+    need("man")
+    text = render(MAN / "plcemud.yaml.5")
+    example = (REPO / "config" / "example.yaml").read_text()
+    top = top_level_keys(example)
+    assert {"profile", "modbus", "plant", "persistence", "log"} <= top
+    missing = [k for k in sorted(top) if not re.search(rf"(?<![\w.]){k}(?![\w])", text)]
+    assert not missing, missing
+    # Every key the loader accepts (its check_keys lists in src/config/config.cpp), by name.
+    source = (REPO / "src" / "config" / "config.cpp").read_text()
+    accepted = set()
+    for group in re.findall(r"check_keys\([^{]*\{([^}]*)\}", source):
+        accepted |= set(re.findall(r'"([a-z_]+)"', group))
+    assert {"frame_timeout_ms", "sync_ms", "reading_frozen", "writable"} <= accepted
+    missing = [k for k in sorted(accepted) if not re.search(rf"(?<![\w]){k}(?![\w])", text)]
+    assert not missing, missing
+    # Every profile name the loader knows.
+    for profile in ("fbs", "fb", "vb"):
+        assert re.search(rf"^\s+(\w+, )?{profile}\b", text, re.M), profile
