@@ -11,6 +11,7 @@
 #include "plcemu/image/image.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
+#include "plcemu/modbus/function_handler.hpp"
 #include "plcemu/modbus/plc_unit.hpp"
 #include "support/wire.hpp"
 
@@ -760,6 +761,35 @@ TEST_F(ModbusMap, ConfigWritePolicy) {
     EXPECT_EQ(write_coil(0, true), kIllegalAddress);
     EXPECT_EQ(read_exception(0x03, 6015, 1), 0);
     EXPECT_EQ(img_.word(Area::D, 15), 1);
+}
+
+}  // namespace
+}  // namespace plcemu::modbus
+
+namespace plcemu::modbus {
+namespace {
+
+// A profile's own function code: answers with its unit's slave ID and the PDU length.
+FunctionReply echo_length(const FunctionRequest& r, PduBuffer out) noexcept {
+    out[0] = r.pdu[0];
+    out[1] = r.slave_id;
+    out[2] = static_cast<std::uint8_t>(r.pdu.size());
+    return FunctionReply::pdu(3);
+}
+
+// Function codes are a table a profile may extend or cut (DESIGN: handlers per code).
+TEST_F(ModbusMap, AProfileMayAddOrRefuseFunctionCodes) {
+    EXPECT_EQ(wire::exception_of(tcp({0x41, 1, 2})), kIllegalFunction);
+    disp_.set_function(0x41, &echo_length);
+    EXPECT_EQ(tcp({0x41, 1, 2}), (Bytes{0x41, 1, 3}));
+    // Refused: FC 03 now gets exception 01, the others are untouched.
+    disp_.set_function(0x03, nullptr);
+    EXPECT_EQ(wire::exception_of(tcp(wire::read_pdu(0x03, 0, 1))), kIllegalFunction);
+    EXPECT_EQ(wire::exception_of(tcp(wire::read_pdu(0x04, 0, 1))), kIllegalFunction);  // no map
+    EXPECT_EQ(wire::exception_of(tcp(wire::read_pdu(0x01, 0, 1))), 0);
+    // Codes of 80h and up are never served.
+    disp_.set_function(0x90, &echo_length);
+    EXPECT_EQ(wire::exception_of(tcp({0x90, 1})), kIllegalFunction);
 }
 
 }  // namespace

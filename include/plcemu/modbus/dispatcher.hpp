@@ -2,6 +2,7 @@
 // Request dispatch: unit ID, function code, validation, address resolution, reply. The one
 // place where refusals become Modbus exceptions.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -27,10 +28,19 @@ struct Identity {
 
 /// Counters, for logs and tests.
 struct DispatchStats {
-    std::uint64_t requests = 0;    ///< requests answered or refused
+    std::uint64_t requests = 0;    ///< requests for a unit served here, answered or not
     std::uint64_t exceptions = 0;  ///< exception replies sent
     std::uint64_t ignored = 0;     ///< requests dropped without an answer
 };
+
+/// The largest PDU.
+inline constexpr std::size_t kMaxPdu = 253;
+/// Where a function handler builds its reply PDU.
+using PduBuffer = std::span<std::uint8_t, kMaxPdu>;
+struct FunctionRequest;
+struct FunctionReply;
+/// One function code's handler (plcemu/modbus/function_handler.hpp).
+using FunctionHandler = FunctionReply (*)(const FunctionRequest&, PduBuffer out) noexcept;
 
 /// Largest reply ADU: MBAP header (7) + PDU (253); an RTU reply (1 + 253 + 2) is shorter.
 inline constexpr std::size_t kMaxReplyAdu = 260;
@@ -49,6 +59,10 @@ public:
 
     /// Serves a second unit (the simulator-control unit) under `unit_id` (0 = none).
     void set_simulator(Unit* sim, std::uint8_t unit_id);
+    /// Serves function code `fc` (below 80h) with `handler`, or refuses it with exception 01
+    /// when `handler` is null: a profile adds or refuses codes (see
+    /// plcemu/modbus/function_handler.hpp).
+    void set_function(std::uint8_t fc, FunctionHandler handler);
     /// Sets the TCP policy for unknown unit IDs.
     void set_unknown_unit_policy(UnknownUnitPolicy p) { unknown_unit_ = p; }
 
@@ -72,6 +86,7 @@ private:
     Unit* sim_ = nullptr;
     std::uint8_t sim_unit_ = 0;
     UnknownUnitPolicy unknown_unit_ = UnknownUnitPolicy::Exception;
+    std::array<FunctionHandler, 128> functions_;
     std::unique_ptr<Contexts> ctx_;
     DispatchStats stats_;
 };

@@ -1,0 +1,76 @@
+#pragma once
+// Function codes as a table of handlers, one per code or family, each in its own file under
+// src/modbus/functions/. A handler sees the request's PDU and the unit it is for, never the
+// transport: the dispatcher routes unit IDs, frames replies and turns refusals into exceptions.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "plcemu/modbus/dispatcher.hpp"
+#include "plcemu/modbus/unit.hpp"
+
+namespace plcemu::modbus {
+
+/// Builds a standard data-access reply (FC 01–06, 0Fh, 10h, 16h) with libmodbus, which reads or
+/// writes `w` in place; the whole reply ADU goes to the dispatcher's reply buffer.
+class InPlaceReplier {
+public:
+    virtual ~InPlaceReplier() = default;
+    /// Returns the length of the reply ADU written (0 for none).
+    virtual std::size_t reply(Table table,
+                              std::uint16_t addr,
+                              std::uint16_t qty,
+                              const Window& w) noexcept = 0;
+};
+
+/// A request as a handler sees it.
+struct FunctionRequest {
+    std::span<const std::uint8_t> pdu;  ///< function code first
+    Unit& unit;                         ///< the unit addressed
+    std::uint8_t slave_id;              ///< the ID it answers as (the station for the PLC)
+    bool broadcast;                     ///< RTU unit 0: writes applied, nothing answered
+    const Identity& identity;           ///< FC 11h and 2Bh/0Eh
+    InPlaceReplier& in_place;           ///< libmodbus' data-access replies
+};
+
+/// What a handler decided.
+struct FunctionReply {
+    Status status = Status::Ok;  ///< not Ok: the dispatcher answers with this exception
+    std::size_t size = 0;        ///< bytes of the reply; 0 with Ok: nothing is sent
+    bool framed = false;         ///< the reply is a whole ADU already (libmodbus), not a PDU
+
+    /// A refusal.
+    static FunctionReply refuse(Status s) { return {s, 0, false}; }
+    /// No answer (a broadcast).
+    static FunctionReply none() { return {}; }
+    /// A reply PDU of `n` bytes.
+    static FunctionReply pdu(std::size_t n) { return {Status::Ok, n, false}; }
+};
+
+/// Function code → handler; nullptr: exception 01.
+using FunctionTable = std::array<FunctionHandler, 128>;
+
+/// The codes every profile serves: 01–06, 08, 0Fh, 10h, 11h, 16h, 17h, 2Bh.
+FunctionTable standard_functions();
+
+/// Big-endian word at `p`.
+inline std::uint16_t be16(const std::uint8_t* p) {
+    return static_cast<std::uint16_t>(p[0] << 8 | p[1]);
+}
+
+namespace functions {
+/// FC 01–06, 0Fh, 10h, 16h: reads and writes of the four tables, through libmodbus.
+FunctionReply data_access(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 08: diagnostics, subfunction 00 (return query data).
+FunctionReply diagnostics(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 11h: report slave ID.
+FunctionReply report_slave_id(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 17h: read/write multiple registers, the write first.
+FunctionReply read_write_registers(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 2Bh/0Eh: read device identification.
+FunctionReply device_identification(const FunctionRequest& r, PduBuffer out) noexcept;
+}  // namespace functions
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,100 @@
+// FC 01–06, 0Fh, 10h, 16h: the unit resolves the addresses to a window onto its memory, and
+// libmodbus builds the reply, reading or writing that window in place.
+
+#include "plcemu/modbus/function_handler.hpp"
+
+namespace plcemu::modbus::functions {
+
+namespace {
+
+// What a request asks for, once its format has been checked.
+struct Access {
+    Status status = Status::Ok;  // IllegalDataValue when malformed
+    Table table = Table::HoldingRegisters;
+    std::uint16_t addr = 0;
+    std::uint16_t qty = 0;
+    bool write = false;
+};
+
+bool in(std::uint16_t v, std::uint16_t lo, std::uint16_t hi) { return v >= lo && v <= hi; }
+
+// Quantities and byte counts of the Modbus application protocol; a PDU of the wrong length is
+// malformed (exception 03).
+Access parse(const std::uint8_t* pdu, std::size_t n) {
+    Access r;
+    const std::uint8_t fc = pdu[0];
+    auto bad = [&] {
+        r.status = Status::IllegalDataValue;
+        return r;
+    };
+    if (fc <= 0x06) {
+        if (n != 5) return bad();
+        r.addr = be16(pdu + 1);
+        r.qty = be16(pdu + 3);
+    }
+    switch (fc) {
+        case 0x01:
+        case 0x02:
+            r.table = fc == 0x01 ? Table::Coils : Table::DiscreteInputs;
+            if (!in(r.qty, 1, 2000)) return bad();
+            return r;
+        case 0x03:
+        case 0x04:
+            r.table = fc == 0x03 ? Table::HoldingRegisters : Table::InputRegisters;
+            if (!in(r.qty, 1, 125)) return bad();
+            return r;
+        case 0x05:
+            r.table = Table::Coils;
+            if (r.qty != 0x0000 && r.qty != 0xFF00) return bad();
+            r.qty = 1;
+            r.write = true;
+            return r;
+        case 0x06:
+            r.table = Table::HoldingRegisters;
+            r.qty = 1;
+            r.write = true;
+            return r;
+        case 0x0F:
+        case 0x10: {
+            if (n < 6) return bad();
+            r.addr = be16(pdu + 1);
+            r.qty = be16(pdu + 3);
+            r.write = true;
+            const std::size_t bytes = pdu[5];
+            if (fc == 0x0F) {
+                r.table = Table::Coils;
+                if (!in(r.qty, 1, 1968) || bytes != (r.qty + 7u) / 8u) return bad();
+            } else {
+                r.table = Table::HoldingRegisters;
+                if (!in(r.qty, 1, 123) || bytes != r.qty * 2u) return bad();
+            }
+            if (n != 6 + bytes) return bad();
+            return r;
+        }
+        default:  // 0x16, mask write register
+            if (n != 7) return bad();
+            r.table = Table::HoldingRegisters;
+            r.addr = be16(pdu + 1);
+            r.qty = 1;
+            r.write = true;
+            return r;
+    }
+}
+
+}  // namespace
+
+FunctionReply data_access(const FunctionRequest& req, PduBuffer) noexcept {
+    const Access a = parse(req.pdu.data(), req.pdu.size());
+    const Window w = req.unit.resolve(a.table, a.addr, a.qty, a.write);
+    // A table the unit does not serve outranks a malformed request (exception 01 before 03).
+    if (w.status == Status::IllegalFunction) return FunctionReply::refuse(w.status);
+    if (a.status != Status::Ok) return FunctionReply::refuse(a.status);
+    if (w.status != Status::Ok) return FunctionReply::refuse(w.status);
+    if (req.broadcast && !a.write) return FunctionReply::none();  // broadcast reads: ignored
+    const std::size_t n = req.in_place.reply(a.table, a.addr, a.qty, w);
+    if (a.write) req.unit.written(a.table, a.addr, a.qty);
+    if (req.broadcast) return FunctionReply::none();
+    return {Status::Ok, n, true};
+}
+
+}  // namespace plcemu::modbus::functions
