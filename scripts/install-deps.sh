@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs, from Debian's packages, whatever the build and the tests need and is missing.
-# Usage: scripts/install-deps.sh [run|test|bench|fuzz|plot|trace]...   (default: run)
+# Usage: scripts/install-deps.sh [run|test|package|style|bench|fuzz|plot|trace]...  (default: run)
 set -euo pipefail
 
 want=(cmake g++ make pkg-config libmodbus-dev libasio-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
@@ -13,6 +13,8 @@ for what in "${@:-run}"; do
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
                      python3-serial mbpoll socat clang-14 libclang-rt-14-dev systemd iproute2
                      util-linux man-db groff-base) ;;
+        # CPack's DEB generator needs dpkg-shlibdeps (dpkg-dev) and file; lintian checks the result.
+        package) want+=(dpkg-dev file lintian) ;;
         bench) want+=(libbenchmark-dev python3-pymodbus python3-serial-asyncio socat) ;;
         fuzz) want+=(clang-14 libclang-rt-14-dev) ;;
         plot) want+=(python3-matplotlib) ;;

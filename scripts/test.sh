@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds with AddressSanitizer and UndefinedBehaviorSanitizer and runs every test: unit tests
-# (GoogleTest, through ctest) and system tests (pytest + pymodbus against the real daemon).
+# (GoogleTest, through ctest), the Debian package (scripts/test-package.sh) and system tests
+# (pytest + pymodbus against the real daemon).
 # Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +17,14 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
 echo "== unit tests"
 (cd "$build" && ctest --output-on-failure -j"$(nproc)" --timeout 300)
+
+if [[ ${PLCEMU_TEST_PACKAGE:-1} == 1 ]]; then
+    # Builds the .deb (Release, incrementally in build-package/), runs lintian (errors fail),
+    # installs, runs and purges it on this machine. A cold build-package/ takes minutes;
+    # PLCEMU_TEST_PACKAGE=0 skips it.
+    echo "== package"
+    scripts/test-package.sh --reuse-build
+fi
 
 if [[ -x scripts/fuzz.sh && -d tests/fuzz ]] && ls tests/fuzz/*.cpp >/dev/null 2>&1; then
     echo "== fuzz (short)"
