@@ -36,16 +36,9 @@ emit() {
 }
 
 install_packages() {
-    local missing=() pkg sudo=""
-    for pkg in cmake g++ pkg-config libmodbus-dev libbenchmark-dev python3-pymodbus; do
-        dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
-    done
-    if ((${#missing[@]} == 0)); then return 0; fi
-    note "installing ${missing[*]}"
-    [[ $EUID -eq 0 ]] || sudo=sudo
-    $sudo apt-get update >&2
-    $sudo env DEBIAN_FRONTEND=noninteractive \
-        apt-get install -y --no-install-recommends "${missing[@]}" >&2
+    # One list of what each job needs, kept by the install script (pymodbus needs
+    # python3-serial-asyncio besides, which Debian only recommends).
+    scripts/install-deps.sh bench >&2
 }
 
 build() {
