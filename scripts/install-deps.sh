@@ -15,6 +15,8 @@ for what in "${@:-run}"; do
                      util-linux man-db groff-base) ;;
         # CPack's DEB generator needs dpkg-shlibdeps (dpkg-dev) and file; lintian checks the result.
         package) want+=(dpkg-dev file lintian) ;;
+        # scripts/style.sh: the versions CI checks style with.
+        style) want+=(clang-format-14 clang-tidy-14 git) ;;
         bench) want+=(libbenchmark-dev python3-pymodbus python3-serial-asyncio socat) ;;
         fuzz) want+=(clang-14 libclang-rt-14-dev) ;;
         plot) want+=(python3-matplotlib) ;;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Builds with AddressSanitizer and UndefinedBehaviorSanitizer and runs every test: unit tests
-# (GoogleTest, through ctest), the Debian package (scripts/test-package.sh) and system tests
-# (pytest + pymodbus against the real daemon).
+# Builds with AddressSanitizer and UndefinedBehaviorSanitizer, checks style (scripts/style.sh)
+# and runs every test: unit tests (GoogleTest, through ctest), the Debian package
+# (scripts/test-package.sh) and system tests (pytest + pymodbus against the real daemon).
 # Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,6 +11,10 @@ build=build-test
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLCEMU_SANITIZE=ON -DPLCEMU_WERROR=ON \
     -DPLCEMU_TESTS=ON >/dev/null
 cmake --build "$build" -j"$(nproc)"
+
+echo "== style"
+# clang-format over the tree and clang-tidy over src/ (using $build/compile_commands.json).
+scripts/style.sh "$build"
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1

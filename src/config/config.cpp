@@ -75,9 +75,16 @@ public:
             for (const char* k : known) ok = ok || key == k;
             if (!ok) {
                 std::string list;
-                for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
-                fail(it->first, "unknown key '" + excerpt(key) + "' in " + what +
-                                    " (expected one of: " + list + ")");
+                for (const char* k : known) {
+                    if (!list.empty()) list += ", ";
+                    list += k;
+                }
+                std::string msg = "unknown key '" + excerpt(key) + "' in ";
+                msg += what;
+                msg += " (expected one of: ";
+                msg += list;
+                msg += ")";
+                fail(it->first, msg);
             }
         }
     }
@@ -214,10 +221,9 @@ void check_ranges_exist(const Reader& r,
 }
 
 void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
-    r.check_keys(
-        n, "modbus.tcp",
-        {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients", "idle_timeout_s",
-         "frame_timeout_ms"});
+    r.check_keys(n, "modbus.tcp",
+                 {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients",
+                  "idle_timeout_s", "frame_timeout_ms"});
     if (n["enabled"]) tcp.enabled = r.boolean(n["enabled"], "modbus.tcp.enabled");
     if (n["bind"]) {
         tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");

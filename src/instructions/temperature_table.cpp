@@ -238,7 +238,7 @@ void TemperatureTable::convert(engine::ScanContext& ctx, ModuleState& m) noexcep
             if (!broken) {
                 const plant::SensorSample s = sensors_.sense(g);
                 // Only an open sensor is a broken line; beyond the range the module reads its
-                // range's limit (README, "Temperature measurement").
+                // range's limit (docs/profile-fbs.md, "Temperature measurement").
                 broken = s.broken || std::isnan(s.celsius);
                 celsius = broken ? 0.0 : std::clamp(s.celsius, m.lo_c, m.hi_c);
             }
@@ -331,8 +331,10 @@ void TemperatureTable::inputs(engine::ScanContext& ctx) noexcept {
         const ModuleState& m = modules_[k];
         const auto base = static_cast<std::uint32_t>(4 + 4 * k);
         const auto first_y = static_cast<std::uint32_t>(opt_.main_unit_outputs + 8 * k);
-        put(img, wr, base + 0, static_cast<std::uint16_t>(m.sensor << 8 | (first_y & 0xFF)));
-        put(img, wr, base + 1, static_cast<std::uint16_t>((m.channels & 0xFF) << 8 | k));
+        put(img, wr, base + 0,
+            static_cast<std::uint16_t>(std::uint32_t{m.sensor} << 8 | (first_y & 0xFF)));
+        put(img, wr, base + 1,
+            static_cast<std::uint16_t>(static_cast<std::size_t>(m.channels & 0xFF) << 8 | k));
         std::uint16_t start = 0;
         if (readings_) {
             image::Device d = *readings_;

@@ -57,7 +57,8 @@ void SimulatorUnit::refresh() noexcept {
     regs_[sim::kSimSecondsLo] = static_cast<std::uint16_t>(secs & 0xFFFF);
     regs_[sim::kSimSecondsHi] = static_cast<std::uint16_t>(secs >> 16);
     for (int c = 0; c < kChannels; ++c) {
-        std::uint16_t* w = regs_.data() + sim::kChannelBase + sim::kChannelStride * c;
+        std::uint16_t* w =
+            regs_.data() + sim::kChannelBase + std::ptrdiff_t{sim::kChannelStride} * c;
         const ChannelParams& p = plant_.params(c);
         w[sim::kFaults] = fault_bits(plant_.faults(c));
         w[sim::kAmbient] = signed_word(p.ambient_c * 10.0);

@@ -137,7 +137,8 @@ std::array<Drive, kChannels> ThermalPlant::drives_of(const config::Config& confi
         const auto out = instructions::tpctl_outputs(ic, layout);
         if (!out) continue;
         for (int i = 0; i < out->points; ++i) {
-            auto& slot = d[static_cast<std::size_t>(out->first_channel + i)];
+            auto& slot =
+                d[static_cast<std::size_t>(out->first_channel) + static_cast<std::size_t>(i)];
             if (slot.kind != Drive::Kind::None) continue;  // the first TPCTL wins
             image::Device y = out->first_y;
             y.index += static_cast<std::uint32_t>(i);
