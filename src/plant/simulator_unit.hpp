@@ -11,7 +11,8 @@
 
 namespace plcemu::plant {
 
-/// Wire addresses of the simulator unit's holding registers (README, "Simulator-control unit").
+/// Wire addresses of the simulator unit's holding registers (docs/simulator-and-plant.md,
+/// "Simulator-control unit").
 namespace sim {
 inline constexpr std::uint16_t kTimeScale = 0;  ///< 1–10000 simulated s per real s
 inline constexpr std::uint16_t kFreeze = 1;     ///< 1 = scans stopped

@@ -1,5 +1,5 @@
 """Access control through Modbus: modbus.tcp.allow, max_clients, idle_timeout_s, modbus.read_only,
-modbus.write_protect (README, "Access control"). Refused writes answer exception 02 and change
+modbus.write_protect (docs/operations.md, "Access control"). Refused writes answer exception 02 and change
 nothing (SPEC §2)."""
 
 import signal

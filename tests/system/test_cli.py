@@ -286,7 +286,7 @@ def test_listen_failure_exits_nonzero_with_message(start_plcemud, tmp_path):
     ids=["init-same-key", "init-alias", "plant-channel-alias"],
 )
 def test_check_config_refuses_a_device_or_channel_named_twice(tmp_path, text, line, col, needle):
-    """README "Configuration": a key given twice is an error, however init and plant.channels
+    """docs/configuration.md, "Configuration": a key given twice is an error, however init and plant.channels
     spell it."""
     p = write(tmp_path, text)
     r = run_plcemud("-c", p, "--check-config")

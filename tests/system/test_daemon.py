@@ -1,5 +1,5 @@
 """plcemud as a service: sd_notify (READY, STATUS, RELOADING, STOPPING, watchdog pings), reload on
-SIGHUP, and the systemd units (README, "Running as a service")."""
+SIGHUP, and the systemd units (docs/operations.md, "Running as a service")."""
 
 import os
 import shutil

@@ -1,5 +1,6 @@
-"""The man pages: plcemud(8) and plcemud.yaml(5) render without warnings and cover every option
-of `plcemud --help` and every configuration key (docs/operations.md, "Packaging")."""
+"""The documentation: plcemud(8) and plcemud.yaml(5) render without warnings and cover every
+option of `plcemud --help` and every configuration key; the README stays short and every link
+between README.md and docs/ leads to a page and heading that exist (docs/README.md)."""
 
 import os
 import re
@@ -89,3 +90,33 @@ def test_plcemud_yaml_5_documents_every_key():
     # Every profile name the loader knows.
     for profile in ("fbs", "fb", "vb"):
         assert re.search(rf"^\s+(\w+, )?{profile}\b", text, re.M), profile
+
+
+def slug(heading):
+    """GitHub's anchor for a Markdown heading."""
+    h = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return h.replace(" ", "-")
+
+
+def test_readme_is_short_and_every_docs_link_resolves():
+    assert len((REPO / "README.md").read_text().splitlines()) < 250
+    pages = [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]
+    assert len(pages) >= 8
+    broken = []
+    for page in pages:
+        for target in re.findall(r"\]\(([^)\s]+)\)", page.read_text()):
+            if re.match(r"[a-z]+:", target):
+                continue
+            path, _, anchor = target.partition("#")
+            dest = (page.parent / path).resolve() if path else page
+            if not dest.is_file():
+                broken.append(f"{page.name}: {target}")
+            elif anchor:
+                headings = re.findall(r"^#+ (.+)$", dest.read_text(), re.M)
+                if anchor not in {slug(h) for h in headings}:
+                    broken.append(f"{page.name}: {target}")
+    assert not broken, broken
+    # The table of contents names every page.
+    toc = (REPO / "docs" / "README.md").read_text()
+    for page in (REPO / "docs").glob("*.md"):
+        assert page.name == "README.md" or f"({page.name})" in toc, page.name

@@ -1,4 +1,4 @@
-"""The daemon against hostile clients and careless operators (README, "Reliability"): reloads
+"""The daemon against hostile clients and careless operators (docs/operations.md, "Reliability"): reloads
 under load, clients that stop reading or half-send frames, running out of descriptors, SIGPIPE,
 log floods, read-only gateways, long steps, huge programs, sd_notify."""
 

@@ -43,7 +43,7 @@ def restart(start_plcemud, d, cfg):
 
 
 def header(state: Path) -> dict:
-    """The fields of the state file header (README, "Retentive memory")."""
+    """The fields of the state file header (docs/operations.md, "Retentive memory")."""
     raw = state.read_bytes()[:144]
     fields = struct.unpack("<8sIIII16IQQIIQQQQ", raw)
     return {
@@ -191,7 +191,7 @@ def test_clean_shutdown_keeps_retentive_clears_the_rest_and_counts_starts(start_
 
 
 def test_init_presets_do_not_overwrite_a_scadas_retained_writes(start_plcemud, tmp_path):
-    """README decision: init reaches retentive devices only when the state file is new."""
+    """Decision (docs/operations.md): init reaches retentive devices only when the state file is new."""
     state = tmp_path / "init.state"
     cfg = config(state, "init: {R10: 111, R3000: 7}\n")
     d = start_plcemud(cfg)

@@ -1,11 +1,11 @@
 """The state file under stress: daemons started at the same instant, and a full file system.
 
-README ("Retentive memory"): one daemon per state file, taken by a lock before anything is
+docs/operations.md ("Retentive memory"): one daemon per state file, taken by a lock before anything is
 created, so a second one exits 1 naming the file; the file's blocks are reserved when it is
 created or opened, so a full file system stops the daemon at start (exit 1, "No space left") and
 can never kill a running one with SIGBUS.
 
-Wire addresses (README): Rn is holding register n (R0-R4167, R5000-R5998), Dn is 6000+n
+Wire addresses (docs/profile-fbs.md): Rn is holding register n (R0-R4167, R5000-R5998), Dn is 6000+n
 (D0-D2998); R0-R2999, R5000 on and all of D are retentive by default.
 """
 

@@ -52,7 +52,7 @@ def frozen(start_plcemud, config=CONFIG, *args):
 
 def step_seconds(client, seconds, scan_ms=10):
     """Runs `seconds` of simulated time in steps of at most 5000 scans. The reply to a step comes
-    before its scans ran (README, "Simulator-control unit"), so this polls the simulated time
+    before its scans ran (docs/simulator-and-plant.md, "Simulator-control unit"), so this polls the simulated time
     (registers 3-4, whole seconds) until it moved on, then gives the last second a moment."""
     target = sim_seconds(client) + int(seconds)
     n = round(seconds * 1000 / scan_ms)
@@ -122,7 +122,7 @@ def test_more_than_32_channels_gives_FFh(start_plcemud):
 
 def test_mismatched_module_sets_its_bit_and_reads_broken(start_plcemud):
     # SPEC §4: a table module that differs from the installed one sets bit k-1 of WR+0 low byte;
-    # README decision: its channels read 32767 with their abnormal bits.
+    # Decision (docs/profile-fbs.md): its channels read 32767 with their abnormal bits.
     _, c = frozen(start_plcemud)
     write(c, TABLE + 5, 0x0004)  # module 2: RTD16, but an RTD6 is installed
     step_seconds(c, 5)
@@ -173,7 +173,7 @@ def test_R4015_4_averages_16_readings(start_plcemud):
 
 
 def test_reading_below_the_range_is_clamped_not_broken(start_plcemud):
-    # README decision: a B thermocouple (350-1800 °C) at room temperature reads 350.0 °C with
+    # Decision (docs/profile-fbs.md): a B thermocouple (350-1800 °C) at room temperature reads 350.0 °C with
     # no abnormal bit; a Pt1000 above 600 °C reads 600.0 °C; only an open sensor reads 32767.
     _, c = frozen(start_plcemud)
     write_many(c, TABLE + 4, [0x0501, 0x0202])  # TC6 with B, RTD6 with Pt1000 DIN
@@ -294,7 +294,7 @@ def test_print_map_lists_the_simulator_unit(start_plcemud, tmp_path):
 
 
 def test_reload_keeps_process_temperatures_and_freeze(start_plcemud):
-    # README "Thermal plant": on SIGHUP the temperatures carry over and a frozen simulation stays
+    # docs/simulator-and-plant.md, "Thermal plant": on SIGHUP the temperatures carry over and a frozen simulation stays
     # frozen; the new config's faults replace the run-time ones.
     import signal
 

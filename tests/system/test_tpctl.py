@@ -12,7 +12,7 @@ DEFAULT_YAML = (REPO / "config" / "default.yaml").read_text()
 TIME_SCALE = "100"
 POINTS = 10
 
-# Wire addresses (README, "Modbus map"): R0-R4167 are holding registers 0-4167, D0 is 6000;
+# Wire addresses (docs/profile-fbs.md, "Modbus map"): R0-R4167 are holding registers 0-4167, D0 is 6000;
 # Y0 is coil 0, M0 is coil 2000.
 R_READING = 0  # readings of channels 0-9 (table SR+2 = 10000)
 R_SV = 100
@@ -243,7 +243,7 @@ def test_r4012_bit_off_leaves_that_point_without_pid(plc):
 
 def test_b_thermocouple_at_room_temperature_reads_its_range_floor_and_heats(start_plcemud):
     # A B thermocouple's range starts at 350 °C (manual §21.1): at room temperature it reads
-    # 350.0 °C, not a broken line (README decision), so FUN86 heats it towards a 400.0 °C SP.
+    # 350.0 °C, not a broken line (docs/profile-fbs.md decision), so FUN86 heats it towards a 400.0 °C SP.
     text = DEFAULT_YAML.replace("0x0101, 0x0002]", "0x0501, 0x0002]")  # TC6 with type B
     assert text != DEFAULT_YAML
     d = start_plcemud(text, "--time-scale", TIME_SCALE)

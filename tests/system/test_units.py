@@ -1,4 +1,4 @@
-"""Unit IDs over TCP (README, "Unit IDs and transports"): the station, 0 and 255 are answered,
+"""Unit IDs over TCP (docs/profile-fbs.md, "Modbus map"): the station, 0 and 255 are answered,
 other units get exception 0Bh (or nothing, when configured); the station changes when a master
 writes 55xxh to R4055."""
 

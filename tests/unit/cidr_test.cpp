@@ -1,4 +1,4 @@
-// modbus.tcp.allow entries (README, "Access control").
+// modbus.tcp.allow entries (docs/operations.md, "Access control").
 
 #include <gtest/gtest.h>
 

@@ -170,8 +170,9 @@ TEST(Config, InitErrors) {
     expect_error("profile: fbs\ninit:\n  R0: [[1]]\n", 3, 8, "expected a scalar");
 }
 
-// README "Configuration": a key given twice is an error. In `init` and `plant.channels` that
-// means the same device or channel, however it is spelled; the error points at the second key.
+// docs/configuration.md, "Configuration": a key given twice is an error. In `init` and
+// `plant.channels` that means the same device or channel, however it is spelled; the error points
+// at the second key.
 TEST(Config, InitNamingOneDeviceTwiceIsRefusedAtTheSecondKey) {
     expect_error("profile: fbs\ninit:\n  D7: 1\n  D7: 2\n", 4, 3,
                  "init: duplicate device 'D7' (first at line 3)");

@@ -1,4 +1,5 @@
-// The per-cause log budget that keeps remote peers from flooding the log (README, "Reliability").
+// The per-cause log budget that keeps remote peers from flooding the log (docs/operations.md,
+// "Reliability").
 
 #include "modbus/log_limiter.hpp"
 

@@ -256,8 +256,8 @@ TEST_F(StateFileTest, ASecondUserIsRefusedAndTheFileLeftAlone) {
     EXPECT_TRUE(bad_files().empty());
 }
 
-// README "Retentive memory": a second user of a new file is refused by name and the first one's
-// values are left alone.
+// docs/operations.md, "Retentive memory": a second user of a new file is refused by name and the
+// first one's values are left alone.
 TEST_F(StateFileTest, ASecondUserOfANewFileIsRefusedByNameAndTheFirstKeepsItsValues) {
     StateFile f(path_, kFbs, layout(), fixed_now());
     Image img(layout(), f.storage());
@@ -480,8 +480,8 @@ TEST_F(StateFileTest, R4057StaysRetentiveWhenTheConfigNamesOtherRanges) {
     EXPECT_EQ(l.retentive[1], (image::Range{Area::R, 4057, 1}));
 }
 
-// Decision (README): init presets reach retentive devices only on a fresh state file, unless
-// persistence.init is `always`; non-retentive devices get them at every start.
+// Decision (docs/operations.md): init presets reach retentive devices only on a fresh state file,
+// unless persistence.init is `always`; non-retentive devices get them at every start.
 TEST_F(StateFileTest, InitPresetsDoNotOverwriteRetainedValuesByDefault) {
     const auto cfg = plc_config("init: {R10: 111, R3000: 7, WM792: 0xFFFF}\n");
     {

@@ -358,7 +358,7 @@ TEST(TemperatureTable, R4009LowByteDecidesTheUnit) {
 
 TEST(TemperatureTable, R4015FourAveragesSixteenReadings) {
     // FB manual (FUN73 special registers): R4015 = 4 is a 16-reading average; above 4 counts
-    // as 4 (README decision).
+    // as 4 (docs/profile-fbs.md decision).
     Rig rig;
     rig.standard_table();
     rig.image.set_word(Area::R, engine::special::kTempAverage, 4);
@@ -423,7 +423,8 @@ TEST(TemperatureTable, BrokenSensorReads32767AndSetsWr1Wr2Bit) {
 
 TEST(TemperatureTable, ReadingBeyondTheSensorRangeIsClampedNotBroken) {
     // FBs manual §21.1 gives ranges, not a broken-line rule: beyond its range a channel reads
-    // the range's limit with no abnormal bit; only an open sensor reads 32767 (README).
+    // the range's limit with no abnormal bit; only an open sensor reads 32767
+    // (docs/profile-fbs.md).
     Rig rig;
     rig.write_table({0xA556, 2, 10000, 20000, module(kTC6, kK), module(kRTD6, kPt1000)});
     rig.sensors.celsius[0] = 1300.0;  // K: top of the range

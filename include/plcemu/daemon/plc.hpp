@@ -16,7 +16,7 @@
 
 namespace plcemu::daemon {
 
-/// How a Plc takes over its storage (README, "Retentive memory").
+/// How a Plc takes over its storage (docs/operations.md, "Retentive memory").
 enum class Start : std::uint8_t {
     Fresh,     ///< new storage (all zero): presets applied, power-up counted
     Retained,  ///< storage from an earlier run: non-retentive devices cleared, power-up counted,

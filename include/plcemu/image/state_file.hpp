@@ -1,7 +1,7 @@
 #pragma once
 // The state file: the whole register image in one memory-mapped file, so that every value
 // written into the image is in the kernel's page cache the moment it is written and survives the
-// process being killed at any instant. See README ("Retentive memory") for the format.
+// process being killed at any instant. See docs/operations.md ("Retentive memory") for the format.
 
 #include <cstddef>
 #include <cstdint>
