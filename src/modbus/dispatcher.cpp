@@ -1,68 +1,20 @@
 #include "plcemu/modbus/dispatcher.hpp"
 
-#include <modbus/modbus.h>
 #include <spdlog/spdlog.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <array>
-#include <cerrno>
 #include <cstring>
-#include <functional>
-#include <system_error>
 
 #include "crc.hpp"
 #include "plcemu/modbus/function_handler.hpp"
 
 namespace plcemu::modbus {
 
-namespace {
-
-using ModbusPtr = std::unique_ptr<modbus_t, decltype(&modbus_free)>;
-
-}  // namespace
-
-// libmodbus writes its replies to a descriptor (it has no buffer API in 3.1): it gets one end
-// of a socket pair, and the reply is read back from the other end into the caller's buffer. A
-// reply is one write of at most 260 bytes, so one read takes it whole.
-struct Dispatcher::Contexts {
-    ModbusPtr tcp{modbus_new_tcp("127.0.0.1", 502), &modbus_free};
-    ModbusPtr rtu{modbus_new_rtu("/dev/null", 9600, 'N', 8, 1), &modbus_free};
-    std::array<int, 2> pair{-1, -1};
-
-    Contexts() {
-        if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, pair.data()) !=
-            0) {
-            throw std::system_error(errno, std::generic_category(), "dispatcher: socketpair");
-        }
-        modbus_set_socket(tcp.get(), pair[0]);
-        modbus_set_socket(rtu.get(), pair[0]);
-    }
-    ~Contexts() {
-        // modbus_free does not close the socket it was given.
-        ::close(pair[0]);
-        ::close(pair[1]);
-    }
-    Contexts(const Contexts&) = delete;
-    Contexts& operator=(const Contexts&) = delete;
-
-    modbus_t* get(Transport t) const { return t == Transport::Tcp ? tcp.get() : rtu.get(); }
-
-    /// Reads back what libmodbus wrote (0 when it wrote nothing).
-    std::size_t take(ReplyBuffer out) const noexcept {
-        const ssize_t n = ::recv(pair[1], out.data(), out.size(), MSG_DONTWAIT);
-        return n > 0 ? static_cast<std::size_t>(n) : 0;
-    }
-};
-
 Dispatcher::Dispatcher(Unit& plc, const std::uint8_t& station, Identity identity)
     : plc_(plc),
       station_(station),
       identity_(std::move(identity)),
-      functions_(standard_functions()),
-      ctx_(std::make_unique<Contexts>()) {
-    if (!ctx_->tcp || !ctx_->rtu) throw std::runtime_error("libmodbus: cannot create a context");
-}
+      functions_(standard_functions()) {}
 
 Dispatcher::~Dispatcher() = default;
 
@@ -81,8 +33,8 @@ std::size_t Dispatcher::serve_rtu(std::span<const std::uint8_t> frame, ReplyBuff
 
 namespace {
 
-// Frames a PDU like the request it answers, into `out`; for the replies libmodbus cannot build
-// (FC 08, 11h, 17h, 2Bh, and exceptions for function codes of 80h and up). Returns the length.
+// Frames a reply PDU like the request it answers (MBAP header, or address and CRC), into `out`.
+// Returns the length.
 std::size_t frame_pdu(Transport t,
                       const std::uint8_t* req,
                       const std::uint8_t* pdu,
@@ -111,59 +63,6 @@ std::size_t frame_pdu(Transport t,
     }
     return len;
 }
-
-}  // namespace
-
-namespace {
-
-// libmodbus answers a data-access request for one resolved window: a modbus_mapping_t on the
-// stack whose start address and table pointer form a window onto the unit's memory.
-class LibmodbusReplier final : public InPlaceReplier {
-public:
-    LibmodbusReplier(modbus_t* ctx,
-                     std::span<const std::uint8_t> adu,
-                     const std::function<std::size_t()>& take)
-        : ctx_(ctx),
-          adu_(adu),
-          take_(take) {}
-
-    std::size_t reply(Table table,
-                      std::uint16_t addr,
-                      std::uint16_t qty,
-                      const Window& w) noexcept override {
-        modbus_mapping_t m{};
-        switch (table) {
-            case Table::Coils:
-                m.start_bits = addr;
-                m.nb_bits = qty;
-                m.tab_bits = w.bits;
-                break;
-            case Table::DiscreteInputs:
-                m.start_input_bits = addr;
-                m.nb_input_bits = qty;
-                m.tab_input_bits = w.bits;
-                break;
-            case Table::HoldingRegisters:
-                m.start_registers = addr;
-                m.nb_registers = qty;
-                m.tab_registers = w.words;
-                break;
-            case Table::InputRegisters:
-                m.start_input_registers = addr;
-                m.nb_input_registers = qty;
-                m.tab_input_registers = w.words;
-                break;
-        }
-        modbus_reply(ctx_, adu_.data(), static_cast<int>(adu_.size()), &m);
-        // libmodbus writes nothing for an RTU broadcast; the pair is drained either way.
-        return take_();
-    }
-
-private:
-    modbus_t* ctx_;
-    std::span<const std::uint8_t> adu_;
-    const std::function<std::size_t()>& take_;
-};
 
 }  // namespace
 
@@ -215,15 +114,12 @@ std::size_t Dispatcher::serve(Transport t,
     ++stats_.requests;
     const FunctionHandler handler = fc < functions_.size() ? functions_[fc] : nullptr;
     if (handler == nullptr) return exception(Status::IllegalFunction);
-    const std::function<std::size_t()> take = [&] { return ctx_->take(reply); };
-    LibmodbusReplier in_place(ctx_->get(t), adu, take);
-    const FunctionRequest request{pdu,       *target,   target == &plc_ ? station_ : unit,
-                                  broadcast, identity_, in_place};
+    const FunctionRequest request{pdu, *target, target == &plc_ ? station_ : unit, broadcast,
+                                  identity_};
     std::array<std::uint8_t, kMaxPdu> out{};
     const FunctionReply r = handler(request, out);
     if (r.status != Status::Ok) return exception(r.status);
     if (r.size == 0 || broadcast) return 0;
-    if (r.framed) return r.size;
     return frame_pdu(t, req, out.data(), r.size, reply);
 }
 

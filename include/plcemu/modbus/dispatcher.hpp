@@ -77,7 +77,6 @@ public:
     const DispatchStats& stats() const { return stats_; }
 
 private:
-    struct Contexts;
     std::size_t serve(Transport t, std::span<const std::uint8_t> adu, ReplyBuffer out) noexcept;
 
     Unit& plc_;
@@ -87,7 +86,6 @@ private:
     std::uint8_t sim_unit_ = 0;
     UnknownUnitPolicy unknown_unit_ = UnknownUnitPolicy::Exception;
     std::array<FunctionHandler, 128> functions_;
-    std::unique_ptr<Contexts> ctx_;
     DispatchStats stats_;
 };
 

@@ -13,18 +13,6 @@
 
 namespace plcemu::modbus {
 
-/// Builds a standard data-access reply (FC 01–06, 0Fh, 10h, 16h) with libmodbus, which reads or
-/// writes `w` in place; the whole reply ADU goes to the dispatcher's reply buffer.
-class InPlaceReplier {
-public:
-    virtual ~InPlaceReplier() = default;
-    /// Returns the length of the reply ADU written (0 for none).
-    virtual std::size_t reply(Table table,
-                              std::uint16_t addr,
-                              std::uint16_t qty,
-                              const Window& w) noexcept = 0;
-};
-
 /// A request as a handler sees it.
 struct FunctionRequest {
     std::span<const std::uint8_t> pdu;  ///< function code first
@@ -32,21 +20,19 @@ struct FunctionRequest {
     std::uint8_t slave_id;              ///< the ID it answers as (the station for the PLC)
     bool broadcast;                     ///< RTU unit 0: writes applied, nothing answered
     const Identity& identity;           ///< FC 11h and 2Bh/0Eh
-    InPlaceReplier& in_place;           ///< libmodbus' data-access replies
 };
 
 /// What a handler decided.
 struct FunctionReply {
     Status status = Status::Ok;  ///< not Ok: the dispatcher answers with this exception
-    std::size_t size = 0;        ///< bytes of the reply; 0 with Ok: nothing is sent
-    bool framed = false;         ///< the reply is a whole ADU already (libmodbus), not a PDU
+    std::size_t size = 0;        ///< bytes of the reply PDU; 0 with Ok: nothing is sent
 
     /// A refusal.
-    static FunctionReply refuse(Status s) { return {s, 0, false}; }
+    static FunctionReply refuse(Status s) { return {s, 0}; }
     /// No answer (a broadcast).
     static FunctionReply none() { return {}; }
     /// A reply PDU of `n` bytes.
-    static FunctionReply pdu(std::size_t n) { return {Status::Ok, n, false}; }
+    static FunctionReply pdu(std::size_t n) { return {Status::Ok, n}; }
 };
 
 /// Function code → handler; nullptr: exception 01.
@@ -61,7 +47,7 @@ inline std::uint16_t be16(const std::uint8_t* p) {
 }
 
 namespace functions {
-/// FC 01–06, 0Fh, 10h, 16h: reads and writes of the four tables, through libmodbus.
+/// FC 01–06, 0Fh, 10h, 16h: reads and writes of the four tables, in place.
 FunctionReply data_access(const FunctionRequest& r, PduBuffer out) noexcept;
 /// FC 08: diagnostics, subfunction 00 (return query data).
 FunctionReply diagnostics(const FunctionRequest& r, PduBuffer out) noexcept;
