@@ -39,7 +39,8 @@ void BM_ScanDefaultConfig(benchmark::State& state) {
 }
 BENCHMARK(BM_ScanDefaultConfig);
 
-// 32 points: two TC16 modules, one TPCTL over all of them, PWM on Y0-Y31, WM800/WM816 enable.
+// 32 points: two TC16 modules, one TPCTL over all of them, PWM on Y100-Y131 (Y10-Y25 are the
+// modules' own outputs), WM800/WM816 enable.
 const char* k32Points = R"(
 profile: fbs
 temperature:
@@ -53,7 +54,7 @@ init:
 program:
   - MOV: {en: M1926, s: WM800, d: R4012}
   - MOV: {en: M1926, s: WM816, d: R4013}
-  - TPCTL: {en: M0, hc: 1, md: 0, sn: 0, zn: 32, yn: Y0, sv: R100, os: R140, pr: R180,
+  - TPCTL: {en: M0, hc: 1, md: 0, sn: 0, zn: 32, yn: Y100, sv: R100, os: R140, pr: R180,
             ir: R220, dr: R260, or: R300, wr: R400, err: M100, alm: M101}
 )";
 
