@@ -19,7 +19,7 @@
 #include "plcemu/engine/special.hpp"
 #include "plcemu/image/state_file.hpp"
 #include "plcemu/instructions/instructions.hpp"
-#include "plant/simulator_unit.hpp"
+#include "simulator/simulator_unit.hpp"
 #include "modbus/rtu_server.hpp"
 #include "modbus/tcp_server.hpp"
 
@@ -159,7 +159,7 @@ private:
         if (frozen) driver_->set_frozen(true);
         // The simulator-control unit, on the same listeners as the PLC; a read-only gateway
         // keeps it read-only too unless simulator.writable says otherwise.
-        sim_ = std::make_unique<plant::SimulatorUnit>(
+        sim_ = std::make_unique<simulator::SimulatorUnit>(
             plc_->plant(), *driver_, cfg_->simulator.writable.value_or(!cfg_->modbus.read_only));
         plc_->dispatcher().set_simulator(sim_.get(),
                                          static_cast<std::uint8_t>(cfg_->simulator.unit));
@@ -404,7 +404,7 @@ private:
     std::unique_ptr<modbus::TcpServer> tcp_;
     std::unique_ptr<modbus::RtuServer> rtu_;
     std::unique_ptr<ScanDriver> driver_;
-    std::unique_ptr<plant::SimulatorUnit> sim_;
+    std::unique_ptr<simulator::SimulatorUnit> sim_;
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
     std::thread reload_thread_;
     Retirer<Plc> retirer_;

@@ -18,7 +18,7 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/modbus/address_map.hpp"
-#include "plant/simulator_unit.hpp"
+#include "simulator/simulator_unit.hpp"
 
 namespace plcemu::fuzz {
 
@@ -89,7 +89,7 @@ using testing::FakeTime;
 struct Rig {
     std::unique_ptr<daemon::Plc> plc;           ///< the PLC
     std::unique_ptr<FakeTime> time;             ///< time control for the simulator unit
-    std::unique_ptr<plant::SimulatorUnit> sim;  ///< the simulator-control unit
+    std::unique_ptr<simulator::SimulatorUnit> sim;  ///< the simulator-control unit
     std::uint8_t sim_unit = 0;                  ///< its unit ID
 
     /// True when a request for `unit` goes to the simulator unit.
@@ -102,7 +102,7 @@ inline Rig make_rig() {
     r.plc = std::make_unique<daemon::Plc>(harness_config());
     r.time = std::make_unique<FakeTime>(r.plc->engine());
     r.time->max_step = kMaxStep;  // keep one input's work bounded
-    r.sim = std::make_unique<plant::SimulatorUnit>(r.plc->plant(), *r.time);
+    r.sim = std::make_unique<simulator::SimulatorUnit>(r.plc->plant(), *r.time);
     r.sim_unit = static_cast<std::uint8_t>(harness_config().simulator.unit);
     r.plc->dispatcher().set_simulator(r.sim.get(), r.sim_unit);
     return r;

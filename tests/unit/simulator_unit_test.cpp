@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "plant/simulator_unit.hpp"
+#include "simulator/simulator_unit.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/image/image.hpp"
@@ -11,7 +11,11 @@
 #include "support/fake_time.hpp"
 #include "support/wire.hpp"
 
-namespace plcemu::plant {
+namespace plcemu::simulator {
+
+using plant::ChannelParams;
+using plant::Drive;
+using plant::Faults;
 namespace {
 
 using image::Area;
@@ -238,4 +242,4 @@ TEST(SimulatorUnit, TrueTemperatureAndHeaterPowerAreLive) {
 }
 
 }  // namespace
-}  // namespace plcemu::plant
+}  // namespace plcemu::simulator

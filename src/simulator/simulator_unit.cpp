@@ -1,10 +1,13 @@
-#include "plant/simulator_unit.hpp"
+#include "simulator/simulator_unit.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 
-namespace plcemu::plant {
+namespace plcemu::simulator {
+
+using plant::ChannelParams;
+using plant::Faults;
 
 namespace {
 
@@ -157,4 +160,4 @@ void SimulatorUnit::written(Table table, std::uint16_t addr, std::uint16_t qty) 
     refresh();
 }
 
-}  // namespace plcemu::plant
+}  // namespace plcemu::simulator

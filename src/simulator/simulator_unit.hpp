@@ -1,6 +1,7 @@
 #pragma once
-// The simulator-control unit (SPEC §6, unit 247 by default): time control, plant parameters and
-// fault switches, and read-only plant state, as holding registers on the PLC's listeners.
+// The simulator-control unit (docs/simulator-and-plant.md; unit 247 by default): time control,
+// plant parameters and fault switches, and read-only plant state, as holding registers on the PLC's
+// listeners.
 
 #include <array>
 #include <cstdint>
@@ -9,7 +10,10 @@
 #include "plcemu/modbus/unit.hpp"
 #include "plcemu/plant/thermal_plant.hpp"
 
-namespace plcemu::plant {
+namespace plcemu::simulator {
+
+using plant::kChannels;
+using plant::ThermalPlant;
 
 /// Wire addresses of the simulator unit's holding registers (docs/simulator-and-plant.md,
 /// "Simulator-control unit").
@@ -64,4 +68,4 @@ private:
     std::array<std::uint16_t, sim::kEnd> regs_{};
 };
 
-}  // namespace plcemu::plant
+}  // namespace plcemu::simulator
