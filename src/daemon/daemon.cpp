@@ -18,7 +18,6 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/engine/special.hpp"
 #include "plcemu/image/state_file.hpp"
-#include "plcemu/instructions/instructions.hpp"
 #include "simulator/simulator_unit.hpp"
 #include "modbus/rtu_server.hpp"
 #include "modbus/tcp_server.hpp"
@@ -231,9 +230,11 @@ private:
             try {
                 p->config = config::load_config(config_path_);
                 apply_overrides(p->config, overrides_);
-                { Plc probe(p->config); }  // its own image: the live one is not touched
+                // Built on an image of its own (the live one is not touched), and never scanned:
+                // its program, bound and checked, is the one the live PLC will run.
+                Plc probe(p->config);
                 tcp_options(p->config);
-                p->program = instructions::make_program(p->config, plc_layout(p->config));
+                p->program = probe.engine().take_program();
             } catch (const std::exception& e) {
                 p->error = e.what();
             }
