@@ -116,7 +116,7 @@ std::size_t Dispatcher::serve(Transport t,
     if (handler == nullptr) return exception(Status::IllegalFunction);
     const FunctionRequest request{pdu, *target, target == &plc_ ? station_ : unit, broadcast,
                                   identity_};
-    std::array<std::uint8_t, kMaxPdu> out{};
+    std::array<std::uint8_t, kMaxPdu> out;  // a handler writes what it returns
     const FunctionReply r = handler(request, out);
     if (r.status != Status::Ok) return exception(r.status);
     if (r.size == 0 || broadcast) return 0;

@@ -122,10 +122,14 @@ struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
     void check_connections();
     /// Makes room for a new client when every slot is taken by one that is stuck or silent.
     bool evict_one(Clock::time_point now);
-    /// Logs `line` unless the cause's budget is spent.
+    /// Logs at `level` unless the cause's budget is spent (see LogLimiter).
     template <typename... Args>
-    void log(LogCause cause, spdlog::format_string_t<Args...> fmt, Args&&... args) {
-        if (limiter.allow(cause, Clock::now())) spdlog::info(fmt, std::forward<Args>(args)...);
+    void log(spdlog::level::level_enum level,
+             LogCause cause,
+             spdlog::format_string_t<Args...> fmt,
+             Args&&... args) {
+        if (limiter.allow(cause, Clock::now()))
+            spdlog::log(level, fmt, std::forward<Args>(args)...);
     }
 
     asio::io_context& io;
@@ -173,7 +177,8 @@ public:
         socket_.shutdown(tcp::socket::shutdown_both, ec);
         socket_.close(ec);
         if (auto s = server_.lock()) {
-            s->log(LogCause::Disconnected, "tcp: {} disconnected ({})", peer_, why);
+            s->log(spdlog::level::info, LogCause::Disconnected, "tcp: {} disconnected ({})", peer_,
+                   why);
             s->connections.erase(shared_from_this());
         }
     }
@@ -336,22 +341,19 @@ void TcpServer::State::accept() {
         for (const auto& c : self->options.allow)
             allowed = allowed || (!pec && c.contains(ep.address()));
         if (!allowed) {
-            if (self->limiter.allow(LogCause::RefusedNotAllowed, now)) {
-                spdlog::warn("tcp: {} refused: not in modbus.tcp.allow", peer);
-            }
+            self->log(spdlog::level::warn, LogCause::RefusedNotAllowed,
+                      "tcp: {} refused: not in modbus.tcp.allow", peer);
             s.close(pec);
         } else if (static_cast<int>(self->connections.size()) >= self->options.max_clients &&
                    !self->evict_one(now)) {
-            if (self->limiter.allow(LogCause::RefusedFull, now)) {
-                spdlog::warn(
-                    "tcp: {} refused: {} clients already connected (modbus.tcp.max_clients)", peer,
-                    self->connections.size());
-            }
+            self->log(spdlog::level::warn, LogCause::RefusedFull,
+                      "tcp: {} refused: {} clients already connected (modbus.tcp.max_clients)",
+                      peer, self->connections.size());
             s.close(pec);
         } else {
             s.set_option(tcp::no_delay(true), pec);
             set_keepalive(s);
-            self->log(LogCause::Connected, "tcp: {} connected", peer);
+            self->log(spdlog::level::info, LogCause::Connected, "tcp: {} connected", peer);
             auto c = std::make_shared<Connection>(std::move(s), self, peer);
             self->connections.insert(c);
             c->start();

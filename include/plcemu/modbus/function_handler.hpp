@@ -18,8 +18,8 @@ struct FunctionRequest {
     std::span<const std::uint8_t> pdu;  ///< function code first
     Unit& unit;                         ///< the unit addressed
     std::uint8_t slave_id;              ///< the ID it answers as (the station for the PLC)
-    bool broadcast;                     ///< RTU unit 0: writes applied, nothing answered
-    const Identity& identity;           ///< FC 11h and 2Bh/0Eh
+    bool broadcast;  ///< RTU unit 0: writes are applied; the dispatcher sends no reply at all
+    const Identity& identity;  ///< FC 11h and 2Bh/0Eh
 };
 
 /// What a handler decided.

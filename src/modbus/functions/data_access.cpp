@@ -155,7 +155,6 @@ FunctionReply data_access(const FunctionRequest& req, PduBuffer out) noexcept {
         }
     }
     if (a.write) req.unit.written(a.table, a.addr, a.qty);
-    if (req.broadcast) return FunctionReply::none();
     return FunctionReply::pdu(k);
 }
 

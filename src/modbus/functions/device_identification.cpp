@@ -19,7 +19,6 @@ FunctionReply device_identification(const FunctionRequest& req, PduBuffer out) n
     const std::uint8_t code = pdu[2];
     std::uint8_t object = pdu[3];
     if (code < 1 || code > 4) return FunctionReply::refuse(Status::IllegalDataValue);
-    if (req.broadcast) return FunctionReply::none();
     struct Object {
         std::uint8_t id;
         const std::string* value;

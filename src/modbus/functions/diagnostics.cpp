@@ -11,7 +11,6 @@ FunctionReply diagnostics(const FunctionRequest& req, PduBuffer out) noexcept {
     const auto& pdu = req.pdu;
     if (pdu.size() < 3) return FunctionReply::refuse(Status::IllegalDataValue);
     if (be16(pdu.data() + 1) != 0) return FunctionReply::refuse(Status::IllegalFunction);
-    if (req.broadcast) return FunctionReply::none();
     std::copy(pdu.begin(), pdu.end(), out.begin());
     return FunctionReply::pdu(pdu.size());
 }

@@ -6,7 +6,6 @@ namespace plcemu::modbus::functions {
 
 FunctionReply report_slave_id(const FunctionRequest& req, PduBuffer out) noexcept {
     if (req.pdu.size() != 1) return FunctionReply::refuse(Status::IllegalDataValue);
-    if (req.broadcast) return FunctionReply::none();
     const Identity& id = req.identity;
     std::size_t k = 0;
     out[k++] = 0x11;
