@@ -87,10 +87,10 @@ using testing::FakeTime;
 
 /// The PLC with its simulator-control unit, wired as the daemon wires them.
 struct Rig {
-    std::unique_ptr<daemon::Plc> plc;           ///< the PLC
-    std::unique_ptr<FakeTime> time;             ///< time control for the simulator unit
+    std::unique_ptr<daemon::Plc> plc;               ///< the PLC
+    std::unique_ptr<FakeTime> time;                 ///< time control for the simulator unit
     std::unique_ptr<simulator::SimulatorUnit> sim;  ///< the simulator-control unit
-    std::uint8_t sim_unit = 0;                  ///< its unit ID
+    std::uint8_t sim_unit = 0;                      ///< its unit ID
 
     /// True when a request for `unit` goes to the simulator unit.
     bool is_sim(std::uint8_t unit) { return unit == sim_unit && unit != plc->engine().station(); }
