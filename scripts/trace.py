@@ -46,7 +46,7 @@ def parse_device(text):
 
 
 def wire(area, index):
-    """(table, wire address) of a device in the fbs Modbus map (SPEC §2)."""
+    """(table, wire address) of a device in the fbs Modbus map (FBs manual 13-50/51)."""
     if area == "Y":
         return "coil", index
     if area == "M":

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Writes the hand-made seed corpora of the request harnesses (tests/fuzz/corpus/fuzz_tcp_request
-and fuzz_rtu_frame): a valid request of every function code SPEC §2 lists, the quantity limits,
-refusals, and short sequences that set up the user remap or change the station. The config
-corpus is kept as plain YAML files. Run it after changing the seeds: tests/fuzz/make_corpus.py
+and fuzz_rtu_frame): a valid request of every function code docs/profile-fbs.md ("Modbus map")
+lists, the quantity limits, refusals, and short sequences that set up the user remap or change
+the station. The config corpus is kept as plain YAML files. Run it after changing the seeds:
+tests/fuzz/make_corpus.py
 """
 
 import pathlib

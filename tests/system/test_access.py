@@ -1,6 +1,6 @@
 """Access control through Modbus: modbus.tcp.allow, max_clients, idle_timeout_s, modbus.read_only,
 modbus.write_protect (docs/operations.md, "Access control"). Refused writes answer exception 02 and change
-nothing (SPEC §2)."""
+nothing (docs/profile-fbs.md, "Modbus map")."""
 
 import signal
 import socket

@@ -1,6 +1,6 @@
-"""The command line (issue point 8), configuration errors (SPEC §8) and logging (point 9):
---check-config, --print-map [--format csv], --port, --time-scale, --version, --help, signals,
-exit statuses, the start-up summary and connection log lines."""
+"""The command line (issue point 8), configuration errors (docs/configuration.md, Configuration)
+and logging (point 9): --check-config, --print-map [--format csv], --port, --time-scale, --version,
+--help, signals, exit statuses, the start-up summary and connection log lines."""
 
 import csv
 import io
@@ -14,7 +14,7 @@ import pytest
 
 from conftest import BASE_CONFIG, PLCEMUD, REPO, free_port, port_open, run_plcemud
 
-# SPEC §2: the manual's table as (5-digit range, 6-digit range, wire range, function codes).
+# FBs manual 13-50/51: the table as (5-digit range, 6-digit range, wire range, function codes).
 MANUAL = [
     ("00001-00256", "000001-000256", "0-255", "01 05 15"),
     ("01001-01256", "001001-001256", "1000-1255", "01"),
@@ -204,8 +204,8 @@ def sample_coil(client, addr, seconds):
 
 
 def test_time_scale_override_speeds_up_the_simulated_clock(start_plcemud):
-    """SPEC §3 time_scale: the config says 0.001 (one scan every 100 real seconds);
-    --time-scale 600 makes the 60 s clock M1923 toggle every 50 real ms."""
+    """time_scale (docs/configuration.md, Configuration): the config says 0.001 (one scan every
+    100 real seconds); --time-scale 600 makes the 60 s clock M1923 toggle every 50 real ms."""
     cfg = BASE_CONFIG + "scan_ms: 100\ntime_scale: 0.001\n"
     slow = start_plcemud(cfg)
     fast = start_plcemud(cfg, "--time-scale", "600")

@@ -1,4 +1,4 @@
-"""SPEC §2 "Unit IDs and transports" and the issue's point 6: many concurrent clients on one event
+"""docs/profile-fbs.md, "Modbus map", and the issue's point 6: many concurrent clients on one event
 loop; a client that sends half a frame and goes silent never delays the others; bad MBAP headers
 close only their own connection; a multi-register write is atomic."""
 
@@ -141,7 +141,8 @@ def test_pipelined_requests_are_all_answered_in_order(start_plcemud):
 
 
 def test_multi_register_write_is_atomic(start_plcemud):
-    """SPEC §2: a multi-register write lands as a whole; a reader never sees half of one."""
+    """docs/profile-fbs.md, Modbus map: a multi-register write lands as a whole; a reader never
+    sees half of one."""
     d = start_plcemud(BASE_CONFIG)
     stop = threading.Event()
     torn = []

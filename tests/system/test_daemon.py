@@ -161,7 +161,7 @@ def test_sighup_with_a_broken_config_keeps_serving_the_old_one(start_plcemud, tm
     d.proc.send_signal(signal.SIGHUP)
     assert d.wait_log("configuration rejected"), d.log_text()
     log = d.log_text()
-    # The error names file, line and column (SPEC §8).
+    # The error names file, line and column (docs/configuration.md, Configuration).
     assert f"{d.config_path}:5:10: scan_ms" in log, log
     assert d.proc.poll() is None
     rr = c.read_holding_registers(D0, 1, slave=1)
@@ -202,7 +202,7 @@ def test_sighup_with_a_new_station_keeps_connections_and_data(start_plcemud, tmp
     assert d.log_text().count(" connected") == connections
     assert d.log_text().count(" disconnected") == disconnections
     rr = c.read_holding_registers(D0, 1, slave=1)
-    assert rr.isError() and rr.exception_code == 0x0B  # SPEC §2: unknown unit on TCP
+    assert rr.isError() and rr.exception_code == 0x0B  # unknown unit on TCP (docs/profile-fbs.md)
     # A reload is not a power-up: nothing cleared, R4057 not counted.
     assert c.read_holding_registers(R3000, 1, slave=5).registers == [77]
     assert c.read_holding_registers(R4057, 1, slave=5).registers == [1]

@@ -1,6 +1,7 @@
-"""Interoperability with libmodbus' master API (SPEC §2): tests/interop/libmodbus_client does
-round trips of FC 01 02 03 04 05 06 15 16 22 23, 08/00, 11h, 2Bh/0Eh and each exception against
-the real daemon, over TCP and over RTU (a socat pty pair), and exits non-zero on any mismatch.
+"""Interoperability with libmodbus' master API (docs/profile-fbs.md, "Modbus map"):
+tests/interop/libmodbus_client does round trips of FC 01 02 03 04 05 06 15 16 22 23, 08/00, 11h,
+2Bh/0Eh and each exception against the real daemon, over TCP and over RTU (a socat pty pair), and
+exits non-zero on any mismatch.
 """
 
 import os
@@ -14,7 +15,7 @@ from rtu_pty import PtyPair, rtu_config
 CLIENT = os.environ.get(
     "LIBMODBUS_CLIENT", str(Path(PLCEMUD).parent / "tests" / "interop" / "libmodbus_client"))
 
-# The client expects the user maps DI 0.. -> M100.. and IR 0.. -> R200.. (SPEC §2).
+# The client expects the user maps DI 0.. -> M100.. and IR 0.. -> R200.. (FBs manual 13-50/51).
 USER_MAPS = "init:\n  R3972: [0, 100, 16]\n  R3975: [0, 200, 8]\n"
 
 

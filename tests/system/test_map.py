@@ -1,6 +1,6 @@
-"""SPEC §2 through Modbus TCP against the real daemon: every row of the FBs manual's table read
-and written, the gaps, read-only items, exceptions 01/02/03, the R3968/R3972/R3975 user maps,
-FC22 and FC23."""
+"""The FBs Modbus map (FBs manual 13-50/51; docs/profile-fbs.md, "Modbus map") through Modbus
+TCP against the real daemon: every row of the FBs manual's table read and written, the gaps,
+read-only items, exceptions 01/02/03, the R3968/R3972/R3975 user maps, FC22 and FC23."""
 
 import struct
 import time
@@ -13,7 +13,7 @@ ILLEGAL_FUNCTION = 1
 ILLEGAL_ADDRESS = 2
 ILLEGAL_VALUE = 3
 
-# SPEC §2 table: (manual 5-digit range, table, first wire, last wire, writable).
+# FBs manual 13-50/51: (manual 5-digit range, table, first wire, last wire, writable).
 ROWS = [
     ("00001-00256 Y0-Y255", "coil", 0, 255, True),
     ("01001-01256 X0-X255", "coil", 1000, 1255, False),
@@ -157,7 +157,8 @@ def test_request_touching_a_gap_is_refused_whole(plc):
     ],
 )
 def test_read_only_items_refuse_writes_unchanged(plc, name, table, addr):
-    """SPEC §2: writes to read-only items get exception 02 and change nothing."""
+    """docs/profile-fbs.md, Modbus map: writes to read-only items get exception 02 and change
+    nothing."""
     if table == "coil":
         before = plc.read_coils(addr, 1, slave=1).bits[0]
         if addr in (3920, 3927):
@@ -196,7 +197,8 @@ def test_special_relays_and_model_code(plc):
 
 
 def test_32bit_counters_low_word_first(plc):
-    """SPEC §2 Decision: C200-C255 current values take 2 registers, low word first."""
+    """docs/profile-fbs.md, Modbus map: C200-C255 current values take 2 registers, low word
+    first."""
     assert exc(plc.write_registers(9700, [0x5678, 0x1234], slave=1)) == 0
     assert plc.read_holding_registers(9700, 2, slave=1).registers == [0x5678, 0x1234]
     assert exc(plc.write_registers(9810, [0xCDEF, 0x89AB], slave=1)) == 0  # C255
@@ -205,8 +207,8 @@ def test_32bit_counters_low_word_first(plc):
 
 
 def test_quantity_limits_illegal_value(start_plcemud):
-    """SPEC §2: FC01/02 1-2000, FC03/04 1-125, FC15 1-1968, FC16 1-123, FC23 read 1-125 /
-    write 1-121, byte counts consistent, FC05 0000h/FF00h; else exception 03."""
+    """docs/profile-fbs.md, Modbus map: FC01/02 1-2000, FC03/04 1-125, FC15 1-1968, FC16 1-123,
+    FC23 read 1-125 / write 1-121, byte counts consistent, FC05 0000h/FF00h; else exception 03."""
     d = start_plcemud(BASE_CONFIG + "init: {R3972: [0, 0, 2002], R3975: [0, 0, 3000]}\n")
     port = d.port
 
@@ -261,21 +263,23 @@ def test_quantity_limits_illegal_value(start_plcemud):
 
 
 def test_unsupported_function_codes_illegal_function(daemon):
-    """SPEC §2 Decision: function codes the emulator does not implement get exception 01."""
+    """docs/profile-fbs.md, Modbus map: function codes the emulator does not implement get
+    exception 01."""
     for fc in (0x07, 0x0B, 0x0C, 0x14, 0x15, 0x18, 0x41, 0x64):
         reply = raw_request(daemon.port, bytes([fc, 0, 0, 0, 1]))
         assert reply is not None and reply[0] == fc | 0x80 and reply[1] == ILLEGAL_FUNCTION, hex(fc)
 
 
 def test_fc02_fc04_without_map_are_illegal_function(plc):
-    """SPEC §2: with R3974 / R3977 = 0 (the default) FC02 / FC04 are not served."""
+    """docs/profile-fbs.md, Modbus map: with R3974 / R3977 = 0 (the default) FC02 / FC04 are not
+    served."""
     assert exc(plc.read_discrete_inputs(0, 1, slave=1)) == ILLEGAL_FUNCTION
     assert exc(plc.read_input_registers(0, 1, slave=1)) == ILLEGAL_FUNCTION
 
 
 def test_fc02_fc04_user_maps(plc):
-    """SPEC §2: FC02 R3972.. (count R3974) -> M(R3973)..; FC04 R3975.. (count R3977) ->
-    R(R3976).., set at run time by a master."""
+    """FBs manual 13-50/51: FC02 R3972.. (count R3974) -> M(R3973)..; FC04 R3975.. (count
+    R3977) -> R(R3976).., set at run time by a master."""
     assert exc(plc.write_registers(3972, [100, 500, 16, 200, 4128, 11], slave=1)) == 0
     assert exc(plc.write_coils(2500, [True, False, True], slave=1)) == 0  # M500-M502
     bits = plc.read_discrete_inputs(100, 16, slave=1).bits
@@ -293,8 +297,8 @@ def test_fc02_fc04_user_maps(plc):
 
 
 def test_r3968_remap_and_back(plc):
-    """SPEC §2: R3968 = A55Ah replaces the coil map (R3969-R3971) and the holding-register map
-    (R3978-R3980); any other value restores the manual's table."""
+    """FBs manual 13-50/51: R3968 = A55Ah replaces the coil map (R3969-R3971) and the
+    holding-register map (R3978-R3980); any other value restores the manual's table."""
     # Coils 0-9 -> M100-M109; registers 3968-3980 -> R3968-R3980 (so we can switch back) ...
     assert exc(plc.write_registers(3969, [0, 100, 10], slave=1)) == 0
     assert exc(plc.write_registers(3978, [3968, 3968, 13], slave=1)) == 0
@@ -345,7 +349,8 @@ def test_fc05_fc06_echo_and_fc08_echo(daemon):
 
 
 def test_device_identification(daemon):
-    """SPEC §2: 2Bh/0Eh: vendor FATEK, product code the model, revision the version."""
+    """docs/profile-fbs.md, Modbus map: 2Bh/0Eh: vendor FATEK, product code the model, revision the
+    version."""
     reply = raw_request(daemon.port, bytes([0x2B, 0x0E, 0x01, 0x00]))
     assert reply[:2] == bytes([0x2B, 0x0E])
     count = reply[6]

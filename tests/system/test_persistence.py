@@ -1,7 +1,8 @@
-"""Retentive memory in the state file (SPEC §1 retentive ranges, §3 R4057 power-up counter).
+"""Retentive memory in the state file (docs/operations.md, "Retentive memory"; R4057 power-up
+counter, docs/profile-fbs.md, "Scan cycle and special registers").
 
-Wire addresses (SPEC §2): Rn is holding register n (R0-R4167, R5000-R5998), Dn is 6000+n,
-Mn is coil 2000+n.
+Wire addresses (FBs manual 13-50/51): Rn is holding register n (R0-R4167, R5000-R5998), Dn is
+6000+n, Mn is coil 2000+n.
 """
 
 import os
@@ -117,7 +118,8 @@ class Writer(threading.Thread):
 
 
 def test_sigkill_during_write_storm_keeps_every_acknowledged_write(start_plcemud, tmp_path):
-    """SPEC §1: every acknowledged write to a retentive register survives kill -9."""
+    """docs/operations.md, Retentive memory: every acknowledged write to a retentive register
+    survives kill -9."""
     state = tmp_path / "storm.state"
     cfg = config(state)
     d = start_plcemud(cfg)
@@ -160,7 +162,8 @@ def test_sigkill_during_write_storm_keeps_every_acknowledged_write(start_plcemud
 
 
 def test_clean_shutdown_keeps_retentive_clears_the_rest_and_counts_starts(start_plcemud, tmp_path):
-    """SPEC §1 (retentive kept, the rest cleared) and §3 (R4057 counts power-ups)."""
+    """docs/operations.md, Retentive memory: retentive kept, the rest cleared, R4057 counts
+    power-ups."""
     state = tmp_path / "clean.state"
     cfg = config(state)
     d = start_plcemud(cfg)

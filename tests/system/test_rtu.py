@@ -1,5 +1,5 @@
-"""Modbus RTU slave (SPEC §2 "Unit IDs and transports") through a socat pty pair made by
-scripts/rtu-pty.sh, with pymodbus' serial client, mbpoll, and exact raw frames.
+"""Modbus RTU slave (docs/profile-fbs.md, "Modbus RTU (serial)") through a socat pty pair made
+by scripts/rtu-pty.sh, with pymodbus' serial client, mbpoll, and exact raw frames.
 
 The pty ignores the baud rate, but plcemud times frames by it: the tests that depend on gaps run
 the line at 300 baud (t1.5 = 55 ms, t3.5 = 128 ms) so that a busy test machine cannot blur them.
@@ -20,7 +20,7 @@ from pymodbus.other_message import ReportSlaveIdRequest
 from pymodbus.pdu import ExceptionResponse
 from rtu_pty import PtyPair, RawLine, crc16, frame, rtu_config
 
-# FC02 and FC04 need the user maps of SPEC §2: DI 0.. -> M100.., IR 0.. -> R200...
+# FC02 and FC04 need the user maps (FBs manual 13-50/51): DI 0.. -> M100.., IR 0.. -> R200...
 USER_MAPS = "init:\n  R3972: [0, 100, 16]\n  R3975: [0, 200, 8]\n"
 
 
@@ -259,7 +259,8 @@ def test_other_stations_get_no_answer(start_rtu, line):
     for unit in (1, 2, 4, 6, 255, 246):
         line.send(frame(unit, read_words_pdu(0, 1)))
         assert line.silent(0.4), unit
-    # the simulator-control unit (SPEC §6, 247 by default) is served on the line too
+    # the simulator-control unit (docs/simulator-and-plant.md, 247 by default) is served on the
+    # line too
     line.send(frame(247, read_words_pdu(0, 1)))
     r = line.receive(5, timeout=1)
     assert r[:1] == b"\xf7", r.hex()
@@ -270,7 +271,7 @@ def test_other_stations_get_no_answer(start_rtu, line):
 def test_station_changed_through_r4055(start_rtu, line):
     d = start_rtu()
     t = d.client()
-    ok(t.write_register(4055, 0x5509, slave=1))  # SPEC §2: 55h in the high byte sets it
+    ok(t.write_register(4055, 0x5509, slave=1))  # 55xxh sets the station (docs/profile-fbs.md)
     deadline = time.monotonic() + 5
     while time.monotonic() < deadline:
         r = t.read_holding_registers(4055, 1, slave=9)

@@ -1,4 +1,4 @@
-"""Modbus TCP conformance (SPEC §2 "Unit IDs and transports"): FC08/00, 11h and 2Bh/0Eh with
+"""Modbus TCP conformance (docs/profile-fbs.md, "Modbus map"): FC08/00, 11h and 2Bh/0Eh with
 pymodbus (and mbpoll where it can: reads, writes, unit IDs), pipelined requests, a request a byte
 at a time, bad MBAP headers closing only their own connection, both unknown-unit policies.
 """

@@ -1,4 +1,5 @@
-"""Temperature measurement (SPEC §4) and the simulator-control unit (SPEC §6) over Modbus TCP.
+"""Temperature measurement (FBs manual §21.3) and the simulator-control unit
+(docs/simulator-and-plant.md) over Modbus TCP.
 
 The daemon runs with the table at R5000 (readings R0.., working registers D0..), a TC6 (K) and an
 RTD6 (Pt100 DIN) installed. Most tests freeze the simulation through unit 247 and step it, so
@@ -78,7 +79,7 @@ def execute_code(client):
 
 
 def test_valid_table_reaches_56h_and_reads_ambient(start_plcemud):
-    # SPEC §4: 56h once every channel was read; the plant starts at 25.0 °C.
+    # FBs manual §21.3.2: 56h once every channel was read; the plant starts at 25.0 °C.
     _, c = frozen(start_plcemud)
     step_seconds(c, 5)
     wr = regs(c, D0, 12)
@@ -88,7 +89,8 @@ def test_valid_table_reaches_56h_and_reads_ambient(start_plcemud):
 
 
 def test_bad_marker_gives_execute_code_00h(start_plcemud):
-    # SPEC §4: SR+0 other than A556h = no measurement; rewritten at any time by FC06/FC16.
+    # FBs manual §21.3.1: SR+0 other than A556h = no measurement; rewritten at any time by
+    # FC06/FC16.
     _, c = frozen(start_plcemud)
     step_seconds(c, 5)
     assert execute_code(c) == 0x56
@@ -103,7 +105,7 @@ def test_bad_marker_gives_execute_code_00h(start_plcemud):
 
 
 def test_nine_modules_gives_FEh(start_plcemud):
-    # SPEC §4: module count 0 or > 8 → FEh, low byte of WR+3 the count.
+    # FBs manual §21.3.2: module count 0 or > 8 → FEh, low byte of WR+3 the count.
     _, c = frozen(start_plcemud)
     write(c, TABLE + 1, 9)
     step_seconds(c, 5)
@@ -112,7 +114,7 @@ def test_nine_modules_gives_FEh(start_plcemud):
 
 
 def test_more_than_32_channels_gives_FFh(start_plcemud):
-    # SPEC §4: channels numbered across modules; more than 32 → FFh.
+    # FBs manual §21.3.2: channels numbered across modules; more than 32 → FFh.
     _, c = frozen(start_plcemud)
     write_many(c, TABLE + 1, [3, 10000, 20000, 0x0103, 0x0103, 0x0101])  # TC16, TC16, TC6
     step_seconds(c, 7)
@@ -121,8 +123,9 @@ def test_more_than_32_channels_gives_FFh(start_plcemud):
 
 
 def test_mismatched_module_sets_its_bit_and_reads_broken(start_plcemud):
-    # SPEC §4: a table module that differs from the installed one sets bit k-1 of WR+0 low byte;
-    # Decision (docs/profile-fbs.md): its channels read 32767 with their abnormal bits.
+    # FBs manual §21.3.2: a table module that differs from the installed one sets bit k-1 of
+    # WR+0 low byte; Decision (docs/profile-fbs.md): its channels read 32767 with their abnormal
+    # bits.
     _, c = frozen(start_plcemud)
     write(c, TABLE + 5, 0x0004)  # module 2: RTD16, but an RTD6 is installed
     step_seconds(c, 5)
@@ -135,7 +138,8 @@ def test_mismatched_module_sets_its_bit_and_reads_broken(start_plcemud):
 
 
 def test_fahrenheit_by_R4009(start_plcemud):
-    # SPEC §4: R4009 = 1 gives °F: 25.0 °C reads 77.0 °F.
+    # FBs manual §21.3 (unit of temperature), R4009 as in FB manual FUN73: R4009 = 1 gives °F:
+    # 25.0 °C reads 77.0 °F.
     _, c = frozen(start_plcemud)
     write(c, 4009, 1)
     step_seconds(c, 5)
@@ -188,7 +192,8 @@ def test_reading_below_the_range_is_clamped_not_broken(start_plcemud):
 
 
 def test_sensor_broken_fault_through_unit_247(start_plcemud):
-    # SPEC §6 fault "sensor broken", SPEC §4: 32767 and the WR+1 bit; clears when repaired.
+    # Fault "sensor broken" (docs/simulator-and-plant.md, Thermal plant); docs/profile-fbs.md,
+    # Temperature measurement: 32767 and the WR+1 bit; clears when repaired.
     _, c = frozen(start_plcemud)
     step_seconds(c, 5)
     write(c, 100 + 10 * 2, 0b0001, unit=SIM)
@@ -205,7 +210,8 @@ def test_sensor_broken_fault_through_unit_247(start_plcemud):
 
 
 def test_heater_shorted_heats_and_reading_frozen_holds(start_plcemud):
-    # SPEC §6 faults: heater shorted (u = 1) heats the process; a frozen reading stops changing.
+    # docs/simulator-and-plant.md, Thermal plant, faults: heater shorted (u = 1) heats the process;
+    # a frozen reading stops changing.
     _, c = frozen(start_plcemud)
     write(c, 100 + 10 * 0, 0b0100, unit=SIM)
     step_seconds(c, 60)
@@ -223,7 +229,8 @@ def test_heater_shorted_heats_and_reading_frozen_holds(start_plcemud):
 
 
 def test_plant_parameters_through_unit_247(start_plcemud):
-    # SPEC §6: per-channel ambient, K, τ, θ, noise at 100 + 10c + 1..5.
+    # docs/simulator-and-plant.md, "Simulator-control unit (unit 247)": per-channel ambient, K, τ,
+    # θ, noise at 100 + 10c + 1..5.
     _, c = frozen(start_plcemud)
     assert regs(c, 131, 5, unit=SIM) == [250, 4000, 120, 5, 0]  # channel 3 defaults
     write(c, 131, (-100) & 0xFFFF, unit=SIM)  # ambient -10.0 °C

@@ -58,7 +58,8 @@ def test_unknown_unit_silent(start_plcemud):
 
 
 def test_station_change_via_r4055(start_plcemud):
-    """SPEC §2: R4055 low byte is the station, set by writing 55h in the high byte."""
+    """docs/profile-fbs.md, Scan cycle and special registers: R4055 low byte is the station, set
+    by writing 55h in the high byte."""
     d = start_plcemud(BASE_CONFIG)
     c = d.client()
     assert c.read_holding_registers(4055, 1, slave=1).registers == [1]

@@ -1,5 +1,5 @@
-// Configuration (SPEC §8): defaults, every key of the foundation, and errors naming
-// file:line:col.
+// Configuration (docs/configuration.md, Configuration): defaults, every key of the foundation, and
+// errors naming file:line:col.
 
 #include <gtest/gtest.h>
 
@@ -26,7 +26,8 @@ void expect_error(const std::string& text, int line, int col, const std::string&
     testing::expect_config_error(parse_error(text), "t.yaml", line, col, needle);
 }
 
-// SPEC §8 / issue: every key but `profile` has a default, so `{profile: fbs}` alone is valid.
+// docs/configuration.md, Configuration / issue: every key but `profile` has a default, so
+// `{profile: fbs}` alone is valid.
 TEST(Config, ProfileAloneIsValidAndEverythingElseDefaults) {
     for (const char* text : {"{profile: fbs}", "profile: fbs\n", "# comment\nprofile: fbs # x\n"}) {
         SCOPED_TRACE(text);

@@ -1,5 +1,6 @@
-// Scan engine (SPEC §3) on virtual time: scan period, special relays M1920-M1926, special
-// registers R4049, R4055, R4057, R4128-R4138, R4167 and the power-up defaults of R4005-R4013.
+// Scan engine (docs/profile-fbs.md, Scan cycle and special registers) on virtual time: scan period,
+// special relays M1920-M1926, special registers R4049, R4055, R4057, R4128-R4138, R4167 and the
+// power-up defaults of R4005-R4013.
 
 #include <gtest/gtest.h>
 
@@ -79,7 +80,8 @@ struct Rig {
     std::unique_ptr<Engine> engine;
 };
 
-// SPEC §3: fixed period scan_ms; virtual time runs N scans at once, one period apart.
+// docs/profile-fbs.md, Scan cycle and special registers: fixed period scan_ms; virtual time runs N
+// scans at once, one period apart.
 TEST(Engine, RunsScansAtTheFixedPeriod) {
     Rig rig(10);
     rig.engine->run_scans(5);
@@ -95,7 +97,8 @@ TEST(Engine, RunsScansAtTheFixedPeriod) {
     EXPECT_EQ(rig.engine->now(), seconds(3600) + milliseconds(40));
 }
 
-// SPEC §3: each scan runs inputs, the program in order, outputs (reverse order).
+// docs/profile-fbs.md, Scan cycle and special registers: each scan runs inputs, the program in
+// order, outputs (reverse order).
 TEST(Engine, ScanOrderInputsProgramOutputs) {
     image::Image img{image::fbs_layout()};
     std::vector<std::string> log;
@@ -111,7 +114,8 @@ TEST(Engine, ScanOrderInputsProgramOutputs) {
                                              "second", "temperature.outputs", "plant.outputs"}));
 }
 
-// SPEC §3: M1924 is the first-scan pulse: ON during the first scan only, for the program too.
+// docs/profile-fbs.md, Scan cycle and special registers: M1924 is the first-scan pulse: ON during
+// the first scan only, for the program too.
 TEST(Engine, M1924FirstScanOnly) {
     Rig rig;
     rig.engine->run_scans(1);
@@ -131,7 +135,7 @@ TEST(Engine, M1924FirstScanOnly) {
     EXPECT_TRUE(rig.m(1924));
 }
 
-// SPEC §3: M1926 RUN = 1.
+// docs/profile-fbs.md, Scan cycle and special registers: M1926 RUN = 1.
 TEST(Engine, M1926RunIsOn) {
     Rig rig;
     rig.engine->run_scans(1);
@@ -165,8 +169,8 @@ Wave wave(const std::vector<bool>& v) {
     return w;
 }
 
-// SPEC §3: M1920/M1921/M1922/M1923 are 0.01 s / 0.1 s / 1 s / 60 s square waves of the
-// simulated clock.
+// docs/profile-fbs.md, Scan cycle and special registers: M1920/M1921/M1922/M1923 are
+// 0.01 s / 0.1 s / 1 s / 60 s square waves of the simulated clock.
 TEST(Engine, ClockRelaysAreSquareWaves) {
     Rig rig(1);                                  // 1 ms scans: every clock is resolved
     const auto m1920 = sample(rig, 1920, 1000);  // one second
@@ -215,8 +219,8 @@ TEST(Engine, ClockFasterThanTheScanTogglesEveryScan) {
     EXPECT_EQ(wave(sample(r3, 1921, 10)).changes, 9);
 }
 
-// SPEC §3: R4136/R4137/R4138 current/maximum/minimum scan time in ms (Decision: the simulated
-// interval between scan starts).
+// docs/profile-fbs.md, Scan cycle and special registers: R4136/R4137/R4138 current/maximum/minimum
+// scan time in ms (Decision: the simulated interval between scan starts).
 TEST(Engine, ScanTimeRegisters) {
     Rig rig(10);
     rig.engine->run_scans(3);
@@ -242,8 +246,8 @@ TEST(Engine, ScanTimeRegisters) {
     EXPECT_EQ(rig.r(4137), 0xFFFF);
 }
 
-// SPEC §3: R4128-R4134 calendar (second, minute, hour, day, month, year, weekday) from the
-// calendar passed in (the engine reads no clock).
+// docs/profile-fbs.md, Scan cycle and special registers: R4128-R4134 calendar (second, minute,
+// hour, day, month, year, weekday) from the calendar passed in (the engine reads no clock).
 TEST(Engine, CalendarRegistersComeFromThePassedCalendar) {
     Rig rig;
     rig.engine->run_scans(1, Calendar{58, 59, 23, 31, 12, 2026, 4});
@@ -261,8 +265,9 @@ TEST(Engine, CalendarRegistersComeFromThePassedCalendar) {
     EXPECT_EQ(rig.r(4134), 5);
 }
 
-// SPEC §2/§3: R4055 low byte is the station; a master changes it by writing 55h in the high
-// byte. Anything else written there is put back at the next scan.
+// docs/profile-fbs.md, Scan cycle and special registers: R4055 low byte is the station; a master
+// changes it by writing 55h in the high byte. Anything else written there is put back at the next
+// scan.
 TEST(Engine, R4055StationChangeVia55xx) {
     Rig rig(10, 3);
     EXPECT_EQ(rig.r(4055), 3);  // initialised from the config at power-up
@@ -289,7 +294,8 @@ TEST(Engine, R4055StationChangeVia55xx) {
     EXPECT_EQ(rig.engine->station(), 1);
 }
 
-// SPEC §3: R4057 power-up counter (retentive): one more at every power-up.
+// docs/profile-fbs.md, Scan cycle and special registers: R4057 power-up counter (retentive): one
+// more at every power-up.
 TEST(Engine, R4057CountsPowerUps) {
     image::Image img{image::fbs_layout()};
     img.set_word(Area::R, 4057, 41);  // retained from earlier runs
@@ -308,7 +314,8 @@ TEST(Engine, R4057CountsPowerUps) {
     EXPECT_TRUE(retentive);
 }
 
-// SPEC §3: R4167 model code, R4049 CPU status 0 = running normally; both kept every scan.
+// docs/profile-fbs.md, Scan cycle and special registers: R4167 model code, R4049 CPU status
+// 0 = running normally; both kept every scan.
 TEST(Engine, R4167ModelCodeAndR4049Status) {
     Rig rig(10, 1, 0x023C);
     EXPECT_EQ(rig.r(4167), 0x023C);
@@ -320,7 +327,8 @@ TEST(Engine, R4167ModelCodeAndR4049Status) {
     EXPECT_EQ(rig.r(4049), 0);
 }
 
-// SPEC §5: defaults of R4005-R4008 and R4010-R4013 at power-up; R4009 (0 = °C) untouched.
+// FBs manual §21.7 and §21.3.3: defaults of R4005-R4008 and R4010-R4013 at power-up; R4009 (0 = °C)
+// untouched.
 TEST(Engine, PowerUpDefaultsOfR4005ToR4013) {
     Rig rig;
     EXPECT_EQ(rig.r(4005), 0x0102);
@@ -340,7 +348,8 @@ TEST(Engine, PowerUpDefaultsOfR4005ToR4013) {
     EXPECT_EQ(rig.r(4012), 0x00FF);
 }
 
-// SPEC §3: time is injected: the scan at `now` sees exactly that time (no clock is read).
+// docs/profile-fbs.md, Scan cycle and special registers: time is injected: the scan at `now` sees
+// exactly that time (no clock is read).
 TEST(Engine, StepUsesThePassedTime) {
     Rig rig(10);
     rig.engine->step(seconds(7), {});

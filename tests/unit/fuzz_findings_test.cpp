@@ -28,8 +28,9 @@ protected:
 };
 
 // regressions/fuzz_tcp_request/exception-fc-high-bit: libmodbus adds 80h to the function code
-// of an exception, which wrapped DAh round to 5Ah, a reply that looks like a normal one. SPEC §2:
-// unknown function codes get exception 01, other unit IDs 0Bh; the code keeps its high bit.
+// of an exception, which wrapped DAh round to 5Ah, a reply that looks like a normal one.
+// docs/profile-fbs.md, Modbus map: unknown function codes get exception 01, other unit IDs 0Bh;
+// the code keeps its high bit.
 TEST_F(FuzzFindings, ExceptionToAFunctionCodeWithTheHighBitKeepsIt) {
     EXPECT_EQ(wire_.tcp(1, {0xDA}), (Bytes{0xDA, 0x01}));
     EXPECT_EQ(wire_.tcp(0xFB, {0xDA}), (Bytes{0xDA, 0x0B}));

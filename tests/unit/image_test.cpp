@@ -1,4 +1,5 @@
-// Register image (SPEC §1): areas, device names, word/bit access, retentive ranges.
+// Register image (docs/profile-fbs.md, The FBs profile; docs/operations.md, Retentive memory):
+// areas, device names, word/bit access, retentive ranges.
 
 #include <gtest/gtest.h>
 
@@ -49,8 +50,8 @@ TEST(Image, WordOfBitsIsLowBitFirst) {
 }
 
 TEST(Image, ClearNonRetentiveKeepsOnlyRetentiveRanges) {
-    // SPEC §1: M800-M1399, S500-S999, R0-R2999, D0-D3999, R5000-R8071, C100-C139 and
-    // C200-C239 current values are retentive by default.
+    // docs/operations.md, Retentive memory: M800-M1399, S500-S999, R0-R2999, D0-D3999, R5000-R8071,
+    // C100-C139 and C200-C239 current values are retentive by default.
     const Layout l = fbs_layout();
     Image img(l);
     img.set_bit(Area::M, 799, true);
@@ -95,7 +96,8 @@ TEST(Image, RetentiveRangesAreContiguousInOneBlock) {
     }
 }
 
-// SPEC §1: C200-C255 are 32-bit (two words, low word first), so counter n's value is not word n.
+// docs/profile-fbs.md, The FBs profile and Modbus map: C200-C255 are 32-bit (two words, low word
+// first), so counter n's value is not word n.
 TEST(Image, CounterNamesGiveTheirWordIndex) {
     EXPECT_EQ(parse_device("CTR199"), (Device{Area::CV, 199, false}));
     EXPECT_EQ(parse_device("CTR200"), (Device{Area::CV, 200, false}));

@@ -1,4 +1,4 @@
-// Modbus TCP framing (SPEC §2, "Unit IDs and transports"): the MBAP splitter that the TCP server
+// Modbus TCP framing (docs/profile-fbs.md, "Modbus map"): the MBAP splitter that the TCP server
 // and the fuzz harness share. A protocol identifier other than 0 or a length field outside
 // 2..254 is a bad header (the server closes the connection); anything shorter than a whole
 // frame waits for more bytes.
@@ -49,14 +49,14 @@ TEST(Mbap, PipelinedFramesAreSplitOneAtATime) {
     EXPECT_EQ(a.size + b.size, two.size());
 }
 
-// SPEC §2: protocol identifier ≠ 0 closes the connection.
+// docs/profile-fbs.md, Modbus map: protocol identifier ≠ 0 closes the connection.
 TEST(Mbap, ANonZeroProtocolIdentifierIsBad) {
     EXPECT_EQ(next_mbap_frame(frame(1, 1, 6, 6)).status, MbapStatus::Bad);
     EXPECT_EQ(next_mbap_frame(frame(1, 0xFFFF, 6, 6)).status, MbapStatus::Bad);
 }
 
-// SPEC §2: a length field out of 2..254 closes the connection, judged as soon as the unit ID
-// is in (without waiting for a body that a length of 0 or 1 cannot describe).
+// docs/profile-fbs.md, Modbus map: a length field out of 2..254 closes the connection, judged as
+// soon as the unit ID is in (without waiting for a body that a length of 0 or 1 cannot describe).
 TEST(Mbap, LengthOutsideTwoTo254IsBad) {
     for (int len : {0, 1, 255, 256, 0xFFFF}) {
         EXPECT_EQ(next_mbap_frame(frame(1, 0, static_cast<std::uint16_t>(len), 1)).status,

@@ -1,6 +1,7 @@
-// FBs Modbus map and dispatch (SPEC §2): every row of the manual's table read and written
-// through the dispatcher, the gaps, read-only items, the R3968/R3972/R3975 user maps, quantity
-// limits, exceptions 01/02/03, function codes 05/15/16/22/23, unit IDs on TCP and RTU.
+// FBs Modbus map and dispatch (FBs manual 13-50/51; docs/profile-fbs.md, Modbus map): every row of
+// the manual's table read and written through the dispatcher, the gaps, read-only items, the
+// R3968/R3972/R3975 user maps, quantity limits, exceptions 01/02/03, function codes 05/15/16/22/23,
+// unit IDs on TCP and RTU.
 
 #include <gtest/gtest.h>
 
@@ -30,8 +31,8 @@ constexpr std::uint8_t kGatewayTarget = 0x0B;
 std::uint8_t hi(std::uint16_t v) { return static_cast<std::uint8_t>(v >> 8); }
 std::uint8_t lo(std::uint16_t v) { return static_cast<std::uint8_t>(v & 0xFF); }
 
-// One row of SPEC §2's table, written down independently of the code's table.
-struct SpecRow {
+// One row of the FBs manual's table (13-50/51), written down independently of the code's table.
+struct ManualRow {
     const char* name;
     Table table;
     std::uint16_t first;  // wire address
@@ -41,8 +42,8 @@ struct SpecRow {
     bool writable;
 };
 
-const std::vector<SpecRow>& spec_rows() {
-    static const std::vector<SpecRow> rows{
+const std::vector<ManualRow>& manual_rows() {
+    static const std::vector<ManualRow> rows{
         {"00001-00256 Y0-Y255", Table::Coils, 0, 255, Area::Y, 0, true},
         {"01001-01256 X0-X255", Table::Coils, 1000, 1255, Area::X, 0, false},
         {"02001-04002 M0-M2001", Table::Coils, 2000, 4001, Area::M, 0, true},
@@ -97,7 +98,7 @@ protected:
     }
 
     // Reads element `wire_addr` of a row through Modbus.
-    std::uint16_t read_one(const SpecRow& row, std::uint16_t wire_addr) {
+    std::uint16_t read_one(const ManualRow& row, std::uint16_t wire_addr) {
         if (row.table == Table::Coils) {
             const auto b = read_bits(0x01, wire_addr, 1);
             return b.size() == 1 && b[0] ? 1 : 0;
@@ -105,11 +106,11 @@ protected:
         const auto w = read_words(0x03, wire_addr, 1);
         return w.size() == 1 ? w[0] : 0xDEAD;
     }
-    std::uint16_t device(const SpecRow& row, std::uint16_t wire_addr) const {
+    std::uint16_t device(const ManualRow& row, std::uint16_t wire_addr) const {
         const std::uint32_t i = row.first_device + (wire_addr - row.first);
         return image::is_bit_area(row.area) ? img_.bit(row.area, i) : img_.word(row.area, i);
     }
-    void set_device(const SpecRow& row, std::uint16_t wire_addr, std::uint16_t v) {
+    void set_device(const ManualRow& row, std::uint16_t wire_addr, std::uint16_t v) {
         const std::uint32_t i = row.first_device + (wire_addr - row.first);
         if (image::is_bit_area(row.area)) {
             img_.set_bit(row.area, i, v != 0);
@@ -119,9 +120,10 @@ protected:
     }
 };
 
-// SPEC §2 table: every row reads its device range, at its first, a middle and its last address.
+// FBs manual 13-50/51: every row reads its device range, at its first, a middle and its last
+// address.
 TEST_F(ModbusMap, EveryRowReadsItsDevices) {
-    for (const auto& row : spec_rows()) {
+    for (const auto& row : manual_rows()) {
         SCOPED_TRACE(row.name);
         const std::uint16_t mid = static_cast<std::uint16_t>((row.first + row.last) / 2);
         for (std::uint16_t a : {row.first, mid, row.last}) {
@@ -154,10 +156,10 @@ TEST_F(ModbusMap, EveryRowReadsItsDevices) {
     }
 }
 
-// SPEC §2 table: every writable row is written by FC05/06 and FC15/16 at its first and last
+// FBs manual 13-50/51: every writable row is written by FC05/06 and FC15/16 at its first and last
 // address; X (01 only) refuses writes with exception 02 and stays unchanged.
 TEST_F(ModbusMap, EveryRowWritesItsDevicesOrRefuses) {
-    for (const auto& row : spec_rows()) {
+    for (const auto& row : manual_rows()) {
         SCOPED_TRACE(row.name);
         const bool bit = row.table == Table::Coils;
         for (std::uint16_t a : {row.first, row.last}) {
@@ -191,9 +193,10 @@ TEST_F(ModbusMap, EveryRowWritesItsDevicesOrRefuses) {
     }
 }
 
-// SPEC §2: a request that runs past the last address of a row into a gap is refused whole.
+// docs/profile-fbs.md, Modbus map: a request that runs past the last address of a row into a gap is
+// refused whole.
 TEST_F(ModbusMap, RequestsRunningIntoAGapAreRefusedWhole) {
-    for (const auto& row : spec_rows()) {
+    for (const auto& row : manual_rows()) {
         SCOPED_TRACE(row.name);
         const bool bit = row.table == Table::Coils;
         const std::uint8_t fc = bit ? 0x01 : 0x03;
@@ -222,7 +225,8 @@ TEST_F(ModbusMap, CounterValueRowsAreContiguous) {
     EXPECT_EQ(img_.word(Area::CV, 201), 3);
 }
 
-// SPEC §2: the gaps of the table (and R4168-R4999, R5999-R8071, D2999-D3999) get exception 02.
+// docs/profile-fbs.md, Modbus map: the gaps of the table (and R4168-R4999, R5999-R8071,
+// D2999-D3999) get exception 02.
 TEST_F(ModbusMap, GapsAreIllegalDataAddress) {
     for (std::uint16_t a :
          std::vector<std::uint16_t>{256, 500, 999, 1256, 1999, 4002, 5999, 7000, 8999, 9256, 9499,
@@ -252,8 +256,8 @@ TEST_F(ModbusMap, GapsAreIllegalDataAddress) {
     EXPECT_EQ(read_exception(0x03, 8999, 1), kIllegalAddress);
 }
 
-// SPEC §2: writes to read-only items (X, IR R3840-R3903, M1920-M1927, R4136-R4138) get
-// exception 02 and change nothing, whatever the function code; reads work.
+// docs/profile-fbs.md, Modbus map: writes to read-only items (X, IR R3840-R3903, M1920-M1927,
+// R4136-R4138) get exception 02 and change nothing, whatever the function code; reads work.
 TEST_F(ModbusMap, ReadOnlyItemsRefuseWritesAndStayUnchanged) {
     struct Item {
         Table table;
@@ -310,8 +314,8 @@ TEST_F(ModbusMap, ReadOnlyItemsRefuseWritesAndStayUnchanged) {
     EXPECT_EQ(write_coil(3928, true), 0);
 }
 
-// SPEC §2: R3968 = A55Ah replaces the coil map by R3969-R3971 and the holding-register map by
-// R3978-R3980; any other value restores the manual's table.
+// FBs manual 13-50/51: R3968 = A55Ah replaces the coil map by R3969-R3971 and the holding-register
+// map by R3978-R3980; any other value restores the manual's table.
 TEST_F(ModbusMap, R3968RemapReplacesCoilAndHoldingMaps) {
     img_.set_word(Area::R, 3969, 100);   // coils 100..
     img_.set_word(Area::R, 3970, 500);   // -> M500..
@@ -371,7 +375,7 @@ TEST_F(ModbusMap, R3968RemapReplacesCoilAndHoldingMaps) {
     EXPECT_EQ(read_exception(0x01, 0, 1), 0);
 }
 
-// SPEC §2: with R3968 = A55Ah and a count of 0, no coil / holding register is mapped.
+// FBs manual 13-50/51: with R3968 = A55Ah and a count of 0, no coil / holding register is mapped.
 TEST_F(ModbusMap, R3968RemapWithCountZeroMapsNothing) {
     img_.set_word(Area::R, 3968, 0xA55A);
     EXPECT_EQ(read_exception(0x01, 0, 1), kIllegalAddress);
@@ -379,8 +383,8 @@ TEST_F(ModbusMap, R3968RemapWithCountZeroMapsNothing) {
     EXPECT_EQ(write_register(3968, 0), kIllegalAddress);
 }
 
-// SPEC §2: FC02 through R3972-R3974 and FC04 through R3975-R3977, independent of R3968; a count
-// of 0 (the default) means the function code is not served: exception 01.
+// FBs manual 13-50/51: FC02 through R3972-R3974 and FC04 through R3975-R3977, independent of R3968;
+// a count of 0 (the default) means the function code is not served: exception 01.
 TEST_F(ModbusMap, DiscreteInputAndInputRegisterMaps) {
     EXPECT_EQ(read_exception(0x02, 0, 1), kIllegalFunction);
     EXPECT_EQ(read_exception(0x04, 0, 1), kIllegalFunction);
@@ -428,7 +432,8 @@ TEST_F(ModbusMap, DiscreteInputAndInputRegisterMaps) {
     EXPECT_EQ(read_exception(0x04, 300, 1), kIllegalFunction);
 }
 
-// SPEC §2 Decision: 32-bit counters C200-C255 take two registers each, low word first.
+// docs/profile-fbs.md, Modbus map: 32-bit counters C200-C255 take two registers each, low word
+// first.
 TEST_F(ModbusMap, ThirtyTwoBitCountersAreLowWordFirst) {
     EXPECT_EQ(write_registers(9700, {0x5678, 0x1234}), 0);  // C200 = 12345678h
     EXPECT_EQ(img_.word(Area::CV, 200), 0x5678);
@@ -438,8 +443,8 @@ TEST_F(ModbusMap, ThirtyTwoBitCountersAreLowWordFirst) {
     EXPECT_EQ(read_words(0x03, 9810, 2), (std::vector<std::uint16_t>{0xCDEF, 0x89AB}));
 }
 
-// SPEC §2 quantities: FC01/02 1-2000, FC03/04 1-125, FC15 1-1968, FC16 1-123, FC23 read 1-125 /
-// write 1-121, byte counts consistent; else exception 03.
+// docs/profile-fbs.md, Modbus map, quantities: FC01/02 1-2000, FC03/04 1-125, FC15 1-1968,
+// FC16 1-123, FC23 read 1-125 / write 1-121, byte counts consistent; else exception 03.
 TEST_F(ModbusMap, QuantityLimitsGiveIllegalDataValue) {
     img_.set_word(Area::R, 3972, 0);
     img_.set_word(Area::R, 3973, 0);
@@ -537,7 +542,8 @@ Bytes rw_pdu(std::uint16_t raddr,
     return p;
 }
 
-// SPEC §2 quantities for FC23: read 1-125, write 1-121, byte count = 2 * write quantity.
+// docs/profile-fbs.md, Modbus map, quantities for FC23: read 1-125, write 1-121, byte count =
+// 2 * write quantity.
 TEST_F(ModbusMap, Fc23QuantityLimits) {
     EXPECT_EQ(wire::exception_of(tcp(rw_pdu(0, 125, 6000, std::vector<std::uint16_t>(121, 1)))), 0);
     EXPECT_EQ(wire::exception_of(tcp(rw_pdu(0, 126, 6000, {1}))), kIllegalValue);
@@ -617,7 +623,7 @@ TEST_F(ModbusMap, Fc23ReadWriteMultiple) {
     EXPECT_EQ(wire::exception_of(tcp(rw_pdu(6010, 1, 4500, {9}))), kIllegalAddress);
 }
 
-// SPEC §2 Decision: function codes the emulator does not implement get exception 01.
+// docs/profile-fbs.md, Modbus map: function codes the emulator does not implement get exception 01.
 TEST_F(ModbusMap, UnknownFunctionCodesAreIllegalFunction) {
     for (std::uint8_t fc : std::vector<std::uint8_t>{0x00, 0x07, 0x09, 0x0B, 0x0C, 0x14, 0x15, 0x18,
                                                      0x2A, 0x41, 0x64, 0x7F}) {
@@ -629,8 +635,8 @@ TEST_F(ModbusMap, UnknownFunctionCodesAreIllegalFunction) {
     EXPECT_EQ(wire::exception_of(tcp({0x2B, 0x0D, 0x01, 0x00})), kIllegalFunction);
 }
 
-// SPEC §2: FC08/00 echoes, FC11h reports the slave, FC2Bh/0Eh gives FATEK, the model and the
-// version.
+// docs/profile-fbs.md, Modbus map: FC08/00 echoes, FC11h reports the slave, FC2Bh/0Eh gives FATEK,
+// the model and the version.
 TEST_F(ModbusMap, DiagnosticsReportAndIdentification) {
     const Bytes echo{0x08, 0x00, 0x00, 0x12, 0x34};
     EXPECT_EQ(tcp(echo), echo);
@@ -664,8 +670,8 @@ TEST_F(ModbusMap, DiagnosticsReportAndIdentification) {
     EXPECT_EQ(wire::exception_of(tcp({0x2B, 0x0E, 0x04, 0x42})), kIllegalAddress);
 }
 
-// SPEC §2 Decision (TCP): the station and 255 are answered, any other unit gets 0Bh (or, when
-// configured, no answer at all).
+// docs/profile-fbs.md, Modbus map (TCP): the station and 255 are answered, any other unit gets 0Bh
+// (or, when configured, no answer at all).
 TEST_F(ModbusMap, TcpUnitIds) {
     img_.set_word(Area::R, 7, 77);
     EXPECT_EQ(wire::reply_words(tcp(wire::read_pdu(0x03, 7, 1), 1)),
@@ -695,8 +701,8 @@ TEST_F(ModbusMap, TcpUnitIds) {
     EXPECT_FALSE(tcp(wire::read_pdu(0x03, 7, 1), 17).empty());
 }
 
-// SPEC §2 (RTU): only the station is answered; unit 0 is broadcast: writes are applied with no
-// reply, reads are ignored.
+// docs/profile-fbs.md, Modbus RTU (serial): only the station is answered; unit 0 is broadcast:
+// writes are applied with no reply, reads are ignored.
 TEST_F(ModbusMap, RtuUnitIdsAndBroadcast) {
     img_.set_word(Area::R, 7, 77);
     EXPECT_EQ(wire::reply_words(rtu(wire::read_pdu(0x03, 7, 1), 1)),
@@ -733,9 +739,9 @@ TEST_F(ModbusMap, RtuUnitIdsAndBroadcast) {
 // The address map's own table is the manual's (what --print-map prints).
 TEST_F(ModbusMap, MapTableMatchesTheManual) {
     const auto& rows = fbs_map().rows();
-    ASSERT_EQ(rows.size(), spec_rows().size());
+    ASSERT_EQ(rows.size(), manual_rows().size());
     for (std::size_t i = 0; i < rows.size(); ++i) {
-        const auto& s = spec_rows()[i];
+        const auto& s = manual_rows()[i];
         SCOPED_TRACE(s.name);
         EXPECT_EQ(rows[i].table, s.table);
         EXPECT_EQ(rows[i].wire_start, s.first);

@@ -1,5 +1,5 @@
-// MOV (SPEC §3): word move while EN is ON; WMn is 16 bits from Mn; EN a bit device or a
-// constant; operand errors name file:line:col.
+// MOV (docs/configuration.md, Configuration): word move while EN is ON; WMn is 16 bits from Mn; EN
+// a bit device or a constant; operand errors name file:line:col.
 
 #include <gtest/gtest.h>
 
@@ -37,7 +37,8 @@ void expect_error(const std::string& program, int line, int col, const std::stri
                                  col, needle);
 }
 
-// SPEC §3: MOV: {en: M1926, s: WM800, d: R4012}, as in the manual's FUN86 example.
+// MOV: {en: M1926, s: WM800, d: R4012}, as in the manual's FUN86 example (FBs manual §21.7;
+// docs/profile-fbs.md, FUN86 TPCTL).
 TEST(Mov, ManualExampleMovesWm800ToR4012) {
     Rig rig("  - MOV: {en: M1926, s: WM800, d: R4012}\n");
     rig.img.write_word({Area::M, 800, true}, 0x0305);
@@ -65,7 +66,8 @@ TEST(Mov, MovesWordsEveryScanWhileEnabled) {
     EXPECT_EQ(rig.img.word(Area::D, 7), 99);  // D keeps its value when EN goes OFF
 }
 
-// SPEC §3: an enable operand may be any bit device or a constant (absent = always).
+// docs/configuration.md, Configuration: an enable operand may be any bit device or a constant
+// (absent = always).
 TEST(Mov, EnableIsAnyBitDeviceOrAConstant) {
     Rig rig(
         "  - MOV: {s: 1, d: R1}\n"

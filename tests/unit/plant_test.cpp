@@ -1,5 +1,5 @@
-// Thermal plant (SPEC §6): first order plus dead time per channel, drives, faults, noise, and the
-// determinism of whole runs (issue 3 item 5).
+// Thermal plant (docs/simulator-and-plant.md, Thermal plant): first order plus dead time per
+// channel, drives, faults, noise, and the determinism of whole runs (issue 3 item 5).
 
 #include <gtest/gtest.h>
 
@@ -72,8 +72,8 @@ config::ChannelConfig no_dead_time() {
     return c;
 }
 
-TEST(Plant, DefaultsAreSpec6SensibleValues) {
-    // SPEC §6: e.g. K 400 °C, τ 120 s, θ 5 s, 25 °C.
+TEST(Plant, DefaultsAreTheDocumentedValues) {
+    // docs/simulator-and-plant.md, Thermal plant: K 400 °C, τ 120 s, θ 5 s, 25 °C.
     ThermalPlant p(config::PlantConfig{}, {});
     for (int c = 0; c < kChannels; ++c) {
         EXPECT_EQ(p.params(c).k_c, 400.0);
@@ -86,7 +86,8 @@ TEST(Plant, DefaultsAreSpec6SensibleValues) {
 }
 
 TEST(Plant, FirstOrderStepFollowsTheAnalyticSolution) {
-    // SPEC §6: dT/dt = (K·u − (T − T_amb))/τ; with u = 1 from t = 0, T = T_amb + K(1 − e^(−t/τ)).
+    // docs/simulator-and-plant.md, Thermal plant: dT/dt = (K·u − (T − T_amb))/τ; with u = 1
+    // from t = 0, T = T_amb + K(1 − e^(−t/τ)).
     Rig rig(no_dead_time(), Drive::Kind::Register, 100);
     rig.image.set_word(Area::R, 200, 16383);
     rig.engine->run_scans(1);  // t = 0: the drive is latched
@@ -128,7 +129,7 @@ TEST(Plant, SameResultWhateverTheScanPeriod) {
 }
 
 TEST(Plant, DeadTimeDelaysTheResponseByTheta) {
-    // SPEC §6: the response is delayed by θ.
+    // docs/simulator-and-plant.md, Thermal plant: the response is delayed by θ.
     config::ChannelConfig c;
     c.dead_time_s = 5.0;
     Rig rig(c);
@@ -141,7 +142,8 @@ TEST(Plant, DeadTimeDelaysTheResponseByTheta) {
 }
 
 TEST(Plant, OutputRegisterDriveIsOrOver16383) {
-    // SPEC §6: the heater driven by an analog output has u = OR / 16383.
+    // docs/simulator-and-plant.md, Thermal plant: the heater driven by an analog output has
+    // u = OR / 16383.
     Rig rig(no_dead_time(), Drive::Kind::Register, 100);
     rig.image.set_word(Area::R, 200, 4096);
     rig.run_seconds(2000);
@@ -153,7 +155,8 @@ TEST(Plant, OutputRegisterDriveIsOrOver16383) {
 }
 
 TEST(Plant, PwmDutyOfTheYOutputIsTheAveragePower) {
-    // SPEC §6: u is the duty of the Y output over time. 25 % duty on a 2 s cycle.
+    // docs/simulator-and-plant.md, Thermal plant: u is the duty of the Y output over time.
+    // 25 % duty on a 2 s cycle.
     Rig rig(no_dead_time(), Drive::Kind::Output, 100, [](engine::ScanContext& ctx) {
         const auto ms = std::chrono::duration_cast<milliseconds>(ctx.now).count();
         ctx.image.set_bit(Area::Y, 30, ms % 2000 < 500);
@@ -165,7 +168,7 @@ TEST(Plant, PwmDutyOfTheYOutputIsTheAveragePower) {
 }
 
 TEST(Plant, CoolingChannelsPullTemperatureDown) {
-    // SPEC §6: cooling channels pull T down.
+    // docs/simulator-and-plant.md, Thermal plant: cooling channels pull T down.
     config::ChannelConfig c = no_dead_time();
     c.cooling = true;
     c.ambient_c = 80;
@@ -177,7 +180,7 @@ TEST(Plant, CoolingChannelsPullTemperatureDown) {
 }
 
 TEST(Plant, HeaterOpenForcesZeroPower) {
-    // SPEC §6 fault: heater open, u forced to 0.
+    // docs/simulator-and-plant.md, Thermal plant, faults: heater open, u forced to 0.
     Rig rig(no_dead_time());
     rig.image.set_word(Area::R, 200, 16383);
     rig.plant->set_faults(0, {.heater_open = true});
@@ -190,7 +193,8 @@ TEST(Plant, HeaterOpenForcesZeroPower) {
 }
 
 TEST(Plant, HeaterShortedForcesFullPower) {
-    // SPEC §6 fault: heater shorted, u forced to 1 whatever the output.
+    // docs/simulator-and-plant.md, Thermal plant, faults: heater shorted, u forced to 1 whatever
+    // the output.
     Rig rig(no_dead_time(), Drive::Kind::Register, 100);
     rig.image.set_word(Area::R, 200, 0);
     rig.plant->set_faults(0, {.heater_shorted = true});
@@ -200,7 +204,8 @@ TEST(Plant, HeaterShortedForcesFullPower) {
 }
 
 TEST(Plant, SensorBrokenAndReadingFrozenFaults) {
-    // SPEC §6 faults: sensor broken (no temperature), reading frozen (stops changing).
+    // docs/simulator-and-plant.md, Thermal plant, faults: sensor broken (no temperature), reading
+    // frozen (stops changing).
     Rig rig(no_dead_time());
     rig.image.set_word(Area::R, 200, 16383);
     rig.run_seconds(10);
@@ -218,7 +223,8 @@ TEST(Plant, SensorBrokenAndReadingFrozenFaults) {
 }
 
 TEST(Plant, NoiseIsGaussianWithSigmaAndDeterministicPerSeed) {
-    // SPEC §6 sensor noise; issue 3 item 5: a fixed seed gives the same samples.
+    // docs/simulator-and-plant.md, Thermal plant, noise; issue 3 item 5: a fixed seed gives the
+    // same samples.
     config::PlantConfig pc;
     pc.defaults.noise_c = 0.5;
     pc.seed = 42;

@@ -1,6 +1,6 @@
-// Modbus RTU framing (SPEC §2 "Unit IDs and transports"): frames delimited by the t3.5 silence
-// (fixed 1.75 ms above 19200 baud), t1.5 inside a frame, CRC, frame size limits, and the station
-// filter behind the framer (only the station answers; unit 0 is broadcast).
+// Modbus RTU framing (docs/profile-fbs.md, "Modbus RTU (serial)"): frames delimited by the t3.5
+// silence (fixed 1.75 ms above 19200 baud), t1.5 inside a frame, CRC, frame size limits, and the
+// station filter behind the framer (only the station answers; unit 0 is broadcast).
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -71,7 +71,8 @@ TEST(RtuCrc, KnownVectorAndLowByteFirst) {
     EXPECT_EQ(crc16(check.data(), check.size()), 0x4B37);  // CRC-16/MODBUS check value
 }
 
-// SPEC §2: t3.5 is 3.5 character times, fixed 1.75 ms above 19200 baud; t1.5 likewise (750 µs).
+// docs/profile-fbs.md, Modbus RTU (serial): t3.5 is 3.5 character times, fixed 1.75 ms above 19200
+// baud; t1.5 likewise (750 µs).
 TEST(RtuTiming, CharacterTimesAndFixedSilencesAbove19200) {
     const RtuTiming t9600 = RtuTiming::for_line(9600, 'E', 8, 1);  // 11 bits
     EXPECT_EQ(t9600.char_time, std::chrono::nanoseconds(1'145'833));
@@ -89,7 +90,7 @@ TEST(RtuTiming, CharacterTimesAndFixedSilencesAbove19200) {
     }
 }
 
-// SPEC §2: a frame ends after a silence of t3.5, not before.
+// docs/profile-fbs.md, Modbus RTU (serial): a frame ends after a silence of t3.5, not before.
 TEST(RtuFramer, FrameEndsAfterT35Silence) {
     RtuFramer fr(RtuTiming::for_line(9600, 'E', 8, 1));
     const auto t0 = Clock::time_point{} + 1s;
@@ -118,8 +119,9 @@ TEST(RtuFramer, BytesAtLineSpeedMakeOneFrame) {
     EXPECT_EQ(bytes_of(f), kRequest);
 }
 
-// SPEC §2: a silence of t3.5 before new bytes ends the previous frame even when the timer has not
-// been served yet (the event loop was busy); the new bytes start the next frame.
+// docs/profile-fbs.md, Modbus RTU (serial): a silence of t3.5 before new bytes ends the previous
+// frame even when the timer has not been served yet (the event loop was busy); the new bytes start
+// the next frame.
 TEST(RtuFramer, SilenceBeforeNewBytesEndsThePreviousFrame) {
     RtuFramer fr(RtuTiming::for_line(19200, 'E', 8, 1));
     const auto t0 = Clock::time_point{} + 1s;
@@ -147,7 +149,8 @@ TEST(RtuFramer, FramesWithoutSilenceBetweenAreOneBadFrame) {
     EXPECT_EQ(fr.stats().bad_crc, 1u);
 }
 
-// SPEC §2: a frame with a bad CRC gets no answer (every single-bit error is caught).
+// docs/profile-fbs.md, Modbus RTU (serial): a frame with a bad CRC gets no answer (every single-bit
+// error is caught).
 TEST(RtuFramer, BadCrcIsDropped) {
     for (std::size_t i = 0; i < kRequest.size(); ++i) {
         for (int bit = 0; bit < 8; ++bit) {
@@ -263,9 +266,9 @@ TEST(RtuFramer, SizeLimits) {
     EXPECT_EQ(fr.stats().too_short, 1u);
 }
 
-// The station filter behind the framer (SPEC §2, RTU): framed bytes reach the dispatcher, which
-// answers the station, stays silent for other stations and for broadcasts, and applies
-// broadcast writes.
+// The station filter behind the framer (docs/profile-fbs.md, Modbus RTU (serial)): framed bytes
+// reach the dispatcher, which answers the station, stays silent for other stations and for
+// broadcasts, and applies broadcast writes.
 class RtuStation : public ::testing::Test {
 protected:
     image::Image img_{image::fbs_layout()};

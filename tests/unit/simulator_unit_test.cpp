@@ -1,5 +1,6 @@
-// Simulator-control unit (SPEC §6, issue 3 item 4): unit 247's holding registers, through the
-// real dispatcher on the wire, with a fake time control.
+// Simulator-control unit (docs/simulator-and-plant.md, "Simulator-control unit (unit 247)"; issue 3
+// item 4): unit 247's holding registers, through the real dispatcher on the wire, with a fake time
+// control.
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-// The state file (retentive memory, SPEC §1 "Retentive … kept across restart"), the start modes
-// of a Plc over it (R4057 power-up counter, SPEC §3), its default location, and the config keys
-// of persistence and access control.
+// The state file (docs/operations.md, Retentive memory), the start modes of a Plc over it (R4057
+// power-up counter, docs/profile-fbs.md, Scan cycle and special registers), its default location,
+// and the config keys of persistence and access control.
 
 #include "plcemu/image/state_file.hpp"
 
@@ -124,7 +124,7 @@ TEST_F(StateFileTest, NewFileIsCreatedZeroedWithItsHeader) {
     EXPECT_FALSE(fs::exists(path_ + ".new"));
 }
 
-// SPEC §1: retentive values are kept across a (clean) restart.
+// docs/operations.md, Retentive memory: retentive values are kept across a (clean) restart.
 TEST_F(StateFileTest, ValuesSurviveCleanCloseAndReopen) {
     {
         StateFile f(path_, kFbs, layout(), fixed_now());
@@ -458,7 +458,8 @@ std::uint16_t power_ups(daemon::Plc& plc) {
     return plc.image().word(Area::R, engine::special::kPowerUps);
 }
 
-// SPEC §1 "the rest is cleared at start"; SPEC §3 "R4057 power-up counter (retentive)".
+// docs/operations.md, Retentive memory: "devices outside the retentive ranges are cleared and R4057
+// counts the start".
 TEST_F(StateFileTest, EachStartCountsInR4057AndClearsNonRetentiveDevices) {
     const auto cfg = plc_config();
     for (int start = 1; start <= 3; ++start) {

@@ -1,4 +1,4 @@
-// FBs temperature measurement (SPEC §4, manual 21.3): configuration table, execute codes,
+// FBs temperature measurement (FBs manual §21.3): configuration table, execute codes,
 // channel numbering, working registers, R4009/R4010/R4011/R4015, conversion times, ranges.
 
 #include <gtest/gtest.h>
@@ -85,7 +85,8 @@ struct Rig {
 };
 
 TEST(TemperatureCodes, ModuleNameCodesInTheManualsOrder) {
-    // SPEC §4 Decision: 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2.
+    // docs/profile-fbs.md, Temperature measurement (in the order of FBs manual §21.3's list):
+    // 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2.
     EXPECT_EQ(t::channels_of(kTC6), 6);
     EXPECT_EQ(t::channels_of(kRTD6), 6);
     EXPECT_EQ(t::channels_of(kTC16), 16);
@@ -98,7 +99,7 @@ TEST(TemperatureCodes, ModuleNameCodesInTheManualsOrder) {
 }
 
 TEST(TemperatureCodes, ConversionTimesNormal) {
-    // SPEC §4: normal TC2 2 s, TC6 4 s, TC16 6 s, RTD6 2 s, RTD16 4 s.
+    // FBs manual §21.1: normal TC2 2 s, TC6 4 s, TC16 6 s, RTD6 2 s, RTD16 4 s.
     EXPECT_EQ(t::conversion_ms(kTC2), 2000);
     EXPECT_EQ(t::conversion_ms(kTC6), 4000);
     EXPECT_EQ(t::conversion_ms(kTC16), 6000);
@@ -107,8 +108,8 @@ TEST(TemperatureCodes, ConversionTimesNormal) {
 }
 
 TEST(TemperatureCodes, SensorTypeRangesOfManual21_1) {
-    // SPEC §4: TC 0 J, 1 K, 2 T, 3 E, 4 N, 5 B, 6 R, 7 S; RTD 0 Pt100 DIN, 1 Pt100 JIS,
-    // 2 Pt1000 DIN, 3 Pt1000 JIS; ranges of manual 21.1.
+    // docs/profile-fbs.md, Temperature measurement: TC 0 J, 1 K, 2 T, 3 E, 4 N, 5 B, 6 R, 7 S;
+    // RTD 0 Pt100 DIN, 1 Pt100 JIS, 2 Pt1000 DIN, 3 Pt1000 JIS; ranges of FBs manual §21.1.
     struct Case {
         std::uint8_t module, sensor;
         double lo, hi;
@@ -130,7 +131,8 @@ TEST(TemperatureCodes, SensorTypeRangesOfManual21_1) {
 }
 
 TEST(TemperatureCodes, RegisterReferencesUseTheR4004Encoding) {
-    // SPEC §4 Decision: 10000+n = Rn, 20000+n = Dn, anything else invalid.
+    // docs/profile-fbs.md, Temperature measurement: 10000+n = Rn, 20000+n = Dn, anything else
+    // invalid.
     EXPECT_EQ(t::decode_register(10000), (image::Device{Area::R, 0, false}));
     EXPECT_EQ(t::decode_register(15000), (image::Device{Area::R, 5000, false}));
     EXPECT_EQ(t::decode_register(20123), (image::Device{Area::D, 123, false}));
@@ -142,7 +144,7 @@ TEST(TemperatureCodes, RegisterReferencesUseTheR4004Encoding) {
 }
 
 TEST(TemperatureTable, ValidMarkerA556hRunsMeasurementAndCode56hOnceEveryChannelIsRead) {
-    // SPEC §4: 56h once every channel was read; TC6 converts its six channels in 4 s.
+    // FBs manual §21.3.2: 56h once every channel was read; TC6 converts its six channels in 4 s.
     Rig rig;
     rig.standard_table();
     rig.sensors.celsius[0] = 150.0;
@@ -156,7 +158,7 @@ TEST(TemperatureTable, ValidMarkerA556hRunsMeasurementAndCode56hOnceEveryChannel
 }
 
 TEST(TemperatureTable, BadMarkerMeansNoMeasurementAndExecuteCode00h) {
-    // SPEC §4: SR+0 other than A556h = no temperature measurement.
+    // FBs manual §21.3.1: SR+0 other than A556h = no temperature measurement.
     Rig rig;
     rig.standard_table();
     rig.run_ms(5000);
@@ -172,7 +174,7 @@ TEST(TemperatureTable, BadMarkerMeansNoMeasurementAndExecuteCode00h) {
 }
 
 TEST(TemperatureTable, ModuleCountZeroOrAboveEightGivesFEh) {
-    // SPEC §4 / manual 21.3.2: FEh when the low byte of WR+3 (module count) is 0 or > 8.
+    // FBs manual §21.3.2: FEh when the low byte of WR+3 (module count) is 0 or > 8.
     for (std::uint16_t n : {std::uint16_t{0}, std::uint16_t{9}, std::uint16_t{12}}) {
         Rig rig;
         rig.write_table({0xA556, n, 10000, 20000, module(kTC6, kK), module(kRTD6, kPt100)});
@@ -184,7 +186,7 @@ TEST(TemperatureTable, ModuleCountZeroOrAboveEightGivesFEh) {
 }
 
 TEST(TemperatureTable, MoreThan32ChannelsGivesFFh) {
-    // SPEC §4: channels numbered across modules; more than 32 → FFh, no measurement.
+    // FBs manual §21.3.2: channels numbered across modules; more than 32 → FFh, no measurement.
     Rig rig(std::vector<config::ModuleConfig>{});
     rig.write_table(
         {0xA556, 3, 10000, 20000, module(kTC16, kK), module(kRTD16, kPt100), module(kTC2, kK)});
@@ -200,7 +202,8 @@ TEST(TemperatureTable, MoreThan32ChannelsGivesFFh) {
 }
 
 TEST(TemperatureTable, InvalidRegisterReferenceMakesTheTableInvalid) {
-    // SPEC §4 Decision: SR+2/SR+3 other than 10000+n / 20000+n make the table invalid.
+    // docs/profile-fbs.md, Temperature measurement: SR+2/SR+3 other than 10000+n / 20000+n make the
+    // table invalid.
     Rig rig;
     rig.write_table({0xA556, 2, 5, 20000, module(kTC6, kK), module(kRTD6, kPt100)});
     rig.run_ms(5000);
@@ -225,8 +228,8 @@ TEST(TemperatureTable, TableAndRegistersMayBeDRegisters) {
 }
 
 TEST(TemperatureTable, InstalledModuleMismatchSetsBitKMinus1OfWr0LowByte) {
-    // SPEC §4: a table module k that differs from the installed one sets bit k−1 of WR+0's low
-    // byte. Decision: its channels read as broken (32767 and the abnormal bit).
+    // FBs manual §21.3.2: a table module k that differs from the installed one sets bit k−1 of
+    // WR+0's low byte. Decision: its channels read as broken (32767 and the abnormal bit).
     Rig rig({installed(kTC6, kK), installed(kRTD6, kPt100)});
     rig.write_table(
         {0xA556, 3, 10000, 20000, module(kTC6, kK), module(kTC16, kK), module(kTC2, kK)});
@@ -247,7 +250,7 @@ TEST(TemperatureTable, NoDeclaredChainMeansTheTableIsWhatIsInstalled) {
 }
 
 TEST(TemperatureTable, ChannelsAreNumberedAcrossModulesInTableOrder) {
-    // SPEC §4: module 1's channels first, then module 2's; one reading register each.
+    // FBs manual §21.3: module 1's channels first, then module 2's; one reading register each.
     Rig rig;
     for (int ch = 0; ch < 12; ++ch) rig.sensors.celsius[static_cast<std::size_t>(ch)] = 100.0 + ch;
     rig.standard_table();
@@ -259,8 +262,8 @@ TEST(TemperatureTable, ChannelsAreNumberedAcrossModulesInTableOrder) {
 }
 
 TEST(TemperatureTable, WorkingRegisterLayout4NPlus4) {
-    // SPEC §4: WR+3 total channels | module count; per module k: [sensor | first Y of its 8
-    // outputs], [channel count | input register index], reading start (encoded), current
+    // FBs manual §21.3.2: WR+3 total channels | module count; per module k: [sensor | first Y of
+    // its 8 outputs], [channel count | input register index], reading start (encoded), current
     // channel. Decision: the modules follow the main unit (FBs-24MC: Y0-Y9) on the chain.
     Rig rig;
     rig.image.set_word(Area::D, 12, 0x5555);  // just past the 4·2 + 4 words
@@ -282,8 +285,8 @@ TEST(TemperatureTable, WorkingRegisterLayout4NPlus4) {
 }
 
 TEST(TemperatureTable, ChannelsRefreshOneAfterAnotherWithinTheConversionTime) {
-    // SPEC §4: each module refreshes its channels one after another, a round per conversion time
-    // (TC6 normal 4 s: one channel every 667 ms).
+    // docs/profile-fbs.md, Temperature measurement: each module refreshes its channels one after
+    // another, a round per conversion time (TC6 normal 4 s: one channel every 667 ms).
     Rig rig;
     rig.standard_table();
     rig.run_ms(680);
@@ -298,7 +301,8 @@ TEST(TemperatureTable, ChannelsRefreshOneAfterAnotherWithinTheConversionTime) {
 }
 
 TEST(TemperatureTable, FastScanRateHalvesTheTimeWithOneDegreeResolution) {
-    // SPEC §4: fast = half the conversion time, resolution 1° (still in 0.1° units).
+    // FBs manual §21.3 (scan rate): fast = half the conversion time, resolution 1° (still in 0.1°
+    // units).
     Rig rig({installed(kTC6, kK), installed(kRTD6, kPt100)}, true);
     rig.sensors.celsius[0] = 123.46;
     rig.sensors.celsius[7] = -4.6;
@@ -378,7 +382,8 @@ TEST(TemperatureTable, R4015FourAveragesSixteenReadings) {
 }
 
 TEST(TemperatureTable, R4015MovingAverageOfTwoFourEightReadings) {
-    // SPEC §4: R4015 0 none, 1 two, 2 four, 3 eight readings, moving average.
+    // FBs manual §21.3 (times of average), R4015 as in FB manual FUN73: 0 none, 1 two, 2 four,
+    // 3 eight readings, moving average.
     Rig rig;
     rig.standard_table();
     rig.image.set_word(Area::R, engine::special::kTempAverage, 2);
@@ -403,7 +408,8 @@ TEST(TemperatureTable, R4015MovingAverageOfTwoFourEightReadings) {
 }
 
 TEST(TemperatureTable, BrokenSensorReads32767AndSetsWr1Wr2Bit) {
-    // SPEC §4 Decision: a broken sensor reads 32767 and sets its bit in WR+1 (0-15) / WR+2.
+    // docs/profile-fbs.md, Temperature measurement: a broken sensor reads 32767 and sets its bit in
+    // WR+1 (0-15) / WR+2.
     Rig rig({installed(kTC16, kK), installed(kTC6, kK)});
     rig.write_table({0xA556, 2, 10000, 20000, module(kTC16, kK), module(kTC6, kK)});
     rig.sensors.broken[3] = true;
@@ -453,7 +459,8 @@ TEST(TemperatureTable, ReadingBeyondTheSensorRangeIsClampedNotBroken) {
 }
 
 TEST(TemperatureTable, R4010R4011BitZeroReadsZeroWithoutBrokenCheck) {
-    // SPEC §4: a channel whose R4010/R4011 bit is 0 reads 0 and is not checked for a broken line.
+    // FBs manual §21.3.3: a channel whose R4010/R4011 bit is 0 reads 0 and is not checked for a
+    // broken line.
     Rig rig({installed(kTC16, kK), installed(kTC6, kK)});
     rig.write_table({0xA556, 2, 10000, 20000, module(kTC16, kK), module(kTC6, kK)});
     rig.sensors.broken[2] = true;
@@ -472,8 +479,8 @@ TEST(TemperatureTable, R4010R4011BitZeroReadsZeroWithoutBrokenCheck) {
 }
 
 TEST(TemperatureTable, ChangedTableIsReReadAndMeasurementRestarts) {
-    // SPEC §4: a changed table is re-read at the next scan; execute code 00h until every channel
-    // was read again.
+    // docs/profile-fbs.md, Temperature measurement: a changed table is re-read at the next scan;
+    // execute code 00h until every channel was read again.
     Rig rig;
     rig.standard_table();
     rig.run_ms(4010);

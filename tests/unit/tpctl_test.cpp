@@ -1,6 +1,6 @@
-// FUN86 TPCTL (SPEC §5, seed 000 §21.7): every rule of the section on an image driven by a fake
-// scan context in virtual time. Readings and the temperature execute code are set directly in
-// the image, as the measurement subsystem would leave them.
+// FUN86 TPCTL (FBs manual §21.7; docs/profile-fbs.md, FUN86 TPCTL): every rule of the section on an
+// image driven by a fake scan context in virtual time. Readings and the temperature execute code
+// are set directly in the image, as the measurement subsystem would leave them.
 
 #include <gtest/gtest.h>
 
@@ -23,7 +23,7 @@ using image::Area;
 using namespace std::chrono_literals;
 using engine::Duration;
 
-// SPEC §3's example, with H/C on M1 so tests can switch heating and cooling.
+// The program example of FBs manual §21.7, with H/C on M1 so tests can switch heating and cooling.
 const char* kExample =
     "  - TPCTL: {en: M0, hc: M1, md: 0, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120,\n"
     "            ir: R130, dr: R140, or: R200, wr: R300, err: M100, alm: M101}\n";
@@ -37,7 +37,7 @@ constexpr std::uint32_t kSv = 100, kOs = 110, kPr = 120, kIr = 130, kDr = 140, k
                         kY = 30;
 
 /// An image with the temperature table of default.yaml (readings R0…, measurement WR at D0),
-/// the SR defaults of SPEC §5 and a program; scans in virtual time.
+/// the special-register defaults of FBs manual §21.7 and a program; scans in virtual time.
 class Rig {
 public:
     explicit Rig(const std::string& program = kExample, Duration dt = 10ms)
@@ -122,9 +122,9 @@ const char* kOps =
     "dr: R140, or: R200, ";
 
 // ---------------------------------------------------------------------------------------------
-// Operands (SPEC §3 example, manual's operand table)
+// Operands (FBs manual §21.7: its program example and operand table)
 
-TEST(Tpctl, OperandsOfTheSpecExampleBind) {
+TEST(Tpctl, OperandsOfTheManualExampleBind) {
     EXPECT_EQ(load_error(kExample), "");
     EXPECT_EQ(load_error(tpctl(std::string(kOps) + "wr: R300, err: M100, alm: M101")), "");
     // ROR and DR areas too, and err/alm optional.
@@ -246,7 +246,8 @@ TEST(Tpctl, SnZnOutOfRangeIsNotExecutedAndErrIsOn) {
     for (const Case c :
          {Case{30, 5}, Case{32, 1}, Case{0, 0}, Case{0, 33}, Case{-1, 4}, Case{31, 2}}) {
         SCOPED_TRACE(std::to_string(c.sn) + "/" + std::to_string(c.zn));
-        // Out-of-range constants are accepted by the loader (SPEC: ERR at run time).
+        // Out-of-range constants are accepted by the loader (docs/profile-fbs.md, FUN86 TPCTL: ERR
+        // at run time).
         Rig rig(tpctl("en: M0, hc: 1, yn: Y30, sn: " + std::to_string(c.sn) +
                       ", zn: " + std::to_string(c.zn) +
                       ", sv: R100, os: R110, pr: R120, ir: R130, dr: R140, or: R200, wr: R300, "
