@@ -15,6 +15,10 @@
 #include <string_view>
 #include <tuple>
 
+#include "plcemu/image/layout.hpp"
+#include "plcemu/image/naming.hpp"
+#include "plcemu/profiles/profile.hpp"
+
 namespace plcemu::config {
 
 namespace {
@@ -43,6 +47,26 @@ class Reader {
 public:
     explicit Reader(std::string file)
         : file_(std::move(file)) {}
+
+    // " (X and Y are numbered in octal …)" when the text names an octal area with a digit 8 or 9.
+    std::string octal_hint(const std::string& text) const {
+        std::string u;
+        for (char c : text) u += static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+        std::string areas;
+        bool hit = false;
+        for (const auto& p : naming_->prefixes) {
+            if (naming_->radix[static_cast<std::size_t>(p.area)] != 8) continue;
+            areas += (areas.empty() ? "" : " and ") + std::string(p.text);
+            const std::string prefix(p.text);
+            hit = hit || (u.rfind(prefix, 0) == 0 &&
+                          u.find_first_of("89", prefix.size()) != std::string::npos);
+        }
+        return hit ? " (" + areas + " are numbered in octal: 7 is followed by 10)" : "";
+    }
+
+    /// From the `profile:` key on, devices and constants are spelt the profile's way.
+    void set_naming(const image::Naming& naming) { naming_ = &naming; }
+    const image::Naming& naming() const { return *naming_; }
 
     Position pos(const YAML::Node& n) const {
         const YAML::Mark m = n.Mark();
@@ -100,7 +124,8 @@ public:
                       long long hi) const {
         const std::string s = scalar(n, what);
         long long v = 0;
-        if (!parse_integer(s, v)) fail(n, what + ": expected an integer, got '" + excerpt(s) + "'");
+        if (!naming_->parse_integer(s, v))
+            fail(n, what + ": expected an integer, got '" + excerpt(s) + "'");
         if (v < lo || v > hi) {
             fail(n, what + ": " + excerpt(s) + " is out of range " + std::to_string(lo) + ".." +
                         std::to_string(hi));
@@ -133,55 +158,26 @@ public:
 
     image::Device device(const YAML::Node& n, const std::string& what) const {
         const std::string s = scalar(n, what);
-        auto d = image::parse_device(s);
-        if (!d) fail(n, what + ": expected a device such as R100 or D0, got '" + excerpt(s) + "'");
+        auto d = naming_->parse_device(s);
+        if (!d)
+            fail(n, what + ": '" + excerpt(s) + "' is not a device of this PLC" + octal_hint(s));
         return *d;
     }
 
     image::Range range(const YAML::Node& n, const std::string& what) const {
         const std::string s = scalar(n, what);
-        auto r = image::parse_range(s);
+        auto r = naming_->parse_range(s);
         if (!r) {
-            fail(n, what + ": expected a device range such as D100-D199, got '" + excerpt(s) + "'");
+            fail(n, what + ": expected a device range such as D100-D199, got '" + excerpt(s) + "'" +
+                        octal_hint(s));
         }
         return *r;
     }
 
-    // Decimal, 0x.., or the manual's 0A556h / A556H notation.
-    static bool parse_integer(std::string s, long long& out) {
-        if (s.empty()) return false;
-        int base = 10;
-        bool neg = false;
-        if (s[0] == '-' || s[0] == '+') {
-            neg = s[0] == '-';
-            s.erase(0, 1);
-        }
-        if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) {
-            base = 16;
-            s.erase(0, 2);
-        } else if (s.size() > 1 && (s.back() == 'h' || s.back() == 'H')) {
-            base = 16;
-            s.pop_back();
-        } else if (s.size() > 1 && (s[0] == 'K' || s[0] == 'k')) {
-            s.erase(0, 1);  // FATEK constant prefix: K100
-        }
-        if (s.empty()) return false;
-        long long v = 0;
-        for (char c : s) {
-            int d = -1;
-            if (c >= '0' && c <= '9') d = c - '0';
-            if (base == 16 && c >= 'a' && c <= 'f') d = c - 'a' + 10;
-            if (base == 16 && c >= 'A' && c <= 'F') d = c - 'A' + 10;
-            if (d < 0) return false;
-            v = v * base + d;
-            if (v > (1LL << 40)) return false;
-        }
-        out = neg ? -v : v;
-        return true;
-    }
-
 private:
     std::string file_;
+    static inline const image::Naming kPlain{};  // before `profile:`: plain integers only
+    const image::Naming* naming_ = &kPlain;
 };
 
 // A numeric IPv4/IPv6 address, as the listener and the allow list take them.
@@ -203,20 +199,109 @@ bool valid_cidr(const std::string& text) {
     return std::stoi(p) <= (addr.find(':') == std::string::npos ? 32 : 128);
 }
 
+}  // namespace
+
+std::string outside(const image::Naming& naming,
+                    const image::Layout& layout,
+                    const image::Range& rg) {
+    const std::string area(naming.area_name(rg.area));
+    const std::string name = naming.format_range(rg);
+    if (layout.size_of(rg.area) == 0) {
+        return name + " does not exist on this PLC (it has no " + area + " area)";
+    }
+    if (rg.count <= layout.size_of(rg.area) && rg.start <= layout.size_of(rg.area) - rg.count) {
+        return name + " does not exist on this PLC (no " + area + " device has that number)";
+    }
+    return name + " is outside this PLC's " + area + " area (" +
+           std::to_string(layout.size_of(rg.area)) + " devices)";
+}
+
+namespace {
+
+std::string outside(const Reader& r, const image::Layout& layout, const image::Range& rg) {
+    return config::outside(r.naming(), layout, rg);
+}
+
 // Device ranges of a list (write_protect, retentive) must exist on the profile's PLC.
 void check_ranges_exist(const Reader& r,
                         const YAML::Node& list,
                         const std::string& what,
-                        image::Profile profile) {
+                        const image::Layout& layout) {
     if (!list || !list.IsSequence()) return;
-    const image::Layout layout = image::layout_for(profile);
     for (const auto& e : list) {
         const image::Range rg = r.range(e, what);
-        if (!layout.contains(rg)) {
-            r.fail(e, what + ": " + image::format_range(rg) + " is outside this PLC's " +
-                          std::string(image::area_name(rg.area)) + " area (" +
-                          std::to_string(layout.size_of(rg.area)) + " devices)");
+        if (!layout.contains(rg)) r.fail(e, what + ": " + outside(r, layout, rg));
+    }
+}
+
+// `modbus.map`: rows of a map that replaces the profile's.
+void read_map(const Reader& r,
+              const YAML::Node& n,
+              const image::Layout& layout,
+              std::vector<MapRowConfig>& rows) {
+    if (!n.IsSequence())
+        r.fail(n,
+               "modbus.map: expected a list of rows such as {table: holding, start: 0, device: D0, "
+               "count: 100}");
+    for (const auto& e : n) {
+        r.check_keys(e, "modbus.map row", {"table", "start", "device", "count", "access"});
+        for (const char* k : {"table", "start", "device", "count"}) {
+            if (!e[k]) r.fail(e, std::string("modbus.map row: '") + k + "' is required");
         }
+        MapRowConfig row;
+        row.pos = r.pos(e);
+        const std::string t = r.scalar(e["table"], "modbus.map.table");
+        if (t == "coils") {
+            row.table = MapTable::Coils;
+        } else if (t == "discrete_inputs") {
+            row.table = MapTable::DiscreteInputs;
+        } else if (t == "holding") {
+            row.table = MapTable::Holding;
+        } else if (t == "input") {
+            row.table = MapTable::Input;
+        } else {
+            r.fail(e["table"],
+                   "modbus.map.table: expected coils, discrete_inputs, holding or "
+                   "input, got '" +
+                       excerpt(t) + "'");
+        }
+        row.start = static_cast<std::uint16_t>(r.integer(e["start"], "modbus.map.start", 0, 65535));
+        row.count = static_cast<std::uint16_t>(r.integer(e["count"], "modbus.map.count", 1, 65535));
+        if (std::uint32_t{row.start} + row.count > 65536) {
+            r.fail(e["count"], "modbus.map.count: the row runs past wire address 65535");
+        }
+        row.text = r.scalar(e["device"], "modbus.map.device");
+        row.device = r.device(e["device"], "modbus.map.device");
+        const bool bit_table =
+            row.table == MapTable::Coils || row.table == MapTable::DiscreteInputs;
+        const bool bit_device = image::is_bit_area(row.device.area);
+        if (bit_table && (!bit_device || row.device.word_of_bits)) {
+            r.fail(e["device"], "modbus.map.device: a " + t + " row needs a bit device, got '" +
+                                    excerpt(row.text) + "'");
+        }
+        if (!bit_table && bit_device && !row.device.word_of_bits) {
+            r.fail(e["device"],
+                   "modbus.map.device: a register table needs a word device or 16 "
+                   "packed bits such as WM0, got '" +
+                       excerpt(row.text) + "'");
+        }
+        const std::uint32_t per = row.device.word_of_bits ? 16 : 1;
+        const image::Range devices{row.device.area, row.device.index, per * row.count};
+        if (!layout.contains(devices)) r.fail(e, "modbus.map row: " + outside(r, layout, devices));
+        if (const auto a = e["access"]) {
+            const std::string s = r.scalar(a, "modbus.map.access");
+            if (s != "ro" && s != "rw") r.fail(a, "modbus.map.access: expected ro or rw");
+            row.read_only = s == "ro";
+        }
+        for (const auto& o : rows) {
+            if (o.table == row.table && row.start < o.start + o.count &&
+                o.start < row.start + row.count) {
+                r.fail(e, "modbus.map row: wire addresses " + std::to_string(row.start) + "-" +
+                              std::to_string(row.start + row.count - 1) +
+                              " overlap the row at line " + std::to_string(o.pos.line));
+            }
+        }
+        rows.push_back(std::move(row));
     }
 }
 
@@ -296,7 +381,7 @@ void read_rtu(const Reader& r, const YAML::Node& n, RtuConfig& rtu) {
 }
 
 void read_modbus(const Reader& r, const YAML::Node& n, ModbusConfig& mb) {
-    r.check_keys(n, "modbus", {"tcp", "rtu", "read_only", "write_protect"});
+    r.check_keys(n, "modbus", {"tcp", "rtu", "read_only", "write_protect", "map"});
     if (n["tcp"]) read_tcp(r, n["tcp"], mb.tcp);
     if (n["rtu"] && !n["rtu"].IsNull()) {
         RtuConfig rtu;
@@ -513,26 +598,43 @@ void read_persistence(const Reader& r, const YAML::Node& n, PersistenceConfig& p
     }
 }
 
-Config read_root(const Reader& r, const YAML::Node& root) {
+Config read_root(Reader& r, const YAML::Node& root) {
     Config c;
-    if (!root.IsMap()) r.fail(root, "the config must be a mapping with at least 'profile: fbs'");
+    if (!root.IsMap()) {
+        r.fail(root, "the config must be a mapping with at least 'profile:' (one of " +
+                         profiles::names() + ")");
+    }
     r.check_keys(root, "config",
                  {"profile", "model", "station", "scan_ms", "time_scale", "modbus", "init",
                   "program", "temperature", "plant", "simulator", "persistence", "log"});
-    if (!root["profile"]) r.fail(root, "'profile' is required (fbs)");
-    const std::string prof = r.scalar(root["profile"], "profile");
-    if (!image::parse_profile(prof, c.profile))
-        r.fail(root["profile"], "profile: expected fbs, fb or vb, got '" + excerpt(prof) + "'");
-    if (c.profile != image::Profile::Fbs)
-        r.fail(root["profile"], "profile '" + excerpt(prof) + "' is not supported yet (only fbs)");
+    if (!root["profile"]) r.fail(root, "'profile' is required (one of " + profiles::names() + ")");
+    c.profile = r.scalar(root["profile"], "profile");
+    const profiles::Profile* profile = profiles::find(c.profile);
+    if (profile == nullptr) {
+        r.fail(root["profile"], "profile: expected one of " + profiles::names() + ", got '" +
+                                    excerpt(c.profile) + "'");
+    }
+    r.set_naming(profile->naming());
+    const image::Layout layout = profile->layout();
+    // Sections of subsystems the family does not have are refused where they stand.
+    for (const char* section : {"temperature"}) {
+        const auto own = profile->sections();
+        if (root[section] && std::find(own.begin(), own.end(), section) == own.end()) {
+            r.fail(root[section],
+                   std::string(section) + ": profile " + c.profile + " has no such subsystem");
+        }
+    }
+    c.model = std::string(profile->default_model());
     if (root["model"]) {
         c.model = r.scalar(root["model"], "model");
-        if (!model_code(c.model))
-            r.fail(root["model"],
-                   "model: expected an FBs model such as FBs-24MC, got '" + excerpt(c.model) + "'");
+        if (!profile->valid_model(c.model))
+            r.fail(root["model"], "model: expected " + std::string(profile->model_hint()) +
+                                      ", got '" + excerpt(c.model) + "'");
     }
-    if (root["station"])
-        c.station = static_cast<std::uint8_t>(r.integer(root["station"], "station", 1, 254));
+    if (root["station"]) {
+        c.station = static_cast<std::uint8_t>(
+            r.integer(root["station"], "station", 1, profile->max_station()));
+    }
     if (root["scan_ms"])
         c.scan_ms = static_cast<int>(r.integer(root["scan_ms"], "scan_ms", 1, 1000));
     if (root["time_scale"])
@@ -550,10 +652,14 @@ Config read_root(const Reader& r, const YAML::Node& root) {
     }
     if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
     if (const auto m = root["modbus"]) {
-        check_ranges_exist(r, m["write_protect"], "modbus.write_protect entry", c.profile);
+        check_ranges_exist(r, m["write_protect"], "modbus.write_protect entry", layout);
+        if (m["map"]) {
+            c.modbus.map.emplace();
+            read_map(r, m["map"], layout, *c.modbus.map);
+        }
     }
     if (const auto p = root["persistence"]) {
-        check_ranges_exist(r, p["retentive"], "persistence.retentive entry", c.profile);
+        check_ranges_exist(r, p["retentive"], "persistence.retentive entry", layout);
     }
     if (const auto l = root["log"]) {
         r.check_keys(l, "log", {"level"});
@@ -644,25 +750,6 @@ Config load_config(const std::string& path) {
     std::ostringstream ss;
     ss << in.rdbuf();
     return parse_config(ss.str(), path);
-}
-
-std::optional<std::uint16_t> model_code(const std::string& model) {
-    // "FBs-<points><MA|MC|MN>", e.g. FBs-24MC.
-    if (model.rfind("FBs-", 0) != 0 || model.size() < 7) return std::nullopt;
-    const std::string kind = model.substr(model.size() - 2);
-    const std::string digits = model.substr(4, model.size() - 6);
-    int hi = -1;
-    if (kind == "MA") hi = 0;
-    if (kind == "MC") hi = 1;
-    if (kind == "MN") hi = 2;
-    if (hi < 0 || digits.empty() || digits.size() > 2) return std::nullopt;
-    for (char ch : digits) {
-        if (ch < '0' || ch > '9') return std::nullopt;
-    }
-    const int points = std::stoi(digits);
-    static const std::set<int> kPoints{10, 14, 20, 24, 32, 40, 44, 60};
-    if (!kPoints.count(points)) return std::nullopt;
-    return static_cast<std::uint16_t>(hi << 8 | points);
 }
 
 }  // namespace plcemu::config

@@ -16,7 +16,6 @@
 #include "daemon/reload.hpp"
 #include "daemon/scan_driver.hpp"
 #include "plcemu/daemon/plc.hpp"
-#include "plcemu/engine/special.hpp"
 #include "plcemu/image/state_file.hpp"
 #include "simulator/simulator_unit.hpp"
 #include "modbus/rtu_server.hpp"
@@ -77,8 +76,8 @@ public:
         if (cfg_->persistence.enabled) {
             const char* dir = std::getenv("STATE_DIRECTORY");
             const std::string path = state_file_path(*cfg_, dir ? dir : "");
-            state_ = std::make_unique<image::StateFile>(path, cfg_->profile, plc_layout(*cfg_),
-                                                        std::time(nullptr));
+            state_ =
+                std::make_unique<image::StateFile>(path, plc_layout(*cfg_), std::time(nullptr));
             for (const auto& n : state_->notes()) {
                 if (n.warning) {
                     spdlog::warn("{}", n.text);
@@ -103,10 +102,9 @@ public:
         start_scanning();
 
         spdlog::info("plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
-                     version(), image::profile_name(cfg_->profile), cfg_->model, int(cfg_->station),
-                     cfg_->scan_ms, cfg_->time_scale);
-        spdlog::info("program: {} instruction(s); power-ups (R4057): {}", cfg_->program.size(),
-                     plc_->image().word(image::Area::R, engine::special::kPowerUps));
+                     version(), cfg_->profile, cfg_->model, int(cfg_->station), cfg_->scan_ms,
+                     cfg_->time_scale);
+        spdlog::info("program: {} instruction(s)", cfg_->program.size());
         if (tcp_) spdlog::info("listening on tcp {}", tcp_->endpoint());
 
         arm_signals();

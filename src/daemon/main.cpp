@@ -10,6 +10,7 @@
 
 #include "daemon.hpp"
 #include "plcemu/daemon/plc.hpp"
+#include "plcemu/profiles/profile.hpp"
 #include "print_map.hpp"
 
 namespace {
@@ -18,7 +19,7 @@ constexpr int kExitBadConfig = 2;
 
 const char* kUsage =
     "Usage: plcemud -c FILE [options]\n"
-    "Emulates a FATEK FBs PLC as a Modbus TCP/RTU slave.\n\n"
+    "Emulates a PLC as a Modbus TCP/RTU slave.\n\n"
     "  -c, --config FILE    configuration file (YAML)\n"
     "      --check-config   validate the configuration and exit (0 valid, 2 invalid)\n"
     "      --print-map      print the Modbus address map and exit\n"
@@ -26,7 +27,18 @@ const char* kUsage =
     "      --port N         override modbus.tcp.port\n"
     "      --time-scale X   override time_scale (simulated seconds per real second)\n"
     "      --version        print the version and exit\n"
-    "  -h, --help           print this help and exit\n";
+    "  -h, --help           print this help and exit\n\n"
+    "Without -c, --print-map shows the map of the first profile by name.\n";
+
+// "Profiles: fbs (FATEK FBs), vb (VIGOR VB)".
+std::string profile_list() {
+    std::string s = "Profiles:";
+    for (const auto* p : plcemu::profiles::all()) {
+        s += (s.size() > 9 ? ", " : " ") + std::string(p->name()) + " (" + std::string(p->title()) +
+             ")";
+    }
+    return s + "\n";
+}
 
 int usage_error(const std::string& msg) {
     std::cerr << "plcemud: " << msg << "\n" << kUsage;
@@ -57,7 +69,7 @@ int main(int argc, char** argv) {
         };
         std::string v;
         if (a == "-h" || a == "--help") {
-            std::cout << kUsage;
+            std::cout << kUsage << profile_list();
             return 0;
         } else if (a == "--version") {
             std::cout << "plcemud " << plcemu::daemon::version() << "\n";
@@ -93,8 +105,11 @@ int main(int argc, char** argv) {
     try {
         if (print) {
             plcemu::config::Config cfg =
-                config_path.empty() ? plcemu::config::parse_config("profile: fbs\n", "<built-in>")
-                                    : plcemu::config::load_config(config_path);
+                config_path.empty()
+                    ? plcemu::config::parse_config(
+                          "profile: " + std::string(plcemu::profiles::all().front()->name()) + "\n",
+                          "<built-in>")
+                    : plcemu::config::load_config(config_path);
             plcemu::daemon::print_map(std::cout, cfg, csv);
             return 0;
         }

@@ -1,8 +1,9 @@
 #include "plcemu/daemon/plc.hpp"
 
-#include "plcemu/engine/special.hpp"
 #include "plcemu/instructions/instructions.hpp"
 #include "plcemu/modbus/address_map.hpp"
+#include "plcemu/modbus/function_handler.hpp"
+#include "plcemu/profiles/profile.hpp"
 #include "version.hpp"
 
 namespace plcemu::daemon {
@@ -10,14 +11,61 @@ namespace plcemu::daemon {
 const char* version() { return PLCEMU_VERSION; }
 
 image::Layout plc_layout(const config::Config& config) {
-    image::Layout layout = image::layout_for(config.profile);
+    const profiles::Profile& profile = profiles::of(config);
+    image::Layout layout = profile.layout();
     if (config.persistence.retentive) layout.retentive = *config.persistence.retentive;
-    // SPEC §3: R4057 counts starts, whatever the config makes retentive.
-    const image::Range power_ups{image::Area::R, engine::special::kPowerUps, 1};
-    bool covered = false;
-    for (const auto& r : layout.retentive) covered = covered || r.contains(power_ups);
-    if (!covered) layout.retentive.push_back(power_ups);
+    // What the family keeps whatever the config makes retentive (a power-up counter).
+    for (const auto& always : profile.always_retentive()) {
+        bool covered = false;
+        for (const auto& r : layout.retentive) covered = covered || r.contains(always);
+        if (!covered) layout.retentive.push_back(always);
+    }
     return layout;
+}
+
+engine::Program build_program(const config::Config& config) {
+    const profiles::Profile& profile = profiles::of(config);
+    const auto services = profile.services(config);
+    return instructions::make_program(config.program, profile.instructions(), plc_layout(config),
+                                      profile.naming(), *services);
+}
+
+std::unique_ptr<modbus::AddressMap> map_of(const config::Config& config) {
+    if (!config.modbus.map) return nullptr;
+    const profiles::Profile& profile = profiles::of(config);
+    std::vector<modbus::MapRow> rows;
+    for (const auto& r : *config.modbus.map) {
+        modbus::MapRow row;
+        switch (r.table) {
+            case config::MapTable::Coils:
+                row.table = modbus::Table::Coils;
+                row.codes = "01 05 15";
+                break;
+            case config::MapTable::DiscreteInputs:
+                row.table = modbus::Table::DiscreteInputs;
+                row.codes = "02";
+                break;
+            case config::MapTable::Holding:
+                row.table = modbus::Table::HoldingRegisters;
+                row.codes = "03 06 16 22 23";
+                break;
+            case config::MapTable::Input:
+                row.table = modbus::Table::InputRegisters;
+                row.codes = "04";
+                break;
+        }
+        row.wire_start = r.start;
+        row.count = r.count;
+        row.packed = r.device.word_of_bits;
+        row.devices = {r.device.area, r.device.index,
+                       static_cast<std::uint32_t>(r.count) * (row.packed ? 16u : 1u)};
+        row.read_only = r.read_only;
+        row.label = profile.naming().format_range(row.devices);
+        if (row.packed) row.label += ", 16 per register, low bit first";
+        rows.push_back(std::move(row));
+    }
+    // The family's read-only devices (inputs, specials) stay read-only under any map.
+    return modbus::make_table_map(std::move(rows), profile.map().read_only());
 }
 
 Plc::Plc(const config::Config& config,
@@ -41,22 +89,33 @@ Plc::Plc(std::shared_ptr<const config::Config> config,
         if (start_ != Start::Reload) image_->clear_non_retentive(layout.retentive);
     }
 
+    const profiles::Profile& profile = profiles::of(*config_);
     engine::EngineOptions eo;
     eo.scan_period = std::chrono::milliseconds(config_->scan_ms);
     eo.station = config_->station;
-    eo.model_code = config::model_code(config_->model).value_or(0);
     engine_ = std::make_unique<engine::Engine>(
-        *image_, eo, program ? std::move(*program) : instructions::make_program(*config_, layout));
+        *image_, eo, program ? std::move(*program) : build_program(*config_),
+        profile.specials(*config_));
     if (start_ != Start::Reload) engine_->power_up();
     apply_init();
-    // SPEC §3: the plant and the temperature readings before the program, outputs to the plant
-    // after it.
-    plant_ = plant::attach(*engine_, *config_).plant;
+    // The plant and the measurement before the program, the outputs to the plant after it
+    // (docs/architecture.md, "A scan"): the plant attaches to the outputs the program declares.
+    auto plant = std::make_unique<plant::ThermalPlant>(
+        config_->plant,
+        plant::ThermalPlant::drives_of(engine::declarations_of(engine_->program())));
+    plant_ = plant.get();
+    engine_->add_subsystem(std::move(plant));
+    profile.attach(*engine_, *config_, *plant_);
 
+    map_ = map_of(*config_);
     modbus::WritePolicy policy{config_->modbus.read_only, config_->modbus.write_protect};
-    unit_ = std::make_unique<modbus::PlcUnit>(*image_, modbus::fbs_map(), policy);
+    unit_ = std::make_unique<modbus::PlcUnit>(*image_, map_ ? *map_ : profile.map(), policy);
+    const std::string model =
+        config_->model.empty() ? std::string(profile.default_model()) : config_->model;
     dispatcher_ = std::make_unique<modbus::Dispatcher>(
-        *unit_, engine_->station(), modbus::Identity{"FATEK", config_->model, version()});
+        *unit_, engine_->station(),
+        modbus::Identity{std::string(profile.vendor()), model, version()});
+    for (const auto& [fc, handler] : profile.functions()) dispatcher_->set_function(fc, handler);
     dispatcher_->set_unknown_unit_policy(config_->modbus.tcp.unknown_unit ==
                                                  config::UnknownUnit::Silent
                                              ? modbus::UnknownUnitPolicy::Silent
@@ -80,9 +139,8 @@ void Plc::apply_init() {
         const image::Range r{e.device.area, e.device.index,
                              static_cast<std::uint32_t>(e.values.size()) * per};
         if (!layout.contains(r)) {
-            throw config::ConfigError(e.pos, "init: " + image::format_range(r) +
-                                                 " is outside this PLC's " +
-                                                 std::string(image::area_name(r.area)) + " area");
+            throw config::ConfigError(
+                e.pos, "init: " + config::outside(profiles::of(*config_).naming(), layout, r));
         }
         for (std::size_t i = 0; i < e.values.size(); ++i) {
             image::Device d = e.device;

@@ -4,7 +4,9 @@
 #include <string>
 #include <vector>
 
+#include "plcemu/daemon/plc.hpp"
 #include "plcemu/modbus/address_map.hpp"
+#include "plcemu/profiles/profile.hpp"
 
 namespace plcemu::daemon {
 
@@ -36,20 +38,30 @@ const char* table_name(Table t) {
     return "?";
 }
 
-// The manual numbers from 1: coil n is 0xxxx, holding register n is 4xxxx.
+// The manuals number from 1: coil n is 0xxxx, discrete input 1xxxx, input register 3xxxx,
+// holding register 4xxxx.
 std::string manual_number(Table t, unsigned wire, int digits) {
-    const unsigned prefix = t == Table::HoldingRegisters ? 4 : 0;
+    unsigned prefix = 0;
+    if (t == Table::DiscreteInputs) prefix = 1;
+    if (t == Table::InputRegisters) prefix = 3;
+    if (t == Table::HoldingRegisters) prefix = 4;
     const unsigned scale = digits == 5 ? 10000 : 100000;
     return padded(prefix * scale + wire + 1, digits);
 }
 
-std::string access_of(const modbus::AddressMap& map, const image::Range& r) {
+std::string access_of(const modbus::AddressMap& map,
+                      const modbus::MapRow& row,
+                      const image::Naming& naming) {
+    const image::Range& r = row.devices;
+    // Discrete inputs and input registers are read-only by their function codes.
+    if (row.read_only || row.table == Table::DiscreteInputs || row.table == Table::InputRegisters)
+        return "read-only";
     std::string ro;
     for (const auto& p : map.read_only()) {
         if (p.contains(r)) return "read-only";
         if (!p.overlaps(r)) continue;
         if (!ro.empty()) ro += ' ';
-        ro += image::format_range(p);
+        ro += naming.format_range(p);
     }
     if (ro.empty()) return "read/write";
     std::string access = "read/write except ";
@@ -58,8 +70,8 @@ std::string access_of(const modbus::AddressMap& map, const image::Range& r) {
     return access;
 }
 
-std::vector<Row> rows_of(const config::Config& config) {
-    const auto& map = modbus::fbs_map();
+std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap& map) {
+    const image::Naming& naming = profiles::of(config).naming();
     std::vector<Row> rows;
     for (const auto& r : map.rows()) {
         const unsigned first = r.wire_start;
@@ -68,10 +80,11 @@ std::vector<Row> rows_of(const config::Config& config) {
                         manual_number(r.table, first, 5) + "-" + manual_number(r.table, last, 5),
                         manual_number(r.table, first, 6) + "-" + manual_number(r.table, last, 6),
                         std::to_string(first) + "-" + std::to_string(last), r.label, r.codes,
-                        access_of(map, r.devices)});
+                        access_of(map, r, naming)});
     }
     if (config.simulator.unit != 0) {
-        // SPEC §6 simulator-control unit: one row per register (channel words as 100+10c).
+        // The simulator-control unit (docs/simulator-and-plant.md): one row per register
+        // (channel words as 100+10c).
         const std::string table =
             "holding registers (unit " + std::to_string(config.simulator.unit) + ")";
         const std::string rw = "03 06 16 22 23";
@@ -123,9 +136,15 @@ std::vector<Row> rows_of(const config::Config& config) {
 }  // namespace
 
 void print_map(std::ostream& out, const config::Config& config, bool csv) {
-    const auto rows = rows_of(config);
+    const profiles::Profile& profile = profiles::of(config);
+    const std::unique_ptr<modbus::AddressMap> own = map_of(config);
+    const modbus::AddressMap& map = own ? *own : profile.map();
+    const auto rows = rows_of(config, map);
+    // The device column is named after the vendor whose names it holds ("fatek", "vigor").
+    std::string vendor(profile.vendor());
+    for (char& c : vendor) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
     if (csv) {
-        out << "table,modbus_5digit,modbus_6digit,wire,fatek,function_codes,access\n";
+        out << "table,modbus_5digit,modbus_6digit,wire," << vendor << ",function_codes,access\n";
         auto q = [](const std::string& s) { return "\"" + s + "\""; };
         for (const auto& r : rows) {
             out << q(r.table) << ',' << r.five << ',' << r.six << ',' << r.wire << ',' << q(r.fatek)
@@ -133,12 +152,14 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
         }
         return;
     }
-    out << "Modbus map, profile " << image::profile_name(config.profile) << " (" << config.model
-        << "), station " << int(config.station) << " and unit 255\n";
-    out << "Wire address = manual number - 1.\n\n";
+    out << "Modbus map, profile " << config.profile << " (" << profile.vendor() << ' '
+        << config.model << "), station " << int(config.station) << " and unit 255\n";
+    out << "Wire address = manual number - 1.";
+    if (own) out << " The map is the config's modbus.map, not the profile's default.";
+    out << "\n\n";
     char line[512];
     std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-10s %-54s %-15s %s\n", "table", "5-digit",
-                  "6-digit", "wire", "FATEK", "codes", "access");
+                  "6-digit", "wire", std::string(profile.vendor()).c_str(), "codes", "access");
     out << line;
     for (const auto& r : rows) {
         std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-10s %-54s %-15s %s\n",
@@ -146,8 +167,9 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
                       r.fatek.c_str(), r.codes.c_str(), r.access.c_str());
         out << line;
     }
-    out << "\nMaps held in the image (FATEK user remap, manual 13-50/51):\n";
-    for (const auto& n : modbus::fbs_map().dynamic_notes()) out << "  " << n << '\n';
+    const auto notes = map.dynamic_notes();
+    if (!notes.empty()) out << "\nMaps held in the image:\n";
+    for (const auto& n : notes) out << "  " << n << '\n';
     out << "Any other address: exception 02. Unsupported function codes: exception 01.\n";
 }
 

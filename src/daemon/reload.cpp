@@ -1,5 +1,7 @@
 #include "reload.hpp"
 
+#include "plcemu/profiles/profile.hpp"
+
 #include <sstream>
 
 namespace plcemu::daemon {
@@ -21,9 +23,9 @@ std::string text(const std::vector<std::string>& v) {
     return s + "]";
 }
 
-std::string text(const std::vector<image::Range>& v) {
+std::string text(const std::vector<image::Range>& v, const image::Naming& naming) {
     std::string s = "[";
-    for (const auto& r : v) s += (s.size() > 1 ? ", " : "") + image::format_range(r);
+    for (const auto& r : v) s += (s.size() > 1 ? ", " : "") + naming.format_range(r);
     return s + "]";
 }
 
@@ -70,6 +72,22 @@ bool same_temperature(const config::TemperatureConfig& a, const config::Temperat
     return true;
 }
 
+bool same_map(const std::optional<std::vector<config::MapRowConfig>>& a,
+              const std::optional<std::vector<config::MapRowConfig>>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    if (!a) return true;
+    if (a->size() != b->size()) return false;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+        const auto& x = (*a)[i];
+        const auto& y = (*b)[i];
+        if (x.table != y.table || x.start != y.start || !(x.device == y.device) ||
+            x.count != y.count || x.read_only != y.read_only) {
+            return false;
+        }
+    }
+    return true;
+}
+
 }  // namespace
 
 std::vector<std::string> config_changes(const config::Config& a, const config::Config& b) {
@@ -98,7 +116,12 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
         out.push_back("modbus.rtu: " + text(a.modbus.rtu) + " -> " + text(b.modbus.rtu));
     }
     cmp("modbus.read_only", a.modbus.read_only, b.modbus.read_only);
-    cmp("modbus.write_protect", a.modbus.write_protect, b.modbus.write_protect);
+    if (a.modbus.write_protect != b.modbus.write_protect) {
+        const image::Naming& naming = profiles::of(b).naming();
+        out.push_back("modbus.write_protect: " + text(a.modbus.write_protect, naming) + " -> " +
+                      text(b.modbus.write_protect, naming));
+    }
+    if (!same_map(a.modbus.map, b.modbus.map)) out.push_back("modbus.map: changed");
     if (!same_init(a.init, b.init)) {
         out.push_back("init: changed (" + std::to_string(b.init.size()) + " entries)");
     }

@@ -84,12 +84,12 @@ std::uint64_t records_checksum(const std::vector<RangeRecord>& v) {
 }
 
 // The header a layout calls for (state, checksums of data and header left to the caller).
-StateFileHeader expected_header(Profile profile, const Layout& layout) {
+StateFileHeader expected_header(const Layout& layout) {
     StateFileHeader h{};
     std::memcpy(h.magic, kMagic, sizeof kMagic);
     h.version = kStateFileVersion;
     h.header_size = kDataOffset;
-    h.profile = static_cast<std::uint32_t>(profile);
+    h.profile = layout.family;
     h.area_count = kAreaCount;
     for (std::size_t i = 0; i < kAreaCount; ++i) h.area_size[i] = layout.size[i];
     h.storage_size = Image::storage_size(layout);
@@ -97,11 +97,12 @@ StateFileHeader expected_header(Profile profile, const Layout& layout) {
     return h;
 }
 
-std::string describe_layout_difference(const StateFileHeader& file, const StateFileHeader& want) {
+std::string describe_layout_difference(const StateFileHeader& file,
+                                       const StateFileHeader& want,
+                                       std::string_view family) {
     if (file.profile != want.profile) {
-        return "it is for profile " +
-               std::string(profile_name(static_cast<Profile>(file.profile))) + ", not " +
-               std::string(profile_name(static_cast<Profile>(want.profile)));
+        return "it holds the image of another PLC family (number " + std::to_string(file.profile) +
+               "), not of " + std::string(family);
     }
     if (file.area_count != want.area_count) {
         return "it has " + std::to_string(file.area_count) + " device areas, not " +
@@ -140,10 +141,7 @@ std::uint64_t fnv1a64(std::span<const std::byte> bytes, std::uint64_t seed) {
     return h;
 }
 
-StateFile::StateFile(const std::string& path,
-                     Profile profile,
-                     const Layout& layout,
-                     std::time_t now)
+StateFile::StateFile(const std::string& path, const Layout& layout, std::time_t now)
     : path_(path) {
     if (layout.retentive.size() > kMaxRetentiveRanges) {
         throw std::invalid_argument("state file: at most " + std::to_string(kMaxRetentiveRanges) +
@@ -152,9 +150,9 @@ StateFile::StateFile(const std::string& path,
     try {
         lock();
         std::string why;
-        if (!try_open(profile, layout, why)) {
+        if (!try_open(layout, why)) {
             if (!why.empty()) move_aside(why, now);
-            create(profile, layout, now);
+            create(layout, now);
         }
         set_retentive(layout.retentive);
     } catch (...) {
@@ -190,7 +188,7 @@ void StateFile::unlock() noexcept {
     lock_fd_ = -1;
 }
 
-bool StateFile::try_open(Profile profile, const Layout& layout, std::string& why_bad) {
+bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
     fd_ = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
     if (fd_ < 0) {
         if (errno == ENOENT) return false;
@@ -239,11 +237,12 @@ bool StateFile::try_open(Profile profile, const Layout& layout, std::string& why
                       ", this plcemud reads version " + std::to_string(kStateFileVersion));
     }
     if (h.header_size != kDataOffset) return reject("corrupted: bad header size");
-    const StateFileHeader want = expected_header(profile, layout);
+    const StateFileHeader want = expected_header(layout);
     if (h.profile != want.profile || h.area_count != want.area_count ||
         std::memcmp(h.area_size, want.area_size, sizeof want.area_size) != 0 ||
         h.storage_size != want.storage_size || h.layout_checksum != want.layout_checksum) {
-        return reject("does not match the configuration: " + describe_layout_difference(h, want));
+        return reject("does not match the configuration: " +
+                      describe_layout_difference(h, want, layout.family_name));
     }
     if (records_checksum(old) != h.retentive_checksum) {
         return reject("corrupted: retentive range checksum mismatch");
@@ -288,7 +287,7 @@ bool StateFile::try_open(Profile profile, const Layout& layout, std::string& why
     return true;
 }
 
-void StateFile::create(Profile profile, const Layout& layout, std::time_t now) {
+void StateFile::create(const Layout& layout, std::time_t now) {
     // Under the lock (see lock()), so nobody else has `.new` open: a leftover is a dead creator's.
     const std::string tmp = path_ + ".new";
     const int fd = ::open(tmp.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
@@ -297,7 +296,7 @@ void StateFile::create(Profile profile, const Layout& layout, std::time_t now) {
     try {
         if (::flock(fd_, LOCK_EX | LOCK_NB) != 0)
             throw_errno("state file " + tmp + ": cannot lock");
-        StateFileHeader h = expected_header(profile, layout);
+        StateFileHeader h = expected_header(layout);
         h.state = kStateOpen;
         h.created = static_cast<std::uint64_t>(now);
         const std::size_t total = kDataOffset + round_up(h.storage_size);

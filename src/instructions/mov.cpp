@@ -1,7 +1,6 @@
 #include "mov.hpp"
 
 #include "operands.hpp"
-#include "temperature_table.hpp"
 
 namespace plcemu::instructions {
 
@@ -30,7 +29,7 @@ private:
 
 std::unique_ptr<engine::Instruction> make_mov(const config::InstructionConfig& ic,
                                               const BindContext& ctx) {
-    Operands ops(ic, ctx.layout);
+    Operands ops(ic, ctx);
     const BitSource en = ops.bit_source("en", true);
     const WordSource s = ops.word_source("s");
     const image::Device d =
@@ -38,7 +37,7 @@ std::unique_ptr<engine::Instruction> make_mov(const config::InstructionConfig& i
                         {image::Area::R, image::Area::D, image::Area::M, image::Area::Y,
                          image::Area::S, image::Area::TV, image::Area::CV});
     ops.finish();
-    if (d.word_of_bits) refuse_module_outputs(ops, "d", {d.area, d.index, 16}, ctx.config);
+    if (d.word_of_bits) ops.refuse_reserved("d", {d.area, d.index, 16});
     return std::make_unique<Mov>(en, s, d);
 }
 

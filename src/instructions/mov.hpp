@@ -1,5 +1,5 @@
 #pragma once
-// MOV: word move, so the manuals' example programs can be written down (SPEC §3).
+// MOV: word move, so the manuals' example programs can be written down.
 
 #include <memory>
 

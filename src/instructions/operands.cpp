@@ -1,33 +1,20 @@
 #include "operands.hpp"
 
-#include <cstdlib>
-
 namespace plcemu::instructions {
 
-namespace {
-
-bool parse_constant(std::string s, long long& out) {
-    if (s.empty()) return false;
-    if (s[0] == 'K' || s[0] == 'k') s.erase(0, 1);
-    int base = 10;
-    if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) {
-        base = 16;
-        s.erase(0, 2);
-    } else if (s.size() > 1 && (s.back() == 'h' || s.back() == 'H')) {
-        base = 16;
-        s.pop_back();
-    }
-    if (s.empty()) return false;
-    char* end = nullptr;
-    out = std::strtoll(s.c_str(), &end, base);
-    return end != nullptr && *end == '\0';
-}
-
-}  // namespace
-
-Operands::Operands(const config::InstructionConfig& ic, const image::Layout& layout)
+Operands::Operands(const config::InstructionConfig& ic, const BindContext& ctx)
     : ic_(ic),
-      layout_(layout) {}
+      ctx_(ctx),
+      layout_(ctx.layout),
+      naming_(ctx.naming) {}
+
+void Operands::refuse_reserved(const char* key, const image::Range& written) const {
+    for (const auto& [range, why] : ctx_.services.reserved_outputs) {
+        if (written.overlaps(range)) {
+            fail(key, format(written) + " overlaps " + format(range) + ", " + why);
+        }
+    }
+}
 
 const config::Operand* Operands::find(const char* key) const {
     for (const auto& [k, v] : ic_.operands) {
@@ -57,11 +44,11 @@ BitSource Operands::bit_source(const char* key, bool fallback) {
     if (!op) return {true, fallback, {}};
     long long v = 0;
     // A device name wins; anything else that parses is a constant (0x1F, 1Fh and K31 too).
-    if (!image::parse_device(op->text) && parse_constant(op->text, v)) {
+    if (!naming_.parse_device(op->text) && naming_.parse_integer(op->text, v)) {
         if (v != 0 && v != 1) fail(key, "a constant enable must be 0 or 1");
         return {true, v == 1, {}};
     }
-    auto d = image::parse_device(op->text);
+    auto d = naming_.parse_device(op->text);
     if (!d || d->word_of_bits || !layout_.contains({d->area, d->index, 1})) {
         fail(key, "expected a bit device (X, Y, M, S, T, C) or 0/1, got '" +
                       config::excerpt(op->text) + "'");
@@ -73,7 +60,7 @@ BitSource Operands::bit_source(const char* key, bool fallback) {
 
 image::Device Operands::bit_output(const char* key) {
     const auto& op = require(key);
-    auto d = image::parse_device(op.text);
+    auto d = naming_.parse_device(op.text);
     if (!d || d->word_of_bits ||
         !(d->area == image::Area::Y || d->area == image::Area::M || d->area == image::Area::S) ||
         !layout_.contains({d->area, d->index, 1})) {
@@ -85,11 +72,11 @@ image::Device Operands::bit_output(const char* key) {
 WordSource Operands::word_source(const char* key) {
     const auto& op = require(key);
     long long v = 0;
-    if (!image::parse_device(op.text) && parse_constant(op.text, v)) {
+    if (!naming_.parse_device(op.text) && naming_.parse_integer(op.text, v)) {
         if (v < -32768 || v > 65535) fail(key, "constant out of 16-bit range");
         return {true, static_cast<std::uint16_t>(v & 0xFFFF), {}};
     }
-    auto d = image::parse_device(op.text);
+    auto d = naming_.parse_device(op.text);
     if (!d)
         fail(key, "expected a register (R, D), WMn-style bits or a constant, got '" +
                       config::excerpt(op.text) + "'");
@@ -105,7 +92,7 @@ image::Device Operands::word_device(const char* key,
                                     std::uint32_t span,
                                     std::initializer_list<image::Area> areas) {
     const auto& op = require(key);
-    auto d = image::parse_device(op.text);
+    auto d = naming_.parse_device(op.text);
     bool ok = d.has_value();
     if (ok) {
         bool in_areas = false;
@@ -117,7 +104,7 @@ image::Device Operands::word_device(const char* key,
     if (!ok) {
         std::string names;
         for (auto a : areas)
-            names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
+            names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
         fail(key, "expected " + std::to_string(span) + " word(s) in " + names + ", got '" +
                       config::excerpt(op.text) + "'");
     }
@@ -128,7 +115,7 @@ image::Device Operands::device(const char* key,
                                std::uint32_t span,
                                std::initializer_list<image::Area> areas) {
     const auto& op = require(key);
-    auto d = image::parse_device(op.text);
+    auto d = naming_.parse_device(op.text);
     bool ok = d.has_value() && !d->word_of_bits;
     if (ok) {
         bool in_areas = false;
@@ -138,7 +125,7 @@ image::Device Operands::device(const char* key,
     if (!ok) {
         std::string names;
         for (auto a : areas)
-            names += std::string(names.empty() ? "" : ", ") + std::string(image::area_name(a));
+            names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
         fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names +
                       ", got '" + config::excerpt(op.text) + "'");
     }
@@ -148,7 +135,7 @@ image::Device Operands::device(const char* key,
 long long Operands::integer(const char* key, long long lo, long long hi) {
     const auto& op = require(key);
     long long v = 0;
-    if (!parse_constant(op.text, v))
+    if (!naming_.parse_integer(op.text, v))
         fail(key, "expected an integer, got '" + config::excerpt(op.text) + "'");
     if (v < lo || v > hi) {
         fail(key, config::excerpt(op.text) + " is out of range " + std::to_string(lo) + ".." +

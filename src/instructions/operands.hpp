@@ -8,6 +8,7 @@
 #include <string>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/instructions/instructions.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/image/layout.hpp"
 
@@ -38,7 +39,7 @@ struct WordSource {
 /// The operands of one instruction entry.
 class Operands {
 public:
-    Operands(const config::InstructionConfig& ic, const image::Layout& layout);
+    Operands(const config::InstructionConfig& ic, const BindContext& ctx);
 
     /// True when the operand is present.
     bool has(const char* key) const;
@@ -63,13 +64,22 @@ public:
     void finish() const;
     /// Throws a ConfigError at the operand (or at the mnemonic when absent).
     [[noreturn]] void fail(const char* key, const std::string& message) const;
+    /// Fails at `key` when `written` lands on an output the profile reserves (a module's own
+    /// outputs).
+    void refuse_reserved(const char* key, const image::Range& written) const;
+    /// A range in the family's notation.
+    std::string format(const image::Range& r) const { return ctx_.naming.format_range(r); }
+    /// The context the instruction binds in.
+    const BindContext& context() const { return ctx_; }
 
 private:
     const config::Operand* find(const char* key) const;
     const config::Operand& require(const char* key);
 
     const config::InstructionConfig& ic_;
+    const BindContext& ctx_;
     const image::Layout& layout_;
+    const image::Naming& naming_;
     std::set<std::string> used_;
 };
 

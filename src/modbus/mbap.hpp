@@ -17,7 +17,7 @@ inline constexpr std::size_t kMaxTcpAdu = 260;
 enum class MbapStatus : std::uint8_t {
     Incomplete,  ///< not a whole frame yet: wait for more bytes
     Frame,       ///< a whole frame of `size` bytes
-    Bad,         ///< a bad header: SPEC §2 closes the connection
+    Bad,         ///< a bad header closes the connection (docs/profile-fbs.md, "Modbus map")
 };
 
 /// The next frame of a stream.

@@ -13,7 +13,7 @@
 
 namespace plcemu::modbus {
 
-/// Serial line settings (default 9600 8E1, an FBs port in Modbus RTU mode).
+/// Serial line settings (default 9600 8E1).
 struct RtuOptions {
     std::string device;  ///< e.g. /dev/ttyUSB0 or a pty
     int baud = 9600;     ///< bits per second

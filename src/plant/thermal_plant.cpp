@@ -1,7 +1,5 @@
 #include "plcemu/plant/thermal_plant.hpp"
 
-#include "instructions/tpctl.hpp"
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -129,27 +127,15 @@ ThermalPlant::ThermalPlant(const config::PlantConfig& config,
     }
 }
 
-std::array<Drive, kChannels> ThermalPlant::drives_of(const config::Config& config) {
+std::array<Drive, kChannels> ThermalPlant::drives_of(const engine::Declarations& program) {
     std::array<Drive, kChannels> d{};
-    const image::Layout layout = image::layout_for(config.profile);
-    for (const auto& ic : config.program) {
-        if (ic.mnemonic != "TPCTL") continue;
-        const auto out = instructions::tpctl_outputs(ic, layout);
-        if (!out) continue;
-        for (int i = 0; i < out->points; ++i) {
-            auto& slot =
-                d[static_cast<std::size_t>(out->first_channel) + static_cast<std::size_t>(i)];
-            if (slot.kind != Drive::Kind::None) continue;  // the first TPCTL wins
-            image::Device y = out->first_y;
-            y.index += static_cast<std::uint32_t>(i);
-            slot = {Drive::Kind::Output, y};
-        }
+    for (const auto& a : program.actuators) {
+        if (a.channel < 0 || a.channel >= kChannels) continue;
+        auto& slot = d[static_cast<std::size_t>(a.channel)];
+        if (slot.kind != Drive::Kind::None) continue;  // the first declaration wins
+        slot = {Drive::Kind::Output, a.output};
     }
     return d;
-}
-
-std::unique_ptr<ThermalPlant> ThermalPlant::from_config(const config::Config& config) {
-    return std::make_unique<ThermalPlant>(config.plant, drives_of(config));
 }
 
 double ThermalPlant::read_drive(const image::Image& img, const Channel& c) const noexcept {
@@ -212,7 +198,7 @@ double ThermalPlant::noise(int channel, std::uint64_t n) const noexcept {
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
 }
 
-SensorSample ThermalPlant::sense(int channel) noexcept {
+engine::SensorSample ThermalPlant::sense(int channel) noexcept {
     if (!valid(channel)) return {true, 0.0};
     Channel& c = ch_[static_cast<std::size_t>(channel)];
     if (c.faults.sensor_broken) return {true, 0.0};

@@ -87,8 +87,10 @@ def test_plcemud_yaml_5_documents_every_key():
     assert {"frame_timeout_ms", "sync_ms", "reading_frozen", "writable"} <= accepted
     missing = [k for k in sorted(accepted) if not re.search(rf"(?<![\w]){k}(?![\w])", text)]
     assert not missing, missing
-    # Every profile name the loader knows.
-    for profile in ("fbs", "fb", "vb"):
+    # Every registered profile (src/profiles/<name>/).
+    profiles = sorted(p.name for p in (REPO / "src" / "profiles").iterdir() if p.is_dir())
+    assert {"fbs", "vb"} <= set(profiles)
+    for profile in profiles:
         assert re.search(rf"^\s+(\w+, )?{profile}\b", text, re.M), profile
 
 

@@ -15,7 +15,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
-#include "plcemu/engine/special.hpp"
+#include "profiles/fbs/special_registers.hpp"
 #include "plcemu/image/image.hpp"
 
 namespace plcemu {
@@ -135,7 +135,7 @@ TEST(ClosedLoop, DefaultYamlSettlesWithin5DegreesBy50MinutesWithR4005Default) {
     Loop loop(config_text());
     loop.start();
     loop.scan();
-    EXPECT_EQ(loop.r(engine::special::kPidTiming), 0x0102);
+    EXPECT_EQ(loop.r(profiles::fbs::special::kPidTiming), 0x0102);
     const auto s = loop.run_step(3600);
     std::cout << describe(s);
     double worst = -1e9, latest = 0;

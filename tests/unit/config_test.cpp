@@ -9,6 +9,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
+#include "profiles/fbs/model.hpp"
 #include "support/config_errors.hpp"
 
 namespace plcemu::config {
@@ -33,7 +34,7 @@ TEST(Config, ProfileAloneIsValidAndEverythingElseDefaults) {
         SCOPED_TRACE(text);
         const Config c = parse_config(text, "t.yaml");
         EXPECT_EQ(c.path, "t.yaml");
-        EXPECT_EQ(c.profile, image::Profile::Fbs);
+        EXPECT_EQ(c.profile, "fbs");
         EXPECT_EQ(c.model, "FBs-24MC");
         EXPECT_EQ(c.station, 1);
         EXPECT_EQ(c.scan_ms, 10);
@@ -103,21 +104,21 @@ TEST(Config, ReadsEveryFoundationKey) {
 
 // R4167: low byte I/O points, high byte 0 MA / 1 MC / 2 MN.
 TEST(Config, ModelCodes) {
-    EXPECT_EQ(model_code("FBs-24MC"), 0x0118);
-    EXPECT_EQ(model_code("FBs-10MA"), 0x000A);
-    EXPECT_EQ(model_code("FBs-60MN"), 0x023C);
-    EXPECT_EQ(model_code("FBs-32MC"), 0x0120);
-    EXPECT_FALSE(model_code("FBs-25MC"));
-    EXPECT_FALSE(model_code("FBs-24MX"));
-    EXPECT_FALSE(model_code("FB-24MC"));
-    EXPECT_FALSE(model_code("FBs-MC"));
-    EXPECT_FALSE(model_code(""));
+    EXPECT_EQ(profiles::fbs::model_code("FBs-24MC"), 0x0118);
+    EXPECT_EQ(profiles::fbs::model_code("FBs-10MA"), 0x000A);
+    EXPECT_EQ(profiles::fbs::model_code("FBs-60MN"), 0x023C);
+    EXPECT_EQ(profiles::fbs::model_code("FBs-32MC"), 0x0120);
+    EXPECT_FALSE(profiles::fbs::model_code("FBs-25MC"));
+    EXPECT_FALSE(profiles::fbs::model_code("FBs-24MX"));
+    EXPECT_FALSE(profiles::fbs::model_code("FB-24MC"));
+    EXPECT_FALSE(profiles::fbs::model_code("FBs-MC"));
+    EXPECT_FALSE(profiles::fbs::model_code(""));
 }
 
 TEST(Config, ErrorsInTheRootNameTheirPosition) {
     expect_error("model: FBs-24MC\n", 1, 1, "'profile' is required");
-    expect_error("profile: nope\n", 1, 10, "expected fbs, fb or vb, got 'nope'");
-    expect_error("profile: vb\n", 1, 10, "not supported yet");
+    expect_error("profile: nope\n", 1, 10, "profile: expected one of fbs");
+    expect_error("profile: fb\n", 1, 10, "got 'fb'");
     expect_error("profile: [fbs]\n", 1, 10, "profile: expected a scalar");
     expect_error("profile: fbs\nmodle: FBs-24MC\n", 2, 1, "unknown key 'modle' in config");
     expect_error("profile: fbs\nmodel: FBs-25MC\n", 2, 8, "model: expected an FBs model");
@@ -164,7 +165,8 @@ TEST(Config, ModbusSectionErrors) {
 
 TEST(Config, InitErrors) {
     expect_error("profile: fbs\ninit: [1, 2]\n", 2, 7, "init: expected a mapping");
-    expect_error("profile: fbs\ninit:\n  Q5: 1\n", 3, 3, "init key: expected a device");
+    expect_error("profile: fbs\ninit:\n  Q5: 1\n", 3, 3,
+                 "init key: 'Q5' is not a device of this PLC");
     expect_error("profile: fbs\ninit:\n  R0: [1, x]\n", 3, 11, "init.R0: expected an integer");
     expect_error("profile: fbs\ninit:\n  R0: 65536\n", 3, 7, "out of range -32768..65535");
     expect_error("profile: fbs\ninit:\n  R0: -32769\n", 3, 7, "out of range");
@@ -236,12 +238,12 @@ TEST(Config, ErrorsNeverEchoAWholeHugeValue) {
     const Case cases[] = {
         {"profile: fbs\nstation: " + huge + "\n", 2, 10,
          "station: expected an integer, got " + cut},
-        {"profile: " + huge + "\n", 1, 10, "profile: expected fbs, fb or vb, got " + cut},
+        {"profile: " + huge + "\n", 1, 10, "got " + cut},
         {"profile: fbs\nmodel: " + huge + "\n", 2, 8, "got " + cut},
         {"profile: fbs\nmodbus: {tcp: {bind: " + huge + "}}\n", 2, 22, "got " + cut},
         {"profile: fbs\nlog: {" + long_key + ": 1}\n", 2, 7, "unknown key " + cut},
         {"profile: fbs\ninit: {R0: " + huge + "}\n", 2, 12, "init.R0: expected an integer"},
-        {"profile: fbs\ninit: {R" + long_key + ": 1}\n", 2, 8, "init key: expected a device"},
+        {"profile: fbs\ninit: {R" + long_key + ": 1}\n", 2, 8, "is not a device of this PLC"},
         {"profile: fbs\nscan_ms: " + std::string(1 << 20, '0') + "5000\n", 2, 10,
          "scan_ms: " + std::string(40, '0') + "… is out of range"},
         {"profile: fbs\nprogram:\n  - " + long_key + ": 5\n", 3, 5 + 1000 + 2,

@@ -9,8 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "profiles/fbs/specials.hpp"
+#include "support/profiles.hpp"
 #include "plcemu/engine/engine.hpp"
-#include "plcemu/engine/special.hpp"
+#include "profiles/fbs/special_registers.hpp"
 #include "plcemu/image/image.hpp"
 
 namespace plcemu::engine {
@@ -29,7 +31,7 @@ public:
     void execute(ScanContext& ctx) noexcept override {
         log_.push_back(name_);
         first.push_back(ctx.first_scan);
-        m1924.push_back(ctx.image.bit(Area::M, special::kFirstScan));
+        m1924.push_back(ctx.image.bit(Area::M, profiles::fbs::special::kFirstScan));
         now.push_back(ctx.now);
         dt.push_back(ctx.dt);
         scan.push_back(ctx.scan);
@@ -63,18 +65,18 @@ struct Rig {
         EngineOptions o;
         o.scan_period = milliseconds(scan_ms);
         o.station = station;
-        o.model_code = model;
         Program p;
         auto probe_ptr = std::make_unique<Probe>(log);
         probe = probe_ptr.get();
         p.push_back(std::move(probe_ptr));
-        engine = std::make_unique<Engine>(img, o, std::move(p));
+        engine =
+            std::make_unique<Engine>(img, o, std::move(p), profiles::fbs::make_specials(model));
         engine->power_up();
     }
     std::uint16_t r(std::uint32_t i) const { return img.word(Area::R, i); }
     bool m(std::uint32_t i) const { return img.bit(Area::M, i); }
 
-    image::Image img{image::fbs_layout()};
+    image::Image img{test::fbs_layout()};
     std::vector<std::string> log;
     Probe* probe = nullptr;
     std::unique_ptr<Engine> engine;
@@ -100,7 +102,7 @@ TEST(Engine, RunsScansAtTheFixedPeriod) {
 // docs/profile-fbs.md, Scan cycle and special registers: each scan runs inputs, the program in
 // order, outputs (reverse order).
 TEST(Engine, ScanOrderInputsProgramOutputs) {
-    image::Image img{image::fbs_layout()};
+    image::Image img{test::fbs_layout()};
     std::vector<std::string> log;
     Program p;
     p.push_back(std::make_unique<Probe>(log, "first"));
@@ -297,9 +299,9 @@ TEST(Engine, R4055StationChangeVia55xx) {
 // docs/profile-fbs.md, Scan cycle and special registers: R4057 power-up counter (retentive): one
 // more at every power-up.
 TEST(Engine, R4057CountsPowerUps) {
-    image::Image img{image::fbs_layout()};
+    image::Image img{test::fbs_layout()};
     img.set_word(Area::R, 4057, 41);  // retained from earlier runs
-    Engine e(img, {}, {});
+    Engine e(img, {}, {}, profiles::fbs::make_specials(0x0118));
     e.power_up();
     EXPECT_EQ(img.word(Area::R, 4057), 42);
     e.run_scans(100);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "support/profiles.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/modbus/address_map.hpp"
@@ -20,8 +21,8 @@ using Bytes = std::vector<std::uint8_t>;
 
 class FuzzFindings : public ::testing::Test {
 protected:
-    image::Image img_{image::fbs_layout()};
-    modbus::PlcUnit unit_{img_, modbus::fbs_map(), {}};
+    image::Image img_{test::fbs_layout()};
+    modbus::PlcUnit unit_{img_, test::fbs().map(), {}};
     std::uint8_t station_ = 1;
     modbus::Dispatcher disp_{unit_, station_, modbus::Identity{"FATEK", "FBs-24MC", "9.9.9"}};
     testing::Wire wire_{disp_};

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "support/profiles.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
@@ -62,8 +63,8 @@ const std::vector<ManualRow>& manual_rows() {
 
 class ModbusMap : public ::testing::Test {
 protected:
-    image::Image img_{image::fbs_layout()};
-    PlcUnit unit_{img_, fbs_map(), {}};
+    image::Image img_{test::fbs_layout()};
+    PlcUnit unit_{img_, test::fbs().map(), {}};
     std::uint8_t station_ = 1;
     Dispatcher disp_{unit_, station_, Identity{"FATEK", "FBs-24MC", "9.9.9"}};
     wire::Wire wire_{disp_};
@@ -738,7 +739,7 @@ TEST_F(ModbusMap, RtuUnitIdsAndBroadcast) {
 
 // The address map's own table is the manual's (what --print-map prints).
 TEST_F(ModbusMap, MapTableMatchesTheManual) {
-    const auto& rows = fbs_map().rows();
+    const auto& rows = test::fbs().map().rows();
     ASSERT_EQ(rows.size(), manual_rows().size());
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const auto& s = manual_rows()[i];

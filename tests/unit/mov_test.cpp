@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "plcemu/daemon/plc.hpp"
+#include "support/profiles.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/image/image.hpp"
@@ -20,12 +22,12 @@ using image::Area;
 struct Rig {
     explicit Rig(const std::string& program)
         : config(config::parse_config("profile: fbs\nprogram:\n" + program, "p.yaml")),
-          engine(img, {}, make_program(config, img.layout())) {
+          engine(img, {}, daemon::build_program(config), test::fbs().specials(config)) {
         engine.power_up();
     }
     void scan(int n = 1) { engine.run_scans(static_cast<std::uint64_t>(n)); }
 
-    image::Image img{image::fbs_layout()};
+    image::Image img{test::fbs_layout()};
     config::Config config;
     engine::Engine engine;
 };

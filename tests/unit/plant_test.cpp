@@ -7,6 +7,8 @@
 #include <cstring>
 #include <functional>
 
+#include "plcemu/daemon/plc.hpp"
+#include "support/profiles.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/engine/engine.hpp"
@@ -16,6 +18,12 @@
 
 namespace plcemu::plant {
 namespace {
+
+// The plant a PLC of `cfg` gets: its channels driven by the outputs the program declares.
+std::unique_ptr<ThermalPlant> plant_of(const config::Config& cfg) {
+    return std::make_unique<ThermalPlant>(
+        cfg.plant, ThermalPlant::drives_of(engine::declarations_of(daemon::build_program(cfg))));
+}
 
 using image::Area;
 using std::chrono::milliseconds;
@@ -38,7 +46,7 @@ struct Rig {
                  Drive::Kind kind = Drive::Kind::Register,
                  int scan_ms = 10,
                  std::function<void(engine::ScanContext&)> program = {})
-        : image(image::fbs_layout()) {
+        : image(test::fbs_layout()) {
         engine::EngineOptions o;
         o.scan_period = milliseconds(scan_ms);
         engine::Program p;
@@ -209,7 +217,7 @@ TEST(Plant, SensorBrokenAndReadingFrozenFaults) {
     Rig rig(no_dead_time());
     rig.image.set_word(Area::R, 200, 16383);
     rig.run_seconds(10);
-    const SensorSample before = rig.plant->sense(0);
+    const engine::SensorSample before = rig.plant->sense(0);
     EXPECT_FALSE(before.broken);
     EXPECT_EQ(before.celsius, rig.plant->true_temperature(0));
     rig.plant->set_faults(0, {.reading_frozen = true});
@@ -262,7 +270,7 @@ program:
             ir: R430, dr: R440, or: R450, wr: R460, err: M102, alm: M103}
 )",
                                           "drives.yaml");
-    const auto p = ThermalPlant::from_config(cfg);
+    const auto p = plant_of(cfg);
     EXPECT_EQ(p->drive(1).kind, Drive::Kind::None);
     EXPECT_EQ(p->drive(2), (Drive{Drive::Kind::Output, {Area::Y, 30, false}}));
     EXPECT_EQ(p->drive(4), (Drive{Drive::Kind::Output, {Area::Y, 32, false}}));
@@ -280,7 +288,7 @@ plant:
     3: {tau: 60, dead_time: 2, noise: 0.1, cooling: true, faults: {heater_open: true}}
 )",
                                           "params.yaml");
-    const auto p = ThermalPlant::from_config(cfg);
+    const auto p = plant_of(cfg);
     EXPECT_EQ(p->params(0), (ChannelParams{20, 300, 120, 5, 0, false}));
     EXPECT_EQ(p->params(3), (ChannelParams{20, 300, 60, 2, 0.1, true}));
     EXPECT_TRUE(p->faults(3).heater_open);
@@ -371,7 +379,7 @@ program:
     EXPECT_EQ(ta, tb);
     // The run did something: the noisy readings of R0-R11 are there.
     std::uint16_t r0 = 0;
-    std::memcpy(&r0, a.data() + image::Image::area_offset(image::fbs_layout(), Area::R), 2);
+    std::memcpy(&r0, a.data() + image::Image::area_offset(test::fbs_layout(), Area::R), 2);
     EXPECT_GT(r0, 200);  // about 25.0 °C
 }
 

@@ -25,6 +25,7 @@
 #include "modbus/crc.hpp"
 #include "modbus/rtu_framer.hpp"
 #include "modbus/rtu_server.hpp"
+#include "support/profiles.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
@@ -271,8 +272,8 @@ TEST(RtuFramer, SizeLimits) {
 // broadcasts, and applies broadcast writes.
 class RtuStation : public ::testing::Test {
 protected:
-    image::Image img_{image::fbs_layout()};
-    PlcUnit unit_{img_, fbs_map(), {}};
+    image::Image img_{test::fbs_layout()};
+    PlcUnit unit_{img_, test::fbs().map(), {}};
     std::uint8_t station_ = 7;
     Dispatcher disp_{unit_, station_, Identity{"FATEK", "FBs-24MC", "9.9.9"}};
     plcemu::testing::Wire wire_{disp_};

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "simulator/simulator_unit.hpp"
+#include "support/profiles.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/image/image.hpp"
@@ -40,7 +41,7 @@ public:
 
 struct Rig {
     explicit Rig(bool writable = true)
-        : image(image::fbs_layout()) {
+        : image(test::fbs_layout()) {
         engine::EngineOptions o;
         o.scan_period = std::chrono::milliseconds(10);
         engine = std::make_unique<engine::Engine>(image, o, engine::Program{});

@@ -2,6 +2,7 @@
 // power-up counter, docs/profile-fbs.md, Scan cycle and special registers), its default location,
 // and the config keys of persistence and access control.
 
+#include "support/profiles.hpp"
 #include "plcemu/image/state_file.hpp"
 
 #include <fcntl.h>
@@ -23,7 +24,7 @@
 #include "daemon/reload.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
-#include "plcemu/engine/special.hpp"
+#include "profiles/fbs/special_registers.hpp"
 #include "plcemu/image/image.hpp"
 
 namespace plcemu {
@@ -34,8 +35,6 @@ using image::Area;
 using image::Image;
 using image::StateFile;
 using image::StateOrigin;
-
-constexpr image::Profile kFbs = image::Profile::Fbs;
 
 // 2026-03-04 05:06:07 local time, for the moved-aside name.
 std::time_t fixed_now() {
@@ -60,7 +59,7 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
 
-    static image::Layout layout() { return image::fbs_layout(); }
+    static image::Layout layout() { return test::fbs_layout(); }
     // Size of a state file for layout(): the header page and the image in whole pages.
     static std::size_t file_size() {
         return image::kDataOffset + (Image::storage_size(layout()) + 4095) / 4096 * 4096;
@@ -108,7 +107,7 @@ protected:
 };
 
 TEST_F(StateFileTest, NewFileIsCreatedZeroedWithItsHeader) {
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Created);
     EXPECT_FALSE(f.retained());
     EXPECT_EQ(f.storage().size(), Image::storage_size(layout()));
@@ -127,13 +126,13 @@ TEST_F(StateFileTest, NewFileIsCreatedZeroedWithItsHeader) {
 // docs/operations.md, Retentive memory: retentive values are kept across a (clean) restart.
 TEST_F(StateFileTest, ValuesSurviveCleanCloseAndReopen) {
     {
-        StateFile f(path_, kFbs, layout(), fixed_now());
+        StateFile f(path_, layout(), fixed_now());
         Image img(layout(), f.storage());
         img.set_word(Area::D, 100, 4242);
         img.set_bit(Area::M, 900, true);
     }
     EXPECT_EQ(header().state, image::kStateClosed);
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Clean);
     Image img(layout(), f.storage());
     EXPECT_EQ(img.word(Area::D, 100), 4242);
@@ -147,7 +146,7 @@ TEST_F(StateFileTest, WritesSurviveAProcessThatDiesWithoutClosing) {
     const pid_t pid = ::fork();
     ASSERT_GE(pid, 0);
     if (pid == 0) {
-        auto* f = new StateFile(path_, kFbs, layout(), fixed_now());
+        auto* f = new StateFile(path_, layout(), fixed_now());
         Image img(layout(), f->storage());
         for (std::uint32_t i = 0; i < 4000; ++i)
             img.set_word(Area::D, i, static_cast<std::uint16_t>(i * 7));
@@ -157,7 +156,7 @@ TEST_F(StateFileTest, WritesSurviveAProcessThatDiesWithoutClosing) {
     ASSERT_EQ(::waitpid(pid, &status, 0), pid);
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(header().state, image::kStateOpen);
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Recovered);
     ASSERT_FALSE(f.notes().empty());
     EXPECT_TRUE(f.notes().front().warning);
@@ -169,7 +168,7 @@ TEST_F(StateFileTest, WritesSurviveAProcessThatDiesWithoutClosing) {
 
 TEST_F(StateFileTest, GarbageIsMovedAsideWithATimestampAndAFreshFileCreated) {
     write_file(std::vector<char>(10000, 'x'));
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Created);
     EXPECT_EQ(f.moved_aside(), path_ + ".bad-20260304-050607");
     const auto bad = bad_files();
@@ -183,44 +182,44 @@ TEST_F(StateFileTest, GarbageIsMovedAsideWithATimestampAndAFreshFileCreated) {
 }
 
 TEST_F(StateFileTest, TruncatedFileIsMovedAside) {
-    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    { StateFile f(path_, layout(), fixed_now()); }
     auto bytes = read_file();
     bytes.resize(6000);
     write_file(bytes);
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Created);
     EXPECT_NE(f.notes().front().text.find("truncated"), std::string::npos);
 }
 
 TEST_F(StateFileTest, HeaderBitFlipIsCaughtByTheHeaderChecksum) {
-    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    { StateFile f(path_, layout(), fixed_now()); }
     auto bytes = read_file();
     bytes[128] ^= 0x01;  // inside `created`: nothing else would notice
     write_file(bytes);
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Created);
     EXPECT_NE(f.notes().front().text.find("header checksum"), std::string::npos);
 }
 
 TEST_F(StateFileTest, DataChangedAfterACleanCloseIsCaughtByTheDataChecksum) {
     {
-        StateFile f(path_, kFbs, layout(), fixed_now());
+        StateFile f(path_, layout(), fixed_now());
         Image(layout(), f.storage()).set_word(Area::D, 5, 55);
     }
     auto bytes = read_file();
     bytes[image::kDataOffset + Image::area_offset(layout(), Area::D) + 10] ^= 0x40;
     write_file(bytes);
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Created);
     EXPECT_NE(f.notes().front().text.find("data checksum"), std::string::npos);
     EXPECT_EQ(Image(layout(), f.storage()).word(Area::D, 5), 0);
 }
 
 TEST_F(StateFileTest, AnotherLayoutDoesNotMatchAndIsMovedAside) {
-    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    { StateFile f(path_, layout(), fixed_now()); }
     image::Layout other = layout();
     other.size[static_cast<int>(Area::D)] = 8000;
-    StateFile f(path_, kFbs, other, fixed_now());
+    StateFile f(path_, other, fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Created);
     const std::string& t = f.notes().front().text;
     EXPECT_NE(t.find("does not match"), std::string::npos) << t;
@@ -229,20 +228,20 @@ TEST_F(StateFileTest, AnotherLayoutDoesNotMatchAndIsMovedAside) {
 }
 
 TEST_F(StateFileTest, AnotherFormatVersionDoesNotMatch) {
-    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    { StateFile f(path_, layout(), fixed_now()); }
     auto h = header();
     h.version = 99;
     write_header(h);
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Created);
     EXPECT_NE(f.notes().front().text.find("format version 99"), std::string::npos);
 }
 
 TEST_F(StateFileTest, SecondBadFileInTheSameSecondGetsItsOwnName) {
     write_file(std::vector<char>(100, 'a'));
-    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    { StateFile f(path_, layout(), fixed_now()); }
     write_file(std::vector<char>(200, 'b'));
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     const auto bad = bad_files();
     ASSERT_EQ(bad.size(), 2u);
     EXPECT_EQ(bad[0].filename().string(), "plc.state.bad-20260304-050607");
@@ -251,19 +250,19 @@ TEST_F(StateFileTest, SecondBadFileInTheSameSecondGetsItsOwnName) {
 }
 
 TEST_F(StateFileTest, ASecondUserIsRefusedAndTheFileLeftAlone) {
-    StateFile f(path_, kFbs, layout(), fixed_now());
-    EXPECT_THROW(StateFile(path_, kFbs, layout(), fixed_now()), std::system_error);
+    StateFile f(path_, layout(), fixed_now());
+    EXPECT_THROW(StateFile(path_, layout(), fixed_now()), std::system_error);
     EXPECT_TRUE(bad_files().empty());
 }
 
 // docs/operations.md, "Retentive memory": a second user of a new file is refused by name and the
 // first one's values are left alone.
 TEST_F(StateFileTest, ASecondUserOfANewFileIsRefusedByNameAndTheFirstKeepsItsValues) {
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     Image img(layout(), f.storage());
     img.set_word(Area::D, 3, 333);
     try {
-        StateFile second(path_, kFbs, layout(), fixed_now());
+        StateFile second(path_, layout(), fixed_now());
         ADD_FAILURE() << "a second StateFile opened " << path_;
     } catch (const std::system_error& e) {
         const std::string what = e.what();
@@ -284,7 +283,7 @@ TEST_F(StateFileTest, WhileTheLockIsHeldNothingIsCreatedOrTruncated) {
     const std::string tmp = path_ + ".new";
     std::ofstream(tmp) << "half-made by the lock holder";
     try {
-        StateFile f(path_, kFbs, layout(), fixed_now());
+        StateFile f(path_, layout(), fixed_now());
         ADD_FAILURE() << "opened " << path_ << " while another process held its lock";
     } catch (const std::system_error& e) {
         const std::string what = e.what();
@@ -315,7 +314,7 @@ TEST_F(StateFileTest, ProcessesCreatingOneNewFileAtOnceLetExactlyOneWin) {
                 char c;
                 (void)!::read(go[0], &c, 1);  // end of file when the parent closes: all go
                 try {
-                    StateFile f(path, kFbs, layout(), fixed_now());
+                    StateFile f(path, layout(), fixed_now());
                     Image img(layout(), f.storage());
                     const auto mine = static_cast<std::uint16_t>(1000 + k);
                     for (std::uint32_t i = 0; i < 4000; ++i) img.set_word(Area::D, i, mine);
@@ -357,7 +356,7 @@ TEST_F(StateFileTest, ProcessesCreatingOneNewFileAtOnceLetExactlyOneWin) {
         }
         ASSERT_NE(winner, -1) << "round " << round << ": nobody got the file";
         EXPECT_EQ(refused, kProcesses - 1);
-        StateFile f(path, kFbs, layout(), fixed_now());
+        StateFile f(path, layout(), fixed_now());
         EXPECT_EQ(f.origin(), StateOrigin::Clean);
         Image img(layout(), f.storage());
         EXPECT_EQ(img.word(Area::D, 0), 1000 + winner);
@@ -369,7 +368,7 @@ TEST_F(StateFileTest, ProcessesCreatingOneNewFileAtOnceLetExactlyOneWin) {
 // The blocks of a new file are allocated up front, so a write into the mapping can never fault
 // (SIGBUS) later because the disk has filled up meanwhile.
 TEST_F(StateFileTest, ANewFileHasEveryBlockReserved) {
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     struct stat st {};
     ASSERT_EQ(::stat(path_.c_str(), &st), 0);
     EXPECT_GE(static_cast<std::uint64_t>(st.st_blocks) * 512,
@@ -378,7 +377,7 @@ TEST_F(StateFileTest, ANewFileHasEveryBlockReserved) {
 
 // A sparse file (as written before blocks were reserved) gets its blocks when it is opened.
 TEST_F(StateFileTest, ASparseFileGetsEveryBlockReservedWhenOpened) {
-    { StateFile f(path_, kFbs, layout(), fixed_now()); }
+    { StateFile f(path_, layout(), fixed_now()); }
     const int fd = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
     ASSERT_GE(fd, 0);
     const auto size = static_cast<off_t>(fs::file_size(path_));
@@ -391,7 +390,7 @@ TEST_F(StateFileTest, ASparseFileGetsEveryBlockReservedWhenOpened) {
     if (punched != 0 || static_cast<off_t>(st.st_blocks) * 512 >= size) {
         GTEST_SKIP() << "this file system cannot punch holes";
     }
-    StateFile f(path_, kFbs, layout(), fixed_now());
+    StateFile f(path_, layout(), fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Clean);
     ASSERT_EQ(::stat(path_.c_str(), &st), 0);
     EXPECT_GE(static_cast<off_t>(st.st_blocks) * 512, size);
@@ -407,7 +406,7 @@ TEST_F(StateFileTest, AFileThatCannotGetItsBlocksIsRefusedAndNothingIsLeftBehind
         const rlimit limit{8192, 8192};
         ::setrlimit(RLIMIT_FSIZE, &limit);
         try {
-            StateFile f(path_, kFbs, layout(), fixed_now());
+            StateFile f(path_, layout(), fixed_now());
             ::_exit(3);
         } catch (const std::system_error& e) {
             const std::string what = e.what();
@@ -432,14 +431,14 @@ TEST_F(StateFileTest, ChangedRetentiveRangesKeepOnlyDevicesRetentiveBeforeAndNow
     image::Layout before = layout();
     before.retentive = {{Area::D, 0, 100}};
     {
-        StateFile f(path_, kFbs, before, fixed_now());
+        StateFile f(path_, before, fixed_now());
         Image img(before, f.storage());
         img.set_word(Area::D, 50, 1);   // retentive then and now
         img.set_word(Area::D, 150, 2);  // retentive now only: held live data then
     }
     image::Layout now = layout();
     now.retentive = {{Area::D, 0, 200}};
-    StateFile f(path_, kFbs, now, fixed_now());
+    StateFile f(path_, now, fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Clean);
     Image img(now, f.storage());
     EXPECT_EQ(img.word(Area::D, 50), 1);
@@ -455,7 +454,7 @@ config::Config plc_config(const std::string& extra = "") {
 }
 
 std::uint16_t power_ups(daemon::Plc& plc) {
-    return plc.image().word(Area::R, engine::special::kPowerUps);
+    return plc.image().word(Area::R, profiles::fbs::special::kPowerUps);
 }
 
 // docs/operations.md, Retentive memory: "devices outside the retentive ranges are cleared and R4057
@@ -463,7 +462,7 @@ std::uint16_t power_ups(daemon::Plc& plc) {
 TEST_F(StateFileTest, EachStartCountsInR4057AndClearsNonRetentiveDevices) {
     const auto cfg = plc_config();
     for (int start = 1; start <= 3; ++start) {
-        StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+        StateFile f(path_, daemon::plc_layout(cfg), fixed_now());
         daemon::Plc plc(cfg, f.storage(),
                         f.retained() ? daemon::Start::Retained : daemon::Start::Fresh);
         EXPECT_EQ(power_ups(plc), start);
@@ -486,7 +485,7 @@ TEST_F(StateFileTest, R4057StaysRetentiveWhenTheConfigNamesOtherRanges) {
 TEST_F(StateFileTest, InitPresetsDoNotOverwriteRetainedValuesByDefault) {
     const auto cfg = plc_config("init: {R10: 111, R3000: 7, WM792: 0xFFFF}\n");
     {
-        StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+        StateFile f(path_, daemon::plc_layout(cfg), fixed_now());
         daemon::Plc plc(cfg, f.storage(), daemon::Start::Fresh);
         EXPECT_EQ(plc.image().word(Area::R, 10), 111);
         EXPECT_TRUE(plc.image().bit(Area::M, 800));
@@ -495,7 +494,7 @@ TEST_F(StateFileTest, InitPresetsDoNotOverwriteRetainedValuesByDefault) {
         plc.image().set_bit(Area::M, 800, false);  // M800 retentive, M792-M799 not
         plc.image().set_bit(Area::M, 795, false);
     }
-    StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+    StateFile f(path_, daemon::plc_layout(cfg), fixed_now());
     daemon::Plc plc(cfg, f.storage(), daemon::Start::Retained);
     EXPECT_EQ(plc.image().word(Area::R, 10), 222);
     EXPECT_EQ(plc.image().word(Area::R, 3000), 7);
@@ -506,18 +505,18 @@ TEST_F(StateFileTest, InitPresetsDoNotOverwriteRetainedValuesByDefault) {
 TEST_F(StateFileTest, InitAlwaysOverwritesRetainedValues) {
     const auto cfg = plc_config("init: {R10: 111}\npersistence: {init: always}\n");
     {
-        StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+        StateFile f(path_, daemon::plc_layout(cfg), fixed_now());
         daemon::Plc plc(cfg, f.storage(), daemon::Start::Fresh);
         plc.image().set_word(Area::R, 10, 222);
     }
-    StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+    StateFile f(path_, daemon::plc_layout(cfg), fixed_now());
     daemon::Plc plc(cfg, f.storage(), daemon::Start::Retained);
     EXPECT_EQ(plc.image().word(Area::R, 10), 111);
 }
 
 TEST_F(StateFileTest, ReloadKeepsTheWholeImageAndDoesNotCountAPowerUp) {
     const auto cfg = plc_config();
-    StateFile f(path_, kFbs, daemon::plc_layout(cfg), fixed_now());
+    StateFile f(path_, daemon::plc_layout(cfg), fixed_now());
     auto plc = std::make_unique<daemon::Plc>(cfg, f.storage(), daemon::Start::Fresh);
     plc->image().set_word(Area::R, 3000, 9);  // not retentive
     plc->image().set_word(Area::R, 4005, 0x0203);

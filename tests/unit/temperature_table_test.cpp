@@ -5,12 +5,14 @@
 
 #include <vector>
 
-#include "instructions/temperature_table.hpp"
+#include "profiles/fbs/temperature_table.hpp"
+#include "profiles/fbs/specials.hpp"
+#include "support/profiles.hpp"
 #include "plcemu/engine/engine.hpp"
-#include "plcemu/engine/special.hpp"
+#include "profiles/fbs/special_registers.hpp"
 #include "plcemu/image/image.hpp"
 
-namespace plcemu::instructions {
+namespace plcemu::profiles::fbs {
 namespace {
 
 using image::Area;
@@ -18,10 +20,10 @@ using std::chrono::milliseconds;
 namespace t = temperature;
 
 // Sensors whose temperatures a test sets; counts the samples per channel.
-class FakeSensors final : public plant::SensorSource {
+class FakeSensors final : public engine::SensorSource {
 public:
     FakeSensors() { celsius.fill(25.0); }
-    plant::SensorSample sense(int ch) noexcept override {
+    engine::SensorSample sense(int ch) noexcept override {
         ++samples[static_cast<std::size_t>(ch)];
         return {broken[static_cast<std::size_t>(ch)], celsius[static_cast<std::size_t>(ch)]};
     }
@@ -49,10 +51,11 @@ struct Rig {
     explicit Rig(std::vector<config::ModuleConfig> chain = {installed(kTC6, kK),
                                                             installed(kRTD6, kPt100)},
                  bool fast = false)
-        : image(image::fbs_layout()) {
+        : image(test::fbs_layout()) {
         engine::EngineOptions o;
         o.scan_period = milliseconds(10);
-        engine = std::make_unique<engine::Engine>(image, o, engine::Program{});
+        engine =
+            std::make_unique<engine::Engine>(image, o, engine::Program{}, make_specials(0x0118));
         engine->power_up();
         TemperatureOptions opt;
         opt.table = {Area::R, 5000, false};
@@ -335,7 +338,7 @@ TEST(TemperatureTable, R4009SelectsCelsiusOrFahrenheit) {
     rig.standard_table();
     rig.run_ms(4010);
     EXPECT_EQ(rig.reading(0), 1000);
-    rig.image.set_word(Area::R, engine::special::kTempUnit, 1);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempUnit, 1);
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), 2120);
     rig.sensors.celsius[0] = -40.0;
@@ -349,13 +352,13 @@ TEST(TemperatureTable, R4009LowByteDecidesTheUnit) {
     Rig rig;
     rig.sensors.celsius[0] = 100.0;
     rig.standard_table();
-    rig.image.set_word(Area::R, engine::special::kTempUnit, 0x0101);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempUnit, 0x0101);
     rig.run_ms(4010);
     EXPECT_EQ(rig.reading(0), 2120);
-    rig.image.set_word(Area::R, engine::special::kTempUnit, 0x0100);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempUnit, 0x0100);
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), 1000);
-    rig.image.set_word(Area::R, engine::special::kTempUnit, 0x0002);  // neither: °C
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempUnit, 0x0002);  // neither: °C
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), 1000);
 }
@@ -365,17 +368,17 @@ TEST(TemperatureTable, R4015FourAveragesSixteenReadings) {
     // as 4 (docs/profile-fbs.md decision).
     Rig rig;
     rig.standard_table();
-    rig.image.set_word(Area::R, engine::special::kTempAverage, 4);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempAverage, 4);
     for (int i = 1; i <= 20; ++i) {
         rig.sensors.celsius[0] = 10.0 * i;
         rig.run_ms(4000);  // one conversion of channel 0 per round
     }
     EXPECT_EQ(rig.reading(0), 1250);  // mean of 50..200: 125.0
-    rig.image.set_word(Area::R, engine::special::kTempAverage, 9);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempAverage, 9);
     rig.sensors.celsius[0] = 210.0;
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), 1350);  // mean of 60..210
-    rig.image.set_word(Area::R, engine::special::kTempAverage, 3);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempAverage, 3);
     rig.sensors.celsius[0] = 220.0;
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), 1850);  // mean of 150..220
@@ -386,22 +389,22 @@ TEST(TemperatureTable, R4015MovingAverageOfTwoFourEightReadings) {
     // 3 eight readings, moving average.
     Rig rig;
     rig.standard_table();
-    rig.image.set_word(Area::R, engine::special::kTempAverage, 2);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempAverage, 2);
     const double values[] = {100, 200, 300, 400, 500, 600};
     for (double v : values) {
         rig.sensors.celsius[0] = v;
         rig.run_ms(4000);  // one conversion of channel 0 per round
     }
     EXPECT_EQ(rig.reading(0), 4500);  // mean of 300..600
-    rig.image.set_word(Area::R, engine::special::kTempAverage, 1);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempAverage, 1);
     rig.sensors.celsius[0] = 700;
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), 6500);  // mean of 600, 700
-    rig.image.set_word(Area::R, engine::special::kTempAverage, 3);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempAverage, 3);
     rig.sensors.celsius[0] = 800;
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), 4500);  // mean of 100..800
-    rig.image.set_word(Area::R, engine::special::kTempAverage, 0);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempAverage, 0);
     rig.sensors.celsius[0] = 900;
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(0), 9000);
@@ -453,7 +456,7 @@ TEST(TemperatureTable, ReadingBeyondTheSensorRangeIsClampedNotBroken) {
     EXPECT_EQ(rig.reading(4), 3500);
     EXPECT_EQ(rig.wr(1), 1u << 3);  // only the open one
     // In °F the limit converts too: 350 °C is 662 °F.
-    rig.image.set_word(Area::R, engine::special::kTempUnit, 1);
+    rig.image.set_word(Area::R, profiles::fbs::special::kTempUnit, 1);
     rig.run_ms(4000);
     EXPECT_EQ(rig.reading(4), 6620);
 }
@@ -466,8 +469,9 @@ TEST(TemperatureTable, R4010R4011BitZeroReadsZeroWithoutBrokenCheck) {
     rig.sensors.broken[2] = true;
     rig.sensors.broken[18] = true;
     rig.sensors.celsius[5] = 80.0;
-    rig.image.set_word(Area::R, engine::special::kSensorInstalled, 0xFFFF & ~(1u << 2 | 1u << 5));
-    rig.image.set_word(Area::R, engine::special::kSensorInstalled + 1, 0xFFFF & ~(1u << 2));
+    rig.image.set_word(Area::R, profiles::fbs::special::kSensorInstalled,
+                       0xFFFF & ~(1u << 2 | 1u << 5));
+    rig.image.set_word(Area::R, profiles::fbs::special::kSensorInstalled + 1, 0xFFFF & ~(1u << 2));
     rig.run_ms(6010);
     EXPECT_EQ(rig.code(), t::kRunning);
     EXPECT_EQ(rig.reading(2), 0);
@@ -511,4 +515,4 @@ TEST(TemperatureTable, InvalidSensorCodeReadsBroken) {
 }
 
 }  // namespace
-}  // namespace plcemu::instructions
+}  // namespace plcemu::profiles::fbs

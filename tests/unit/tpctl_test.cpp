@@ -8,15 +8,17 @@
 #include <string>
 #include <vector>
 
-#include "instructions/tpctl.hpp"
+#include "profiles/fbs/tpctl.hpp"
 #include "support/config_errors.hpp"
+#include "plcemu/daemon/plc.hpp"
+#include "support/profiles.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/engine/engine.hpp"
-#include "plcemu/engine/special.hpp"
+#include "profiles/fbs/special_registers.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/instructions/instructions.hpp"
 
-namespace plcemu::instructions {
+namespace plcemu::profiles::fbs {
 namespace {
 
 using image::Area;
@@ -42,10 +44,10 @@ class Rig {
 public:
     explicit Rig(const std::string& program = kExample, Duration dt = 10ms)
         : cfg_(config::parse_config(config_text(program), "tpctl_test.yaml")),
-          img_(image::fbs_layout()),
-          prog_(make_program(cfg_, img_.layout())),
+          img_(test::fbs_layout()),
+          prog_(daemon::build_program(cfg_)),
           dt_(dt) {
-        namespace sp = engine::special;
+        namespace sp = profiles::fbs::special;
         r(sp::kPidTiming) = 0x0102;
         r(sp::kHeaterOpenPercent) = 90;
         r(sp::kHeaterOpenSeconds) = 600;
@@ -108,7 +110,7 @@ private:
 std::string load_error(const std::string& program) {
     try {
         const config::Config cfg = config::parse_config(config_text(program), "tpctl_test.yaml");
-        (void)make_program(cfg, image::fbs_layout());
+        (void)daemon::build_program(cfg);
     } catch (const config::ConfigError& e) {
         return e.what();
     }
@@ -211,7 +213,7 @@ TEST(Tpctl, OutputsOnATemperatureModulesOwnDigitalOutputsAreRefusedAtTheirPositi
     auto failure = [&](const std::string& program) {
         return testing::config_failure([&] {
             const config::Config cfg = config::parse_config(head + program, "chain.yaml");
-            (void)make_program(cfg, image::fbs_layout());
+            (void)daemon::build_program(cfg);
         });
     };
     const std::string ops =
@@ -339,8 +341,8 @@ TEST(Tpctl, PvFromR4004WhenR4003IsA55Ah) {
     rig.point(0, 1000, 10, 100, 0, 0);
     rig.pv(0, 500);
     rig.r(600) = 995;  // R4004 = 10600: PVs from R600…
-    rig.r(engine::special::kTempMeasureRemap) = 0xA55A;
-    rig.r(engine::special::kTempPvSource) = 10600;
+    rig.r(profiles::fbs::special::kTempMeasureRemap) = 0xA55A;
+    rig.r(profiles::fbs::special::kTempPvSource) = 10600;
     rig.en(true);
     rig.scan();
     EXPECT_EQ(rig.r(kOr), 500);  // 100·(1000−995)
@@ -353,7 +355,7 @@ TEST(Tpctl, PvFromR4004WhenR4003IsA55Ah) {
     rig.scan();
     EXPECT_EQ(rig.r(kOr), 1000);
     // Any other R4003: the table's readings again (and its gate).
-    rig.r(engine::special::kTempMeasureRemap) = 0;
+    rig.r(profiles::fbs::special::kTempMeasureRemap) = 0;
     rig.measurement(true);
     rig.en(false);
     rig.scan();
@@ -412,7 +414,7 @@ TEST(Tpctl, GainsAreReadEachSolutionFromPrIrDr) {
 // Times at which OR changed while the error stays constant and the integral keeps growing.
 std::vector<Duration> solution_times(std::uint16_t r4005, Duration span) {
     Rig rig;
-    rig.r(engine::special::kPidTiming) = r4005;
+    rig.r(profiles::fbs::special::kPidTiming) = r4005;
     rig.point(0, 1000, 10, 100, 100, 0);  // E = 1.0°, inside the band: integrates each time
     rig.pv(0, 990);
     rig.en(true);
@@ -458,7 +460,7 @@ TEST(Tpctl, PwmCycleFromR4005HighByte) {
                                                         {0xFF02, 32s}};
     for (const auto& [code, cycle] : cases) {
         Rig rig;
-        rig.r(engine::special::kPidTiming) = code;
+        rig.r(profiles::fbs::special::kPidTiming) = code;
         rig.point(0, 1000, 10, 10, 0, 0);
         rig.pv(0, 1000 - 819);  // OR 8190: about half the cycle
         rig.en(true);
@@ -476,8 +478,8 @@ TEST(Tpctl, R4005IsReadWhenEnRisesOnly) {
     rig.pv(0, 990);
     rig.en(true);
     rig.scan();
-    EXPECT_EQ(rig.r(kWr + 4), 0x0204);            // defaults: 4 s solution, 2 s PWM
-    rig.r(engine::special::kPidTiming) = 0x0000;  // changed while EN = 1: waits
+    EXPECT_EQ(rig.r(kWr + 4), 0x0204);                   // defaults: 4 s solution, 2 s PWM
+    rig.r(profiles::fbs::special::kPidTiming) = 0x0000;  // changed while EN = 1: waits
     const std::uint16_t before = rig.r(kOr);
     rig.run_for(1s);
     EXPECT_EQ(rig.r(kOr), before);  // no solution after 1 s
@@ -511,7 +513,7 @@ TEST(Tpctl, ProportionalBandOfKc110Is14Point9Degrees) {
 TEST(Tpctl, IntegralAddsKcKiTsPerSolution) {
     // Kc 100, Ki 60 (0.6 repeats/min), Ts 1 s, E 10: each solution adds 100·0.6·(1/60)·10 = 10.
     Rig rig;
-    rig.r(engine::special::kPidTiming) = 0x0100;
+    rig.r(profiles::fbs::special::kPidTiming) = 0x0100;
     rig.point(0, 1000, 5, 100, 60, 0);
     rig.pv(0, 990);
     rig.en(true);
@@ -549,7 +551,7 @@ TEST(Tpctl, IntegralIsClampedNoWindup) {
     // Md 1 (always integrating), 50° below SP for 10 minutes: P alone saturates the output, so
     // the integral must not grow; when PV then crosses SP the output drops at once.
     Rig rig(std::string(kExample).replace(std::string(kExample).find("md: 0"), 5, "md: 1"));
-    rig.r(engine::special::kPidTiming) = 0x0100;
+    rig.r(profiles::fbs::special::kPidTiming) = 0x0100;
     rig.point(0, 1000, 5, 110, 100, 0);
     rig.pv(0, 500);
     rig.en(true);
@@ -597,7 +599,7 @@ TEST(Tpctl, Md0IntegratesOnlyInsideTheProportionalBandMd1Always) {
     auto run = [](int md) {
         Rig rig(std::string(kExample).replace(std::string(kExample).find("md: 0"), 5,
                                               "md: " + std::to_string(md)));
-        rig.r(engine::special::kPidTiming) = 0x0100;
+        rig.r(profiles::fbs::special::kPidTiming) = 0x0100;
         rig.point(0, 3000, 5, 10, 600, 100);
         rig.pv(0, 1000);
         rig.en(true);
@@ -670,7 +672,7 @@ TEST(Tpctl, PwmOnTimeStartsTheCycleAndFollowsTheScanGranularity) {
 TEST(Tpctl, PwmNewOutputTakesEffectAtTheNextCycle) {
     // Ts 1 s, PWM 2 s: an output changed mid-cycle waits for the next cycle (one pulse each).
     Rig rig;
-    rig.r(engine::special::kPidTiming) = 0x0100;
+    rig.r(profiles::fbs::special::kPidTiming) = 0x0100;
     rig.point(0, 20000, 5, 1, 0, 0);
     rig.pv(0, 20000 - 4096);
     rig.en(true);
@@ -695,8 +697,8 @@ TEST(Tpctl, R4012R4013BitZeroMeansNoPidYOffOr0) {
         rig.r(180 + c) = 10;
         rig.pv(c, 500);
     }
-    rig.r(engine::special::kPidEnable) = 0xFFFF & ~(1u << 3);
-    rig.r(engine::special::kPidEnable + 1) = 0xFFFF & ~(1u << 4);  // channel 20
+    rig.r(profiles::fbs::special::kPidEnable) = 0xFFFF & ~(1u << 3);
+    rig.r(profiles::fbs::special::kPidEnable + 1) = 0xFFFF & ~(1u << 4);  // channel 20
     rig.en(true);
     rig.scan();
     for (std::uint32_t c = 0; c < 32; ++c) {
@@ -711,14 +713,14 @@ TEST(Tpctl, R4012R4013BitZeroMeansNoPidYOffOr0) {
     EXPECT_EQ(rig.r(501), 0xFFFF & ~(1u << 4));
     EXPECT_FALSE(rig.m(101));
     // Enabled again: PID resumes at the next solution.
-    rig.r(engine::special::kPidEnable) = 0xFFFF;
+    rig.r(profiles::fbs::special::kPidEnable) = 0xFFFF;
     rig.run_for(4s);
     EXPECT_EQ(rig.r(403), 10000);
 }
 
 TEST(Tpctl, EnOffTurnsAllItsYOffOr0AndResetsThePidState) {
     Rig rig;
-    rig.r(engine::special::kPidTiming) = 0x0100;
+    rig.r(profiles::fbs::special::kPidTiming) = 0x0100;
     for (std::uint32_t i = 0; i < 10; ++i) {
         rig.point(i, 1000, 5, 100, 600, 0);
         rig.pv(i, 990);
@@ -771,7 +773,7 @@ TEST(Tpctl, InZoneIsSpMinusOsToSpPlusOsInWr0AndWr1) {
 
 TEST(Tpctl, OverTemperatureAfter10ConsecutiveScansAtOrAboveR4008) {
     Rig rig;
-    rig.r(engine::special::kOverTemperature) = 2000;
+    rig.r(profiles::fbs::special::kOverTemperature) = 2000;
     for (std::uint32_t i = 0; i < 10; ++i) {
         rig.point(i, 1990, 20, 110, 17, 50);
         rig.pv(i, 1990);
@@ -824,7 +826,7 @@ TEST(Tpctl, OverTemperatureIsWatchedAlsoOnPointsWithoutPid) {
         rig.point(i, 1000, 10, 110, 17, 50);
         rig.pv(i, 1000);
     }
-    rig.r(engine::special::kPidEnable) = 0xFFFF & ~(1u << 6);
+    rig.r(profiles::fbs::special::kPidEnable) = 0xFFFF & ~(1u << 6);
     rig.pv(6, 3600);
     rig.en(true);
     rig.scan(9);
@@ -843,8 +845,8 @@ TEST(Tpctl, OverTemperatureIsWatchedAlsoOnPointsWithoutPid) {
 
 TEST(Tpctl, HeaterOpenAfterHighOutputForR4007SecondsWhileOutOfZone) {
     Rig rig;
-    rig.r(engine::special::kHeaterOpenPercent) = 90;
-    rig.r(engine::special::kHeaterOpenSeconds) = 60;
+    rig.r(profiles::fbs::special::kHeaterOpenPercent) = 90;
+    rig.r(profiles::fbs::special::kHeaterOpenSeconds) = 60;
     rig.point(0, 1500, 50, 110, 17, 50);
     rig.pv(0, 250);  // cold: output at full scale
     rig.en(true);
@@ -866,7 +868,7 @@ TEST(Tpctl, HeaterOpenAfterHighOutputForR4007SecondsWhileOutOfZone) {
 TEST(Tpctl, HeaterOpenNeedsOutputAtLeastR4006PercentContinuously) {
     // Kc 10: OR = 10·E. 90 % of 16383 is 14744.7.
     Rig rig;
-    rig.r(engine::special::kHeaterOpenSeconds) = 60;
+    rig.r(profiles::fbs::special::kHeaterOpenSeconds) = 60;
     rig.point(0, 3000, 50, 10, 0, 0);  // below R4008: no over-temperature
     rig.pv(0, 3000 - 1474);            // OR 14740 < 90 %
     rig.en(true);
@@ -884,7 +886,7 @@ TEST(Tpctl, HeaterOpenNeedsOutputAtLeastR4006PercentContinuously) {
     EXPECT_EQ(rig.r(kWr + 2), 1u);
     EXPECT_EQ(rig.r(kWr + 7), 1u);
     // R4006 = 100: only a full-scale output counts; the warning clears.
-    rig.r(engine::special::kHeaterOpenPercent) = 100;
+    rig.r(profiles::fbs::special::kHeaterOpenPercent) = 100;
     rig.scan();
     EXPECT_EQ(rig.r(kWr + 2), 0);
 }
@@ -906,7 +908,7 @@ TEST(Tpctl, AlmIsAnyPointOutOfZoneOrAnyWarning) {
     rig.scan();
     EXPECT_FALSE(rig.m(101));
     // A warning alone (in zone, over R4008) raises it too.
-    rig.r(engine::special::kOverTemperature) = 1000;
+    rig.r(profiles::fbs::special::kOverTemperature) = 1000;
     rig.scan(10);
     EXPECT_EQ(rig.r(kWr), 0x03FF);
     EXPECT_TRUE(rig.m(101));
@@ -992,4 +994,4 @@ TEST(Tpctl, SeveralInstructionsKeepSeparateState) {
 }
 
 }  // namespace
-}  // namespace plcemu::instructions
+}  // namespace plcemu::profiles::fbs

@@ -12,6 +12,7 @@
 
 #include "plcemu/image/area.hpp"
 #include "plcemu/image/layout.hpp"
+#include "plcemu/image/naming.hpp"
 
 namespace plcemu::config {
 
@@ -58,14 +59,15 @@ enum class UnknownUnit : std::uint8_t { Exception, Silent };
 
 /// `modbus.tcp`
 struct TcpConfig {
-    bool enabled = true;                                ///< serve TCP at all
-    std::string bind = "0.0.0.0";                       ///< address to listen on
-    std::uint16_t port = 502;                           ///< port (502 as on a real PLC)
-    UnknownUnit unknown_unit = UnknownUnit::Exception;  ///< SPEC §2 unit-ID policy
-    std::vector<std::string> allow;                     ///< CIDR allow list (empty = all)
-    int max_clients = 64;                               ///< concurrent connections
-    int idle_timeout_s = 0;                             ///< no request this long: close (0 = never)
-    int frame_timeout_ms = 5000;  ///< a begun request must be whole, and replies taken, by then
+    bool enabled = true;           ///< serve TCP at all
+    std::string bind = "0.0.0.0";  ///< address to listen on
+    std::uint16_t port = 502;      ///< port (502 as on a real PLC)
+    UnknownUnit unknown_unit =
+        UnknownUnit::Exception;      ///< unit-ID policy (docs/profile-fbs.md, "Modbus map")
+    std::vector<std::string> allow;  ///< CIDR allow list (empty = all)
+    int max_clients = 64;            ///< concurrent connections
+    int idle_timeout_s = 0;          ///< no request this long: close (0 = never)
+    int frame_timeout_ms = 5000;     ///< a begun request must be whole, and replies taken, by then
 };
 
 /// `modbus.rtu` (absent = no serial port)
@@ -77,19 +79,36 @@ struct RtuConfig {
     int stop_bits = 1;   ///< 1 or 2
 };
 
+/// The Modbus table of a `modbus.map` row.
+enum class MapTable : std::uint8_t { Coils, DiscreteInputs, Holding, Input };
+
+/// One `modbus.map` row: `{table: holding, start: 0, device: D0, count: 8000, access: ro}`.
+struct MapRowConfig {
+    MapTable table = MapTable::Holding;  ///< the Modbus table
+    std::uint16_t start = 0;             ///< first wire address
+    image::Device device;                ///< first device (WM0: 16 bits per register)
+    std::uint16_t count = 0;             ///< elements (registers for a W device)
+    bool read_only = false;              ///< `access: ro`
+    std::string text;                    ///< the device as written, for --print-map
+    Position pos;                        ///< where the row stands
+};
+
 /// `modbus`
 struct ModbusConfig {
     TcpConfig tcp;                            ///< TCP listener
     std::optional<RtuConfig> rtu;             ///< serial slave
     bool read_only = false;                   ///< refuse every write with exception 02
     std::vector<image::Range> write_protect;  ///< device ranges writes may not touch
+    /// `modbus.map`: when present, replaces the profile's default map entirely.
+    std::optional<std::vector<MapRowConfig>> map;
 };
 
 /// One installed temperature module of the emulated expansion chain.
 struct ModuleConfig {
-    std::uint8_t name_code = 0;    ///< 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2
-    std::uint8_t sensor_type = 0;  ///< sensor code of SPEC §4
-    Position pos;                  ///< where it was declared
+    std::uint8_t name_code = 0;  ///< 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2
+    std::uint8_t sensor_type =
+        0;         ///< sensor type code (docs/profile-fbs.md, "Temperature measurement")
+    Position pos;  ///< where it was declared
 };
 
 /// `temperature`
@@ -99,7 +118,7 @@ struct TemperatureConfig {
     bool fast = false;  ///< "scan rate": fast conversion (half time, 1° resolution)
 };
 
-/// Fault switches of a plant channel (SPEC §6).
+/// Fault switches of a plant channel (docs/simulator-and-plant.md).
 struct Faults {
     bool sensor_broken = false;   ///< reading 32767, abnormal bit
     bool heater_open = false;     ///< u forced to 0
@@ -107,7 +126,7 @@ struct Faults {
     bool reading_frozen = false;  ///< reading stops changing
 };
 
-/// One simulated process channel (SPEC §6).
+/// One simulated process channel (docs/simulator-and-plant.md).
 struct ChannelConfig {
     double ambient_c = 25.0;             ///< T_amb, °C
     double k_c = 400.0;                  ///< full-power rise, °C
@@ -156,21 +175,27 @@ struct LogConfig {
 
 /// A whole configuration.
 struct Config {
-    std::string path;                              ///< file it was read from
-    image::Profile profile = image::Profile::Fbs;  ///< PLC family
-    std::string model = "FBs-24MC";                ///< model name
-    std::uint8_t station = 1;                      ///< station number (R4055)
-    int scan_ms = 10;                              ///< scan period
-    double time_scale = 1.0;                       ///< simulated seconds per real second
-    ModbusConfig modbus;                           ///< transports and access
-    std::vector<InitEntry> init;                   ///< presets
-    std::vector<InstructionConfig> program;        ///< ordered instruction list
-    TemperatureConfig temperature;                 ///< measurement table and modules
-    PlantConfig plant;                             ///< thermal plant
-    SimulatorConfig simulator;                     ///< simulator-control unit
-    PersistenceConfig persistence;                 ///< retentive state file
-    LogConfig log;                                 ///< logging
+    std::string path;                        ///< file it was read from
+    std::string profile;                     ///< PLC family (a registered profile's name)
+    std::string model;                       ///< model name (the profile's default)
+    std::uint8_t station = 1;                ///< station number
+    int scan_ms = 10;                        ///< scan period
+    double time_scale = 1.0;                 ///< simulated seconds per real second
+    ModbusConfig modbus;                     ///< transports and access
+    std::vector<InitEntry> init;             ///< presets
+    std::vector<InstructionConfig> program;  ///< ordered instruction list
+    TemperatureConfig temperature;           ///< measurement table and modules
+    PlantConfig plant;                       ///< thermal plant
+    SimulatorConfig simulator;               ///< simulator-control unit
+    PersistenceConfig persistence;           ///< retentive state file
+    LogConfig log;                           ///< logging
 };
+
+/// Why a device range is refused on a PLC: "D8000 does not exist on this PLC (…)" or "R9000 is
+/// outside this PLC's R area (8072 devices)".
+std::string outside(const image::Naming& naming,
+                    const image::Layout& layout,
+                    const image::Range& range);
 
 /// Reads and validates a config file. Throws ConfigError naming file, line and column.
 Config load_config(const std::string& path);
@@ -182,9 +207,5 @@ Config parse_config(const std::string& text, const std::string& name);
 /// escaped (\n, \x1B, \u2028) so it cannot break or forge log lines, and cut after `max_chars`
 /// characters with "…" so a pasted blob is never echoed whole.
 std::string excerpt(std::string_view text, std::size_t max_chars = 40);
-
-/// The model code of R4167 for a model name like "FBs-24MC": low byte I/O points, high byte
-/// 0 MA / 1 MC / 2 MN. Returns nothing for an unknown name.
-std::optional<std::uint16_t> model_code(const std::string& model);
 
 }  // namespace plcemu::config

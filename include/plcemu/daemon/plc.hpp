@@ -10,6 +10,7 @@
 #include "plcemu/config/config.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/image/image.hpp"
+#include "plcemu/modbus/address_map.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 #include "plcemu/modbus/plc_unit.hpp"
 #include "plcemu/plant/thermal_plant.hpp"
@@ -26,8 +27,14 @@ enum class Start : std::uint8_t {
 };
 
 /// The layout of a config: the profile's areas, its retentive ranges (or the config's), and
-/// always R4057 (the power-up counter).
+/// what the profile keeps in any case (a power-up counter).
 image::Layout plc_layout(const config::Config& config);
+
+/// The config's program built with its profile's instruction table (throws config::ConfigError).
+engine::Program build_program(const config::Config& config);
+
+/// The map of a config's `modbus.map`, or null when the config keeps the profile's map.
+std::unique_ptr<modbus::AddressMap> map_of(const config::Config& config);
 
 /// The PLC of a config.
 class Plc {
@@ -60,7 +67,7 @@ public:
     const config::Config& config() const { return *config_; }
     /// The config, shared.
     const std::shared_ptr<const config::Config>& shared_config() const { return config_; }
-    /// The thermal plant (SPEC §6), owned by the engine.
+    /// The thermal plant (docs/simulator-and-plant.md), owned by the engine.
     plant::ThermalPlant& plant() { return *plant_; }
 
     /// Applies the config's `init:` presets to the image (done at construction), sparing
@@ -72,6 +79,7 @@ private:
     Start start_ = Start::Fresh;
     std::unique_ptr<image::Image> image_;
     std::unique_ptr<engine::Engine> engine_;
+    std::unique_ptr<modbus::AddressMap> map_;
     std::unique_ptr<modbus::PlcUnit> unit_;
     std::unique_ptr<modbus::Dispatcher> dispatcher_;
     plant::ThermalPlant* plant_ = nullptr;

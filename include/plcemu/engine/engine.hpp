@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "plcemu/engine/declarations.hpp"
+#include "plcemu/engine/specials.hpp"
 #include "plcemu/image/image.hpp"
 
 namespace plcemu::engine {
@@ -42,6 +44,8 @@ public:
     virtual void execute(ScanContext& ctx) noexcept = 0;
     /// The manual's mnemonic.
     virtual std::string_view mnemonic() const noexcept = 0;
+    /// Adds what the instruction drives and owns to the program's declarations.
+    virtual void declare(Declarations& /*out*/) const {}
 };
 
 /// Something that runs around the program each scan: the plant and the temperature modules.
@@ -57,24 +61,30 @@ public:
 /// The ordered instruction list.
 using Program = std::vector<std::unique_ptr<Instruction>>;
 
+/// The declarations of a built program.
+Declarations declarations_of(const Program& program);
+
 /// Fixed parameters of an engine.
 struct EngineOptions {
     Duration scan_period = std::chrono::milliseconds(10);  ///< scan_ms
     std::uint8_t station = 1;                              ///< initial station number
-    std::uint16_t model_code = 0;                          ///< R4167
 };
 
 /// Runs scans over an image.
 class Engine {
 public:
-    /// `image` must outlive the engine.
-    Engine(image::Image& image, EngineOptions options, Program program);
+    /// `image` must outlive the engine; `specials` are the family's special devices (null:
+    /// none).
+    Engine(image::Image& image,
+           EngineOptions options,
+           Program program,
+           std::unique_ptr<Specials> specials = nullptr);
 
     /// Adds a subsystem; subsystems run in the order added (inputs) and reverse (outputs).
     void add_subsystem(std::unique_ptr<Subsystem> s);
 
-    /// Power-up: special-register defaults, power-up counter, station. Call once, after the
-    /// image holds its retained values and config presets.
+    /// Power-up: the family's special devices take their power-up values. Call once, after
+    /// the image holds its retained values.
     void power_up();
 
     /// Runs one scan starting at simulated time `now` (monotonic, one period after the last).
@@ -83,7 +93,7 @@ public:
     /// Runs `n` scans back to back at the scan period (tests, virtual time).
     void run_scans(std::uint64_t n, const Calendar& calendar = {}) noexcept;
 
-    /// The station number (R4055), which a master may change.
+    /// The station number, which a master may change through a special register.
     const std::uint8_t& station() const { return station_; }
     /// Scans completed.
     std::uint64_t scans() const { return scans_; }
@@ -99,20 +109,19 @@ public:
     /// The subsystems, in order.
     const std::vector<std::unique_ptr<Subsystem>>& subsystems() const { return subsystems_; }
 
-private:
-    void special_relays(const ScanContext& ctx) noexcept;
-    void special_registers(const ScanContext& ctx, const Calendar& calendar) noexcept;
+    /// The program (read-only).
+    const Program& program() const { return program_; }
 
+private:
     image::Image& image_;
     EngineOptions options_;
     Program program_;
+    std::unique_ptr<Specials> specials_;
     std::vector<std::unique_ptr<Subsystem>> subsystems_;
     std::uint8_t station_ = 1;
     std::uint64_t scans_ = 0;
     Duration last_{0};
     bool started_ = false;
-    std::uint16_t scan_min_ms_ = 0xFFFF;
-    std::uint16_t scan_max_ms_ = 0;
 };
 
 }  // namespace plcemu::engine

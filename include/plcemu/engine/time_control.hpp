@@ -1,6 +1,6 @@
 #pragma once
-// Run-time control of simulated time (SPEC §6 simulator unit): implemented by the daemon's scan
-// driver, and by a fake in tests.
+// Run-time control of simulated time (docs/simulator-and-plant.md, "Simulator-control unit"):
+// implemented by the daemon's scan driver, and by a fake in tests.
 
 #include <cstdint>
 

@@ -31,7 +31,8 @@ constexpr bool is_bit_area(Area a) {
            a == Area::C;
 }
 
-/// The manual's letter(s) for an area: "X", "R", "TMR"…
+/// The area's name in this code ("X", "R", "TV", "CV"); a family's own spelling is its
+/// Naming's (plcemu/image/naming.hpp).
 std::string_view area_name(Area a);
 
 /// A contiguous run of devices in one area, e.g. D100–D199.
@@ -53,9 +54,6 @@ struct Range {
     bool operator==(const Range&) const = default;
 };
 
-/// Text of a range in the manual's notation: "D100-D199", "R4136", "TMR0-TMR255".
-std::string format_range(const Range& r);
-
 /// One device operand as written in a config: a bit (M0), a word (R100), or 16 bits read as a
 /// word (WM800).
 struct Device {
@@ -65,15 +63,5 @@ struct Device {
 
     bool operator==(const Device&) const = default;
 };
-
-/// Parses "R100", "D0", "M800", "WM800", "Y30", "T5", "C200", "TMR5" (timer value),
-/// "CTR200" (counter value). Returns nothing for text that is not a device name.
-/// Index limits are not checked here; see Layout::contains. CTRn gives the word index of
-/// counter n's value: C200-C255 take two words each, so CTR201 is word 202.
-std::optional<Device> parse_device(std::string_view text);
-
-/// Parses "D100-D199" or a single device "R4136" as a range (word-of-bits not allowed); a
-/// CTR range ending at a 32-bit counter includes its high word.
-std::optional<Range> parse_range(std::string_view text);
 
 }  // namespace plcemu::image

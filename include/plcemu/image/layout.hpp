@@ -1,5 +1,6 @@
 #pragma once
-// How many devices each area of a profile has, and which of them are retentive.
+// How many devices each area of a PLC has, which numbers inside an area do not exist, and which
+// devices are retentive. A profile builds its Layout; the image only follows it.
 
 #include <array>
 #include <cstdint>
@@ -10,31 +11,29 @@
 
 namespace plcemu::image {
 
-/// The PLC families the emulator knows.
-enum class Profile : std::uint8_t { Fbs, Fb, Vb };
-
-/// Parses "fbs" / "fb" / "vb".
-bool parse_profile(std::string_view text, Profile& out);
-/// The config spelling of a profile.
-std::string_view profile_name(Profile p);
-
-/// Sizes of the areas of one profile, plus its default retentive ranges.
+/// Sizes of the areas of one PLC family, the numbers it lacks, and its retentive ranges.
 struct Layout {
+    /// A stable number of the family, recorded in state files: an image of one family is never
+    /// taken for another's.
+    std::uint32_t family = 0;
+    /// The family's config name, for messages.
+    std::string_view family_name;
     std::array<std::uint32_t, kAreaCount> size{};  ///< devices per area (0 = area absent)
-    std::vector<Range> retentive;                  ///< retentive ranges (kept across restart)
+    /// Numbers inside an area that no device has (D8000–D8999 between D7999 and D9000): kept in
+    /// the image so that device numbers equal indices, refused everywhere else.
+    std::vector<Range> holes;
+    std::vector<Range> retentive;  ///< retentive ranges (kept across restart)
 
     /// Devices in area `a`.
     std::uint32_t size_of(Area a) const { return size[static_cast<std::size_t>(a)]; }
-    /// True when the range lies inside its area.
+    /// True when every device of the range exists.
     bool contains(const Range& r) const {
-        return r.count <= size_of(r.area) && r.start <= size_of(r.area) - r.count;
+        if (r.count > size_of(r.area) || r.start > size_of(r.area) - r.count) return false;
+        for (const auto& h : holes) {
+            if (h.overlaps(r)) return false;
+        }
+        return true;
     }
 };
-
-/// The FBs layout of SPEC §1 with its default retentive ranges.
-Layout fbs_layout();
-
-/// The layout of a profile (only `fbs` is specified so far; others throw std::invalid_argument).
-Layout layout_for(Profile p);
 
 }  // namespace plcemu::image

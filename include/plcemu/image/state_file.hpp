@@ -19,7 +19,7 @@ struct StateFileHeader {
     char magic[8];                     ///< "PLCEMUST"
     std::uint32_t version;             ///< format version (kStateFileVersion)
     std::uint32_t header_size;         ///< bytes before the image (kDataOffset)
-    std::uint32_t profile;             ///< image::Profile
+    std::uint32_t profile;             ///< Layout::family
     std::uint32_t area_count;          ///< kAreaCount
     std::uint32_t area_size[16];       ///< devices per area, unused slots 0
     std::uint64_t storage_size;        ///< bytes of the image block
@@ -63,13 +63,13 @@ enum class StateOrigin : std::uint8_t {
 /// (flock) for as long as it is open. Not thread-safe except sync().
 class StateFile {
 public:
-    /// Takes the lock on `path.lock` first, then opens `path` for `profile` and `layout` (whose
+    /// Takes the lock on `path.lock` first, then opens `path` for `layout` (whose
     /// retentive ranges are recorded), or creates it. A file that is corrupted or does not match
     /// is renamed to `path.bad-YYYYmmdd-HHMMSS` (local time `now`) and a new one created; what
     /// happened is in notes(). Throws std::system_error, naming `path`, when the lock is held by
     /// another process ("in use by another process"), when the file's blocks cannot be reserved
     /// ("cannot reserve N bytes", e.g. a full disk), or when it cannot be created or mapped.
-    StateFile(const std::string& path, Profile profile, const Layout& layout, std::time_t now);
+    StateFile(const std::string& path, const Layout& layout, std::time_t now);
     /// Closes cleanly (see close()).
     ~StateFile();
     StateFile(const StateFile&) = delete;
@@ -98,8 +98,8 @@ public:
 private:
     void lock();
     void unlock() noexcept;
-    bool try_open(Profile profile, const Layout& layout, std::string& why_bad);
-    void create(Profile profile, const Layout& layout, std::time_t now);
+    bool try_open(const Layout& layout, std::string& why_bad);
+    void create(const Layout& layout, std::time_t now);
     void map(std::size_t size);
     void release() noexcept;
     void move_aside(const std::string& why, std::time_t now);

@@ -1,8 +1,9 @@
 #pragma once
-// A profile's Modbus address map as data: wire ranges → device ranges.
+// A Modbus address map as data: wire ranges → device ranges. A profile has a default map; a
+// config's `modbus.map` replaces it with rows of its own.
 
 #include <cstdint>
-#include <optional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,29 +13,32 @@
 
 namespace plcemu::modbus {
 
-/// One row of a manual's Modbus table.
+/// One row of a map.
 struct MapRow {
-    Table table;               ///< coils or holding registers
-    std::uint16_t wire_start;  ///< first wire address (manual number minus 1)
-    std::uint16_t count;       ///< elements
-    image::Range devices;      ///< device range it maps to
-    const char* codes;         ///< function codes, as the manual lists them
-    const char* label;  ///< FATEK name of the range, e.g. "C200-C255 (32-bit, low word first)"
+    Table table;               ///< the Modbus table
+    std::uint16_t wire_start;  ///< first wire address (the manual's number minus 1)
+    std::uint16_t count;       ///< elements (registers for a packed row)
+    image::Range devices;      ///< device range it maps to (bits for a packed row: 16 × count)
+    std::string codes;         ///< function codes that reach it, as the manual lists them
+    std::string label;         ///< the family's name of the range, e.g. "C200-C255 (32-bit)"
+    bool packed = false;       ///< registers over 16 bits each (WM0: M0–M15 in one register)
+    bool read_only = false;    ///< writes get exception 02
 };
 
 /// A device range resolved from a request, or the exception that refuses it.
 struct Resolution {
     Status status = Status::IllegalDataAddress;  ///< Ok or the refusal
     image::Range devices;                        ///< valid when Ok
+    bool packed = false;                         ///< registers over 16 bits each
 };
 
-/// The map of one profile. Resolution reads the image because FATEK's user remap lives there.
+/// The map of one PLC. Resolution reads the image because a family may keep maps there.
 class AddressMap {
 public:
     virtual ~AddressMap() = default;
     /// The fixed table, for --print-map and tests.
     virtual const std::vector<MapRow>& rows() const = 0;
-    /// Lines describing the maps that depend on the image (FATEK's user remap), for --print-map.
+    /// Lines describing the maps that depend on the image, for --print-map.
     virtual std::vector<std::string> dynamic_notes() const = 0;
     /// Resolves a request to one contiguous device range.
     virtual Resolution resolve(const image::Image& image,
@@ -45,7 +49,18 @@ public:
     virtual const std::vector<image::Range>& read_only() const = 0;
 };
 
-/// The FBs map of SPEC §2, including the R3968/R3972/R3975 user maps.
-const AddressMap& fbs_map();
+/// Resolves a request against `rows`: it may run across rows that continue the same device
+/// range (D7999 at 7999, D9000 at 8000 do not continue each other; D0–D3999 split in two rows
+/// do). Anything a row does not map, or a device the image lacks, is exception 02.
+Resolution resolve_rows(const std::vector<MapRow>& rows,
+                        const image::Image& image,
+                        Table table,
+                        std::uint16_t addr,
+                        std::uint16_t qty) noexcept;
+
+/// A map that is only its rows (a family's default table, or a config's `modbus.map`).
+/// `read_only` adds device ranges to the rows marked read-only.
+std::unique_ptr<AddressMap> make_table_map(std::vector<MapRow> rows,
+                                           std::vector<image::Range> read_only);
 
 }  // namespace plcemu::modbus

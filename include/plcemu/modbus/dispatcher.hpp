@@ -21,9 +21,9 @@ enum class UnknownUnitPolicy : std::uint8_t { Exception, Silent };
 
 /// Identification strings for FC 11h and 2Bh/0Eh.
 struct Identity {
-    std::string vendor = "FATEK";  ///< VendorName
-    std::string product;           ///< ProductCode: the model, e.g. FBs-24MC
-    std::string revision;          ///< MajorMinorRevision: the emulator's version
+    std::string vendor;    ///< VendorName: the profile's vendor
+    std::string product;   ///< ProductCode: the model
+    std::string revision;  ///< MajorMinorRevision: the emulator's version
 };
 
 /// Counters, for logs and tests.

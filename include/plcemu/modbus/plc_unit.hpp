@@ -10,7 +10,7 @@
 
 namespace plcemu::modbus {
 
-/// Write restrictions from the config (SPEC §2 read-only items are always added).
+/// Write restrictions from the config (the map's read-only items are always added).
 struct WritePolicy {
     bool read_only = false;                   ///< refuse every write
     std::vector<image::Range> write_protect;  ///< device ranges writes may not touch

@@ -2,6 +2,7 @@
 // A Modbus unit: something that turns wire addresses into memory the protocol code may read or
 // write in place, or into a refusal.
 
+#include <cstddef>
 #include <cstdint>
 
 namespace plcemu::modbus {
@@ -25,6 +26,26 @@ struct Window {
     Status status = Status::IllegalDataAddress;  ///< Ok, or why not
     std::uint8_t* bits = nullptr;                ///< coils / discrete inputs, one byte each
     std::uint16_t* words = nullptr;              ///< holding / input registers
+    /// Registers over bits: register i is bits[16i] (b0) … bits[16i+15] (b15), and `words` is
+    /// null (a map row of packed bits such as WM0).
+    bool packed = false;
+
+    /// Register `i` of a register window.
+    std::uint16_t word(std::size_t i) const {
+        if (!packed) return words[i];
+        unsigned v = 0;
+        for (unsigned b = 0; b < 16; ++b) v |= (bits[16 * i + b] != 0 ? 1u : 0u) << b;
+        return static_cast<std::uint16_t>(v);
+    }
+    /// Writes register `i` of a register window.
+    void set_word(std::size_t i, std::uint16_t v) const {
+        if (!packed) {
+            words[i] = v;
+            return;
+        }
+        for (unsigned b = 0; b < 16; ++b)
+            bits[16 * i + b] = static_cast<std::uint8_t>((v >> b) & 1u);
+    }
 };
 
 /// One addressable unit (the PLC itself, the simulator-control unit, …).

@@ -1,18 +1,11 @@
 #pragma once
-// The simulated thermal plant of SPEC §6: one first-order-plus-dead-time process per temperature
-// channel, heated (or cooled) by the duty of its Y output or by an OR value.
+// The simulated thermal plant (docs/simulator-and-plant.md, "Thermal plant"): one
+// first-order-plus-dead-time process per temperature channel, heated (or cooled) by the duty of its
+// Y output or by an OR value.
 //
-// How to build a PLC with plant and measurement in a test: the easy way is the whole PLC,
-// `config::Config cfg = config::parse_config(yaml, "test.yaml"); daemon::Plc plc(cfg);`, which
-// builds the image, the program (TPCTL, MOV), the plant and, when `temperature.table` is set, the
-// temperature measurement, in the scan order of SPEC §3; then `plc.engine().run_scans(n)` runs n
-// scans of virtual time (scan_ms each) and `plc.plant().true_temperature(0)` /
-// `plc.image().word(image::Area::R, 0)` show the process and its reading. Without a Plc, build an
-// `image::Image` and an `engine::Engine` with the program, call `engine.power_up()`, preset the
-// table in the image, then `plant::attach(engine, cfg)`, which adds the plant and the measurement
-// to the engine and returns them. Plant time is the engine's simulated time: nothing here reads a
-// clock. Channel c of the plant is temperature channel c of the configuration table (SPEC §4
-// numbering), and by default it is heated by the Y output of the TPCTL point that controls it.
+// Plant time is the engine's simulated time: nothing here reads a clock. By default, channel c is
+// heated by the output a program declares as channel c's actuator (engine/declarations.hpp); a
+// `plant.channels.N.drive` names another. docs/simulator-and-plant.md describes the model.
 
 #include <array>
 #include <cstdint>
@@ -21,18 +14,20 @@
 #include <optional>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/engine/declarations.hpp"
 #include "plcemu/engine/engine.hpp"
+#include "plcemu/engine/sensors.hpp"
 #include "plcemu/image/area.hpp"
 
 namespace plcemu::plant {
 
-/// Channels of the plant: as many as the temperature measurement can number (SPEC §4).
+/// Channels of the plant: as many as a temperature measurement can number.
 inline constexpr int kChannels = 32;
 
-/// The fault switches of a channel (SPEC §6), as in the config.
+/// The fault switches of a channel, as in the config.
 using Faults = config::Faults;
 
-/// Process parameters of one channel (SPEC §6), in engineering units.
+/// Process parameters of one channel, in engineering units.
 struct ChannelParams {
     double ambient_c = 25.0;   ///< T_amb, °C
     double k_c = 400.0;        ///< full-power rise K, °C (cooling: full-power fall)
@@ -56,21 +51,6 @@ struct Drive {
     image::Device device;    ///< the Y bit or the R/D word
 
     bool operator==(const Drive&) const = default;
-};
-
-/// One sample of a channel's sensor, as the temperature module sees it.
-struct SensorSample {
-    bool broken = false;   ///< open circuit: no temperature
-    double celsius = 0.0;  ///< sensed temperature (true temperature + noise), °C
-};
-
-/// Where the temperature measurement takes its samples from (the plant, or a fake in tests).
-class SensorSource {
-public:
-    virtual ~SensorSource() = default;
-    /// Samples channel `channel` (0–31) once; called by the measurement each time the module
-    /// converts that channel.
-    virtual SensorSample sense(int channel) noexcept = 0;
 };
 
 /// A piecewise-constant signal over simulated time (nanoseconds), kept as its running integral
@@ -109,23 +89,21 @@ private:
 /// interval, which is what makes PWM duty the average power); `outputs()` latches the drives the
 /// program has just written. Per channel: dT/dt = (±K·u(t−θ) − (T − T_amb)) / τ, integrated
 /// exactly for a drive that is constant over the step, so any scan period is stable.
-class ThermalPlant final : public engine::Subsystem, public SensorSource {
+class ThermalPlant final : public engine::Subsystem, public engine::SensorSource {
 public:
     /// A plant from `plant:` with the drives given (index = channel; missing = none).
     ThermalPlant(const config::PlantConfig& config, const std::array<Drive, kChannels>& drives);
 
-    /// A plant for a whole config: drives from `plant.*.drive`, else the Y output of the TPCTL
-    /// point whose Sn + i is the channel (first TPCTL of the program wins), else none.
-    static std::unique_ptr<ThermalPlant> from_config(const config::Config& config);
-    /// The default drives of a config (see from_config).
-    static std::array<Drive, kChannels> drives_of(const config::Config& config);
+    /// The default drives of a built program: channel c is driven by the first output the
+    /// program declares as c's actuator, else by nothing.
+    static std::array<Drive, kChannels> drives_of(const engine::Declarations& program);
 
     /// Advances the processes to this scan's time.
     void inputs(engine::ScanContext& ctx) noexcept override;
     /// Latches the drives the program wrote.
     void outputs(engine::ScanContext& ctx) noexcept override;
     /// Samples a sensor (noise, faults): see SensorSource.
-    SensorSample sense(int channel) noexcept override;
+    engine::SensorSample sense(int channel) noexcept override;
 
     /// True temperature of a channel, °C (no noise, no sensor fault).
     double true_temperature(int channel) const noexcept;
@@ -182,16 +160,5 @@ private:
     std::int64_t now_ns_ = 0;
     bool started_ = false;
 };
-
-/// What `attach` added to an engine (owned by the engine).
-struct Attached {
-    ThermalPlant* plant = nullptr;             ///< always added
-    engine::Subsystem* measurement = nullptr;  ///< added when temperature.table is set
-};
-
-/// Adds the plant and, when the config has a temperature table, the SPEC §4 measurement to an
-/// engine, in the order that makes readings come before the program and the plant see the
-/// outputs after it. Call after `engine.power_up()`.
-Attached attach(engine::Engine& engine, const config::Config& config);
 
 }  // namespace plcemu::plant

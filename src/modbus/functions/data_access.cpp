@@ -120,8 +120,9 @@ FunctionReply data_access(const FunctionRequest& req, PduBuffer out) noexcept {
         case 0x04:
             out[k++] = static_cast<std::uint8_t>(a.qty * 2);
             for (std::size_t i = 0; i < a.qty; ++i) {
-                out[k++] = static_cast<std::uint8_t>(w.words[i] >> 8);
-                out[k++] = static_cast<std::uint8_t>(w.words[i] & 0xFF);
+                const std::uint16_t v = w.word(i);
+                out[k++] = static_cast<std::uint8_t>(v >> 8);
+                out[k++] = static_cast<std::uint8_t>(v & 0xFF);
             }
             break;
         case 0x05:  // the reply echoes the request
@@ -130,7 +131,7 @@ FunctionReply data_access(const FunctionRequest& req, PduBuffer out) noexcept {
             k = 5;
             break;
         case 0x06:
-            w.words[0] = be16(pdu + 3);
+            w.set_word(0, be16(pdu + 3));
             std::copy_n(pdu + 1, 4, out.begin() + 1);
             k = 5;
             break;
@@ -140,15 +141,15 @@ FunctionReply data_access(const FunctionRequest& req, PduBuffer out) noexcept {
             k = 5;
             break;
         case 0x10:
-            for (std::size_t i = 0; i < a.qty; ++i) w.words[i] = be16(pdu + 6 + 2 * i);
+            for (std::size_t i = 0; i < a.qty; ++i) w.set_word(i, be16(pdu + 6 + 2 * i));
             std::copy_n(pdu + 1, 4, out.begin() + 1);
             k = 5;
             break;
         default: {  // 0x16: (value AND and-mask) OR (or-mask AND NOT and-mask); echoes the request
             const std::uint16_t and_mask = be16(pdu + 3);
             const std::uint16_t or_mask = be16(pdu + 5);
-            w.words[0] =
-                static_cast<std::uint16_t>((w.words[0] & and_mask) | (or_mask & ~and_mask));
+            w.set_word(0,
+                       static_cast<std::uint16_t>((w.word(0) & and_mask) | (or_mask & ~and_mask)));
             std::copy_n(pdu + 1, 6, out.begin() + 1);
             k = 7;
             break;

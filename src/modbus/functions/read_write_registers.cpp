@@ -22,14 +22,15 @@ FunctionReply read_write_registers(const FunctionRequest& req, PduBuffer out) no
     if (ww.status != Status::Ok) return FunctionReply::refuse(ww.status);
     if (rw.status != Status::Ok) return FunctionReply::refuse(rw.status);
     if (req.broadcast) return FunctionReply::none();  // has a read part: not a broadcast request
-    for (std::size_t i = 0; i < wqty; ++i) ww.words[i] = be16(pdu + 10 + 2 * i);
+    for (std::size_t i = 0; i < wqty; ++i) ww.set_word(i, be16(pdu + 10 + 2 * i));
     req.unit.written(Table::HoldingRegisters, waddr, wqty);
     std::size_t k = 0;
     out[k++] = 0x17;
     out[k++] = static_cast<std::uint8_t>(rqty * 2);
     for (std::size_t i = 0; i < rqty; ++i) {
-        out[k++] = static_cast<std::uint8_t>(rw.words[i] >> 8);
-        out[k++] = static_cast<std::uint8_t>(rw.words[i] & 0xFF);
+        const std::uint16_t v = rw.word(i);
+        out[k++] = static_cast<std::uint8_t>(v >> 8);
+        out[k++] = static_cast<std::uint8_t>(v & 0xFF);
     }
     return FunctionReply::pdu(k);
 }

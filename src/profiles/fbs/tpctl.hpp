@@ -1,6 +1,6 @@
 #pragma once
 // FUN86 TPCTL: PID temperature control of up to 32 points with time-proportioning (PWM) outputs,
-// fed by the FBs temperature measurement (SPEC §5, seed 000 §21.7).
+// fed by the FBs temperature measurement (FBs manual §21.7).
 
 #include <cstdint>
 #include <memory>
@@ -8,9 +8,9 @@
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/instructions/instructions.hpp"
-#include "temperature_table.hpp"
+#include "profiles/fbs/temperature_table.hpp"
 
-namespace plcemu::instructions {
+namespace plcemu::profiles::fbs {
 
 /// Facts of FUN86 that tests and the docs refer to.
 namespace tpctl {
@@ -26,7 +26,7 @@ inline constexpr std::uint16_t kDefaultKi = 17;   ///< Ki, 0.01 repeats/min
 inline constexpr std::uint16_t kDefaultTd = 50;   ///< Td, 0.01 min
 /// Consecutive scans at or above R4008 before the over-temperature warning.
 inline constexpr int kOverTemperatureScans = 10;
-/// A reading that means "no temperature" (broken sensor, SPEC §4).
+/// A reading that means "no temperature" (broken sensor, FBs manual §21.3).
 inline constexpr std::uint16_t kBrokenReading = temperature::kBroken;
 /// The temperature execute code that lets TPCTL run.
 inline constexpr std::uint8_t kMeasurementRunning = temperature::kRunning;
@@ -37,19 +37,8 @@ inline constexpr std::uint16_t kPvRemap = 0xA55A;
 /// `TPCTL: {en: M0, hc: 1, md: 0, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120,
 /// ir: R130, dr: R140, or: R200, wr: R300, err: M100, alm: M101}`. Throws config::ConfigError
 /// naming the operand for an invalid operand or working registers that overlap another TPCTL's.
+/// It declares its PWM outputs as the actuators of channels Sn…Sn+Zn−1, and owns WR, OR and Yn.
 std::unique_ptr<engine::Instruction> make_tpctl(const config::InstructionConfig& ic,
-                                                const BindContext& ctx);
+                                                const instructions::BindContext& ctx);
 
-/// The PWM outputs of a TPCTL entry: Y(yn + i) switches temperature channel sn + i.
-struct TpctlOutputs {
-    int first_channel = 0;  ///< Sn
-    int points = 0;         ///< Zn
-    image::Device first_y;  ///< Yn
-};
-
-/// The outputs of a TPCTL entry as the instruction binds them; nothing when the entry does not
-/// bind or its Sn/Zn break the rule (the instruction then runs no point).
-std::optional<TpctlOutputs> tpctl_outputs(const config::InstructionConfig& ic,
-                                          const image::Layout& layout);
-
-}  // namespace plcemu::instructions
+}  // namespace plcemu::profiles::fbs

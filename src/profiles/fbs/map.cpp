@@ -1,15 +1,20 @@
-// The FBs Modbus slave map (SPEC §2, FBs manual 13-50/51).
+// The FBs Modbus slave map (FBs manual 13-50/51; docs/profile-fbs.md, "Modbus map").
 
 #include <algorithm>
 
-#include "plcemu/modbus/address_map.hpp"
+#include "profiles/fbs/map.hpp"
 
-namespace plcemu::modbus {
+namespace plcemu::profiles::fbs {
 
 namespace {
 
 using image::Area;
 using image::Range;
+using modbus::AddressMap;
+using modbus::MapRow;
+using modbus::Resolution;
+using modbus::Status;
+using modbus::Table;
 
 // FATEK user remap registers (manual 13-50/51).
 constexpr std::uint32_t kRemapKey = 3968;  // = A55Ah enables the coil/holding remap
@@ -97,7 +102,7 @@ public:
                     return user(img, kHoldingRemap, Area::R, addr, qty, Status::IllegalDataAddress);
                 }
                 return fixed(img, table, addr, qty);
-            // SPEC §2: FC02/FC04 with a count of 0 are not served at all.
+            // FBs manual 13-51: FC02/FC04 with a count of 0 are not served at all.
             case Table::DiscreteInputs:
                 return user(img, kDiscreteMap, Area::M, addr, qty, Status::IllegalFunction);
             case Table::InputRegisters:
@@ -107,35 +112,11 @@ public:
     }
 
 private:
-    // The manual's table; a request may run across rows that continue the same device range.
     Resolution fixed(const image::Image& img,
                      Table table,
                      std::uint16_t addr,
                      std::uint16_t qty) const noexcept {
-        std::uint32_t wire = addr;
-        std::uint32_t left = qty;
-        Resolution res;
-        bool started = false;
-        for (const auto& row : rows_) {
-            if (row.table != table) continue;
-            const std::uint32_t row_end = std::uint32_t{row.wire_start} + row.count;
-            if (wire < row.wire_start || wire >= row_end) continue;
-            const std::uint32_t dev = row.devices.start + (wire - row.wire_start);
-            if (!started) {
-                res.devices = {row.devices.area, dev, 0};
-                started = true;
-            } else if (row.devices.area != res.devices.area || dev != res.devices.end()) {
-                return {};
-            }
-            const std::uint32_t n = std::min(left, row_end - wire);
-            res.devices.count += n;
-            left -= n;
-            wire += n;
-            if (left == 0) break;
-        }
-        if (!started || left != 0 || !img.layout().contains(res.devices)) return {};
-        res.status = Status::Ok;
-        return res;
+        return modbus::resolve_rows(rows_, img, table, addr, qty);
     }
 
     // A map held in three registers: wire start, device start, count. `empty` is the answer
@@ -163,9 +144,9 @@ private:
 
 }  // namespace
 
-const AddressMap& fbs_map() {
+const AddressMap& map() {
     static const FbsMap map;
     return map;
 }
 
-}  // namespace plcemu::modbus
+}  // namespace plcemu::profiles::fbs

@@ -1,4 +1,4 @@
-#include "tpctl.hpp"
+#include "profiles/fbs/tpctl.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,24 +8,27 @@
 #include <string>
 #include <vector>
 
-#include "operands.hpp"
-#include "temperature_table.hpp"
-#include "plcemu/engine/special.hpp"
+#include "instructions/operands.hpp"
+#include "profiles/fbs/services.hpp"
+#include "profiles/fbs/special_registers.hpp"
+#include "profiles/fbs/temperature_table.hpp"
 
-namespace plcemu::instructions {
+namespace plcemu::profiles::fbs {
 
 namespace {
 
 using image::Area;
 using image::Device;
 using image::Range;
-namespace sp = engine::special;
+namespace sp = special;
+using instructions::BindContext;
+using instructions::BitSource;
+using instructions::Operands;
 using namespace tpctl;
 
 // The manual's operand ranges for Sv…WR: HR R0–R3839, ROR R5000–R8071, DR D0–D3999.
 constexpr std::uint32_t kHrEnd = 3840;
 constexpr std::uint32_t kRorStart = 5000;
-// Temperature configuration table (SPEC §4).
 // R4005 codes 0…5 → 1, 2, 4, 8, 16, 32 s.
 constexpr int kMaxTimingCode = 5;
 
@@ -61,20 +64,20 @@ Device register_block(Operands& ops, const char* key, std::uint32_t span) {
     if (!ok) {
         ops.fail(key, "expected " + std::to_string(span) +
                           " register(s) in R0-R3839, R5000-R8071 or D0-D3999, got " +
-                          image::format_range({d.area, d.index, span}));
+                          ops.format({d.area, d.index, span}));
     }
     return d;
 }
 
-Bound bind(const config::InstructionConfig& ic, const image::Layout& layout) {
-    Operands ops(ic, layout);
+Bound bind(const config::InstructionConfig& ic, const BindContext& ctx) {
+    Operands ops(ic, ctx);
     Bound b;
     b.pos = ic.pos;
     b.en = ops.bit_source("en", true);
     b.hc = ops.bit_source("hc", true);
     b.md = ops.has("md") ? static_cast<int>(ops.integer("md", 0, 1)) : 0;
     // Sn/Zn: any integer is accepted here; out of the manual's range the instruction reports
-    // ERR = 1 at run time (SPEC §5) instead of refusing the program.
+    // ERR = 1 at run time (FBs manual §21.7) instead of refusing the program.
     b.sn = ops.integer("sn", -2147483648LL, 2147483647LL);
     b.zn = ops.integer("zn", -2147483648LL, 2147483647LL);
     b.valid = sn_zn_valid(b.sn, b.zn);
@@ -103,7 +106,7 @@ Range block(const Device& d, int n) {
 // be overwritten, so both are refused at load.
 void check_overlaps(const Bound& me, const config::InstructionConfig& ic, const BindContext& ctx) {
     if (!me.valid) return;
-    Operands ops(ic, ctx.layout);
+    Operands ops(ic, ctx);
     const Range wr = block(me.wr, kWorkingWords);
     const std::pair<const char*, Range> own[] = {
         {"sv", block(me.sv, me.points)}, {"os", block(me.os, me.points)},
@@ -111,42 +114,41 @@ void check_overlaps(const Bound& me, const config::InstructionConfig& ic, const 
         {"dr", block(me.dr, me.points)}, {"or", block(me.out, me.points)}};
     for (const auto& [key, r] : own) {
         if (r.overlaps(wr)) {
-            ops.fail(key, image::format_range(r) +
-                              " overlaps this instruction's working registers " +
-                              image::format_range(wr));
+            ops.fail(key, ops.format(r) + " overlaps this instruction's working registers " +
+                              ops.format(wr));
         }
     }
-    for (const auto& e : ctx.config.program) {
-        if (&e == &ic) break;  // each pair is checked once, at the later entry
-        if (e.mnemonic != "TPCTL") continue;
-        Bound other;
-        try {
-            other = bind(e, ctx.layout);
-        } catch (const config::ConfigError&) {
-            continue;  // reported at that entry
-        }
-        if (!other.valid) continue;  // never executes, never writes
-        const Range owr = block(other.wr, kWorkingWords);
-        if (wr.overlaps(owr)) {
-            ops.fail("wr", image::format_range(wr) + " overlaps the working registers " +
-                               image::format_range(owr) + " of the TPCTL at " + where(other.pos) +
-                               " (WR can't be repeated)");
-        }
-        const Range mine_or = block(me.out, me.points);
-        const Range their_or = block(other.out, other.points);
-        if (mine_or.overlaps(their_or) || mine_or.overlaps(owr)) {
-            ops.fail("or", image::format_range(mine_or) +
-                               " overlaps the outputs or working registers of the TPCTL at " +
-                               where(other.pos));
-        }
-        if (wr.overlaps(their_or)) {
-            ops.fail("wr", image::format_range(wr) + " overlaps the outputs " +
-                               image::format_range(their_or) + " of the TPCTL at " +
-                               where(other.pos));
-        }
-        if (block(me.yn, me.points).overlaps(block(other.yn, other.points))) {
-            ops.fail("yn", image::format_range(block(me.yn, me.points)) +
-                               " overlaps the PWM outputs of the TPCTL at " + where(other.pos));
+    // Each pair is checked once, at the later entry, against what the earlier ones own.
+    const Range mine_or = block(me.out, me.points);
+    const Range mine_y = block(me.yn, me.points);
+    for (const auto& c : engine::declarations_of(ctx.earlier).claims) {
+        const std::string of = " of the " + std::string(c.mnemonic) + " at " + c.where;
+        switch (c.kind) {
+            case engine::ClaimKind::Working:
+                if (wr.overlaps(c.range)) {
+                    ops.fail("wr", ops.format(wr) + " overlaps the working registers " +
+                                       ops.format(c.range) + of + " (WR can't be repeated)");
+                }
+                if (mine_or.overlaps(c.range)) {
+                    ops.fail("or", ops.format(mine_or) +
+                                       " overlaps the outputs or working registers" + of);
+                }
+                break;
+            case engine::ClaimKind::Output:
+                if (mine_or.overlaps(c.range)) {
+                    ops.fail("or", ops.format(mine_or) +
+                                       " overlaps the outputs or working registers" + of);
+                }
+                if (wr.overlaps(c.range)) {
+                    ops.fail("wr",
+                             ops.format(wr) + " overlaps the outputs " + ops.format(c.range) + of);
+                }
+                break;
+            case engine::ClaimKind::Pwm:
+                if (mine_y.overlaps(c.range)) {
+                    ops.fail("yn", ops.format(mine_y) + " overlaps the PWM outputs" + of);
+                }
+                break;
         }
     }
 }
@@ -192,13 +194,28 @@ public:
         : b_(std::move(b)),
           table_(table) {}
 
+    void declare(engine::Declarations& out) const override {
+        if (!b_.valid) return;  // never executes, never writes
+        const std::string at = where(b_.pos);
+        out.claims.push_back(
+            {block(b_.wr, kWorkingWords), engine::ClaimKind::Working, "TPCTL", at});
+        out.claims.push_back({block(b_.out, b_.points), engine::ClaimKind::Output, "TPCTL", at});
+        out.claims.push_back({block(b_.yn, b_.points), engine::ClaimKind::Pwm, "TPCTL", at});
+        // Y(yn + i) switches the heater of temperature channel sn + i.
+        for (int i = 0; i < b_.points; ++i) {
+            Device y = b_.yn;
+            y.index += static_cast<std::uint32_t>(i);
+            out.actuators.push_back({static_cast<int>(b_.sn) + i, y});
+        }
+    }
+
     void execute(engine::ScanContext& ctx) noexcept override {
         image::Image& img = ctx.image;
         const bool en = b_.en.read(img);
         const bool rising = en && !prev_en_;
         prev_en_ = en;
         if (!b_.valid) {
-            // Sn/Zn out of range: not executed, ERR on (SPEC §5).
+            // Sn/Zn out of range: not executed, ERR on (FBs manual §21.7).
             write_bit(img, b_.err, true);
             write_bit(img, b_.alm, false);
             return;
@@ -394,7 +411,8 @@ private:
         write_bit(img, b_.alm, alarm);
     }
 
-    // The positional PID of SPEC §5, E in 0.1°, output in counts of 0–16383.
+    // The positional PID of FBs manual §21.7 (docs/profile-fbs.md, "FUN86 TPCTL"), E in 0.1°,
+    // output in counts of 0–16383.
     void solve_point(const image::Image& img, int i, Point& p, int pv, int sv) const {
         const double kc = std::clamp<int>(word(img, b_.pr, i), 1, 9999);
         const double ki = std::min<int>(word(img, b_.ir, i), 9999);
@@ -440,26 +458,17 @@ private:
 
 }  // namespace
 
-std::optional<TpctlOutputs> tpctl_outputs(const config::InstructionConfig& ic,
-                                          const image::Layout& layout) {
-    try {
-        const Bound b = bind(ic, layout);
-        if (!b.valid) return std::nullopt;
-        return TpctlOutputs{static_cast<int>(b.sn), b.points, b.yn};
-    } catch (const config::ConfigError&) {
-        return std::nullopt;  // reported where the program is built
-    }
-}
-
 std::unique_ptr<engine::Instruction> make_tpctl(const config::InstructionConfig& ic,
                                                 const BindContext& ctx) {
-    Bound b = bind(ic, ctx.layout);
-    Operands ops(ic, ctx.layout);
-    refuse_module_outputs(ops, "yn", block(b.yn, b.points), ctx.config);
-    if (b.err) refuse_module_outputs(ops, "err", block(*b.err, 1), ctx.config);
-    if (b.alm) refuse_module_outputs(ops, "alm", block(*b.alm, 1), ctx.config);
+    Bound b = bind(ic, ctx);
+    Operands ops(ic, ctx);
+    ops.refuse_reserved("yn", block(b.yn, b.points));
+    if (b.err) ops.refuse_reserved("err", block(*b.err, 1));
+    if (b.alm) ops.refuse_reserved("alm", block(*b.alm, 1));
     check_overlaps(b, ic, ctx);
-    return std::make_unique<Tpctl>(std::move(b), ctx.config.temperature.table);
+    const auto* fs = dynamic_cast<const Services*>(&ctx.services);
+    return std::make_unique<Tpctl>(std::move(b),
+                                   fs ? fs->temperature_table : std::optional<Device>{});
 }
 
-}  // namespace plcemu::instructions
+}  // namespace plcemu::profiles::fbs

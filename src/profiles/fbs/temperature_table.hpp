@@ -1,5 +1,5 @@
 #pragma once
-// FBs temperature measurement (SPEC §4, manual 21.3): the configuration table at A556h, the
+// FBs temperature measurement (FBs manual §21.3): the configuration table at A556h, the
 // emulated TC/RTD modules converting their channels one after another, the readings and the
 // working registers. Not an instruction: a subsystem that runs before the program each scan.
 
@@ -12,11 +12,11 @@
 #include "plcemu/config/config.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/image/area.hpp"
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/engine/sensors.hpp"
 
-namespace plcemu::instructions {
+namespace plcemu::profiles::fbs {
 
-/// SPEC §4 constants.
+/// Constants of the FBs manual §21.3 and docs/profile-fbs.md, "Temperature measurement".
 namespace temperature {
 inline constexpr std::uint16_t kValidTable = 0xA556;    ///< SR+0 of a valid table
 inline constexpr std::uint16_t kBroken = 32767;         ///< reading of an open (broken) sensor
@@ -27,7 +27,7 @@ inline constexpr std::uint8_t kRunning = 0x56;          ///< execute code: all r
 inline constexpr int kMaxChannels = 32;                 ///< channels the table may number
 inline constexpr int kMaxModules = 8;                   ///< modules the table may list
 
-/// Module name codes (SPEC §4 Decision, the manual's order).
+/// Module name codes, in the manual's order (docs/profile-fbs.md, "Temperature measurement").
 enum class Module : std::uint8_t { TC6 = 1, RTD6 = 2, TC16 = 3, RTD16 = 4, TC2 = 5 };
 
 /// Channels of a module name code (0 for an unknown code).
@@ -50,15 +50,6 @@ std::uint32_t main_unit_outputs(const config::Config& config);
 std::optional<image::Range> module_outputs(const config::Config& config);
 }  // namespace temperature
 
-class Operands;
-
-/// Refuses (at the operand `key`) a program output `written` that lands on a temperature
-/// module's own outputs: the module drives them, not the program.
-void refuse_module_outputs(const Operands& ops,
-                           const char* key,
-                           const image::Range& written,
-                           const config::Config& config);
-
 /// How the measurement is set up (from `temperature:` and the model).
 struct TemperatureOptions {
     image::Device table{image::Area::R, 5000, false};  ///< SR: start of the configuration table
@@ -67,11 +58,11 @@ struct TemperatureOptions {
     std::uint32_t main_unit_outputs = 10;              ///< Y points of the main unit
 };
 
-/// The SPEC §4 temperature measurement, as an engine subsystem.
+/// The FBs temperature measurement (FBs manual §21.3), as an engine subsystem.
 class TemperatureTable final : public engine::Subsystem {
 public:
     /// `sensors` (the plant, or a fake) must outlive this object.
-    TemperatureTable(TemperatureOptions options, plant::SensorSource& sensors);
+    TemperatureTable(TemperatureOptions options, engine::SensorSource& sensors);
 
     /// Options from a config (which must have `temperature.table`).
     static TemperatureOptions options_of(const config::Config& config);
@@ -112,7 +103,7 @@ private:
              std::uint16_t v) const noexcept;
 
     TemperatureOptions opt_;
-    plant::SensorSource& sensors_;
+    engine::SensorSource& sensors_;
     std::array<std::uint16_t, 4 + temperature::kMaxModules> snapshot_{};
     bool have_snapshot_ = false;
     // The table as last read.
@@ -130,6 +121,6 @@ private:
 
 /// A TemperatureTable for a config with `temperature.table`, reading from `sensors`.
 std::unique_ptr<TemperatureTable> make_temperature_table(const config::Config& config,
-                                                         plant::SensorSource& sensors);
+                                                         engine::SensorSource& sensors);
 
-}  // namespace plcemu::instructions
+}  // namespace plcemu::profiles::fbs

@@ -1,9 +1,10 @@
 #pragma once
-// FBs special relays and registers the engine keeps (SPEC §3, §5 defaults).
+// FBs special relays and registers (FBs manual §21.3, §21.7; docs/profile-fbs.md, "Scan cycle and
+// special registers").
 
 #include <cstdint>
 
-namespace plcemu::engine::special {
+namespace plcemu::profiles::fbs::special {
 
 /// Special relays.
 inline constexpr std::uint32_t kClock10ms = 1920;   ///< M1920 0.01 s square wave
@@ -31,4 +32,4 @@ inline constexpr std::uint32_t kCalendar = 4128;           ///< R4128–R4134
 inline constexpr std::uint32_t kScanTime = 4136;           ///< R4136 current, R4137 max, R4138 min
 inline constexpr std::uint32_t kModelCode = 4167;          ///< R4167
 
-}  // namespace plcemu::engine::special
+}  // namespace plcemu::profiles::fbs::special

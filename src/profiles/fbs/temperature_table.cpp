@@ -1,12 +1,12 @@
-#include "instructions/temperature_table.hpp"
+#include "profiles/fbs/temperature_table.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "instructions/operands.hpp"
-#include "plcemu/engine/special.hpp"
+#include "profiles/fbs/model.hpp"
+#include "profiles/fbs/special_registers.hpp"
 
-namespace plcemu::instructions {
+namespace plcemu::profiles::fbs {
 
 namespace temperature {
 
@@ -18,7 +18,8 @@ struct ModuleInfo {
     bool rtd;
 };
 
-// SPEC §4: name codes 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2; conversion times of manual 21.1.
+// docs/profile-fbs.md, "Temperature measurement": name codes 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2;
+// conversion times of manual 21.1.
 std::optional<ModuleInfo> info(std::uint8_t name_code) {
     switch (name_code) {
         case 1:
@@ -56,7 +57,7 @@ bool is_rtd(std::uint8_t name_code) {
 bool sensor_range(std::uint8_t name_code, std::uint8_t sensor, double& lo_c, double& hi_c) {
     const auto i = info(name_code);
     if (!i) return false;
-    // Manual 21.1.1 / 21.1.2, in the code order of SPEC §4.
+    // Manual 21.1.1 / 21.1.2, in the order of the module name codes.
     static constexpr double kTc[8][2] = {{-200, 900},  {-190, 1300}, {-190, 380}, {-190, 1000},
                                          {-200, 1000}, {350, 1800},  {0, 1800},   {0, 1700}};
     static constexpr double kRtd[4][2] = {{-200, 850}, {-200, 850}, {-200, 600}, {-200, 600}};
@@ -85,7 +86,7 @@ std::uint16_t encode_register(const image::Device& d) {
 std::uint32_t main_unit_outputs(const config::Config& config) {
     // The modules follow the main unit on the expansion chain: their outputs come after the
     // main unit's (FBs-24MC: Y0-Y9, so the first module has Y10-Y17).
-    switch (config::model_code(config.model).value_or(24) & 0xFF) {
+    switch (model_code(config.model).value_or(24) & 0xFF) {
         case 10:
             return 4;
         case 14:
@@ -115,7 +116,7 @@ std::optional<image::Range> module_outputs(const config::Config& config) {
 
 namespace {
 
-namespace sp = engine::special;
+namespace sp = special;
 using namespace temperature;
 
 constexpr std::int64_t kNsPerMs = 1'000'000;
@@ -128,7 +129,7 @@ bool fits(const image::Image& img, const image::Device& d, std::uint32_t count) 
 
 }  // namespace
 
-TemperatureTable::TemperatureTable(TemperatureOptions options, plant::SensorSource& sensors)
+TemperatureTable::TemperatureTable(TemperatureOptions options, engine::SensorSource& sensors)
     : opt_(std::move(options)),
       sensors_(sensors) {}
 
@@ -139,17 +140,6 @@ TemperatureOptions TemperatureTable::options_of(const config::Config& config) {
     o.fast = config.temperature.fast;
     o.main_unit_outputs = main_unit_outputs(config);
     return o;
-}
-
-void refuse_module_outputs(const Operands& ops,
-                           const char* key,
-                           const image::Range& written,
-                           const config::Config& config) {
-    const std::optional<image::Range> own = module_outputs(config);
-    if (!own || !written.overlaps(*own)) return;
-    ops.fail(key, image::format_range(written) + " overlaps " + image::format_range(*own) +
-                      ", the digital outputs of the temperature modules in temperature.modules "
-                      "(each module occupies 8 DO; the program cannot drive them)");
 }
 
 void TemperatureTable::put(image::Image& img,
@@ -187,8 +177,8 @@ void TemperatureTable::restart(const image::Image& img, std::int64_t now) noexce
         m.channels = channels_of(m.name);
         m.first = total_;
         total_ += m.channels;
-        // SPEC §4: a table module that differs from the installed one sets bit k of WR+0's low
-        // byte. No declared chain means the chain is what the table says.
+        // FBs manual §21.3.2: a table module that differs from the installed one sets bit k of
+        // WR+0's low byte. No declared chain means the chain is what the table says.
         if (m.channels == 0) {
             m.mismatch = true;
         } else if (!opt_.installed.empty()) {
@@ -236,7 +226,7 @@ void TemperatureTable::convert(engine::ScanContext& ctx, ModuleState& m) noexcep
             bool broken = m.mismatch || !m.sensor_ok;
             double celsius = 0.0;
             if (!broken) {
-                const plant::SensorSample s = sensors_.sense(g);
+                const engine::SensorSample s = sensors_.sense(g);
                 // Only an open sensor is a broken line; beyond the range the module reads its
                 // range's limit (docs/profile-fbs.md, "Temperature measurement").
                 broken = s.broken || std::isnan(s.celsius);
@@ -347,8 +337,8 @@ void TemperatureTable::inputs(engine::ScanContext& ctx) noexcept {
 }
 
 std::unique_ptr<TemperatureTable> make_temperature_table(const config::Config& config,
-                                                         plant::SensorSource& sensors) {
+                                                         engine::SensorSource& sensors) {
     return std::make_unique<TemperatureTable>(TemperatureTable::options_of(config), sensors);
 }
 
-}  // namespace plcemu::instructions
+}  // namespace plcemu::profiles::fbs

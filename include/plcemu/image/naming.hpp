@@ -1,0 +1,62 @@
+#pragma once
+// How a PLC family writes its devices and constants: which letters name which area, whether an
+// area is numbered in decimal or octal, and how values of 32-bit counters are laid out. A
+// profile owns one Naming; the image, the config loader and the instructions only read it.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "plcemu/image/area.hpp"
+
+namespace plcemu::image {
+
+/// The spelling of a family's devices and constants.
+struct Naming {
+    /// One device prefix ("TMR" for timer values, "X" for inputs).
+    struct Prefix {
+        std::string_view text;  ///< upper case; parsing ignores case
+        Area area;              ///< the area it names
+    };
+    /// Prefixes the parser accepts (longest first, so "TMR" wins over "T").
+    std::vector<Prefix> prefixes;
+    /// The prefix ranges and errors are printed with, per area (empty: the area does not exist).
+    std::array<std::string_view, kAreaCount> names{};
+    /// 8 for areas numbered in octal (X10 is the ninth input), else 10.
+    std::array<std::uint8_t, kAreaCount> radix{};
+    /// The first counter whose value takes two words (low word first); counters below take one.
+    std::uint32_t first_32bit_counter = 0xFFFFFFFF;
+    /// True when constants may be written as the FX family writes them: H1F (hex), K31.
+    bool hex_prefix_h = false;
+
+    /// Word index in the counter-value area of counter `n`.
+    std::uint32_t counter_word(std::uint32_t n) const;
+    /// The counter whose value holds word `w`.
+    std::uint32_t counter_of_word(std::uint32_t w) const;
+    /// Words of counter `n`'s value: 1 or 2.
+    std::uint32_t counter_words(std::uint32_t n) const;
+
+    /// Parses "R100", "d0", "WM800" (16 bits as a word), "X17" (octal where the area is).
+    /// Returns nothing for text that is not a device of this family. Index limits are the
+    /// layout's (Layout::contains), except that an octal number must be written in octal.
+    std::optional<Device> parse_device(std::string_view text) const;
+    /// Parses "D100-D199" or one device as a range (no word of bits); a counter-value range
+    /// ending at a 32-bit counter includes its high word.
+    std::optional<Range> parse_range(std::string_view text) const;
+    /// The range in the family's notation: "D100-D199", "Y10-Y17" (octal), "TMR0-TMR255".
+    std::string format_range(const Range& r) const;
+    /// One device's name, e.g. "Y17".
+    std::string format_device(Area a, std::uint32_t index) const;
+    /// The name of an area ("" when the family has none).
+    std::string_view area_name(Area a) const { return names[static_cast<std::size_t>(a)]; }
+
+    /// The one integer grammar of configs, presets and operands: decimal with an optional sign,
+    /// 0x1F, the manual's 1Fh / 0A556h, K31 and, for families that write them, H1F. Values
+    /// beyond ±2^40 are refused.
+    bool parse_integer(std::string_view text, long long& out) const;
+};
+
+}  // namespace plcemu::image

@@ -1,0 +1,97 @@
+#pragma once
+// A PLC family as one object: its layout, the spelling of its devices, its Modbus map, the
+// special devices it keeps each scan, its identity, its instruction table and the subsystems it
+// attaches. The image, the engine, the config loader, the dispatcher and the daemon ask the
+// profile; none of them names a family. A profile registers itself (docs/architecture.md,
+// "Adding a profile").
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "plcemu/config/config.hpp"
+#include "plcemu/engine/engine.hpp"
+#include "plcemu/engine/sensors.hpp"
+#include "plcemu/image/layout.hpp"
+#include "plcemu/image/naming.hpp"
+#include "plcemu/instructions/instructions.hpp"
+#include "plcemu/modbus/address_map.hpp"
+#include "plcemu/modbus/dispatcher.hpp"
+
+namespace plcemu::profiles {
+
+/// One PLC family.
+class Profile {
+public:
+    virtual ~Profile() = default;
+
+    /// The config's name of the family: `profile: fbs`.
+    virtual std::string_view name() const = 0;
+    /// What it emulates, for --help and logs: "FATEK FBs".
+    virtual std::string_view title() const = 0;
+    /// A number recorded in state files; never reused for another family.
+    virtual std::uint32_t family() const = 0;
+
+    /// Vendor name of FC 11h and FC 2Bh/0Eh.
+    virtual std::string_view vendor() const = 0;
+    /// The model when the config names none.
+    virtual std::string_view default_model() const = 0;
+    /// True when `model` is a model name of the family.
+    virtual bool valid_model(std::string_view model) const = 0;
+    /// What a model name looks like, for errors: "an FBs model such as FBs-24MC".
+    virtual std::string_view model_hint() const = 0;
+    /// The largest station number.
+    virtual int max_station() const = 0;
+
+    /// How devices and constants are written.
+    virtual const image::Naming& naming() const = 0;
+    /// Area sizes, holes and default retentive ranges.
+    virtual image::Layout layout() const = 0;
+    /// Devices retentive whatever the config says (a power-up counter).
+    virtual std::vector<image::Range> always_retentive() const { return {}; }
+    /// Top-level config sections of subsystems the family has (e.g. "temperature"); the loader
+    /// refuses the others at their line.
+    virtual std::vector<std::string_view> sections() const { return {}; }
+
+    /// The default Modbus map (a config's `modbus.map` replaces it).
+    virtual const modbus::AddressMap& map() const = 0;
+    /// Function codes the family adds (a handler) or refuses (nullptr) beyond the standard
+    /// table.
+    virtual std::vector<std::pair<std::uint8_t, modbus::FunctionHandler>> functions() const {
+        return {};
+    }
+
+    /// The mnemonics a program may use.
+    virtual const instructions::Table& instructions() const = 0;
+    /// What the family offers its instructions while they bind (measurement table, outputs
+    /// the program may not drive). Throws config::ConfigError.
+    virtual std::unique_ptr<instructions::Services> services(const config::Config& config) const;
+    /// The special devices of a PLC of this config.
+    virtual std::unique_ptr<engine::Specials> specials(const config::Config& config) const = 0;
+    /// Adds the family's measurement subsystems (which sample `sensors`) to an engine whose
+    /// plant is already attached. Throws config::ConfigError.
+    virtual void attach(engine::Engine& engine,
+                        const config::Config& config,
+                        engine::SensorSource& sensors) const = 0;
+};
+
+/// The profile named `name`, or null.
+const Profile* find(std::string_view name);
+/// The profile of a loaded config (its name was checked by the loader).
+const Profile& of(const config::Config& config);
+/// Every registered profile, by name.
+std::vector<const Profile*> all();
+/// Comma-separated names, for messages.
+std::string names();
+
+/// Registers a profile at static initialisation: `const Registration reg{instance};` in the
+/// profile's own file.
+class Registration {
+public:
+    explicit Registration(const Profile& profile);
+};
+
+}  // namespace plcemu::profiles
