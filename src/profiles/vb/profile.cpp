@@ -1,0 +1,119 @@
+// The VIGOR VB profile: the FX2N-style device areas with X/Y in octal, the special devices moved
+// to M9000/D9000, a Modbus slave map after the FX3U default allocation, MOV and CNT
+// (docs/profile-vb.md describes it for users).
+
+#include "instructions/cnt.hpp"
+#include "instructions/mov.hpp"
+#include "plcemu/profiles/profile.hpp"
+#include "profiles/vb/map.hpp"
+#include "profiles/vb/model.hpp"
+#include "profiles/vb/specials.hpp"
+
+namespace plcemu::profiles::vb {
+
+namespace {
+
+using image::Area;
+
+image::Naming make_naming() {
+    image::Naming n;
+    // Longest prefixes first so that "TN"/"TS" win over "T" and "CN"/"CS" over "C".
+    n.prefixes = {{"TN", Area::TV}, {"CN", Area::CV}, {"TS", Area::T}, {"CS", Area::C},
+                  {"X", Area::X},   {"Y", Area::Y},   {"M", Area::M},  {"S", Area::S},
+                  {"T", Area::T},   {"C", Area::C},   {"D", Area::D}};
+    // No R: the area does not exist on a VB.
+    n.names = {"X", "Y", "M", "S", "T", "C", "", "D", "TN", "CN"};
+    n.radix.fill(10);
+    // X0–X377, Y0–Y377 (VB manual FNC92, example II: "Y0…Y7, Y10…Y17").
+    n.radix[static_cast<std::size_t>(Area::X)] = 8;
+    n.radix[static_cast<std::size_t>(Area::Y)] = 8;
+    // C200–C255 are 32-bit: two words each, low word first.
+    n.first_32bit_counter = 200;
+    // The manual writes constants as K100 and H0011 (VB manual FNC88, example).
+    n.hex_prefix_h = true;
+    return n;
+}
+
+class Vb final : public Profile {
+public:
+    std::string_view name() const override { return "vb"; }
+    std::string_view title() const override { return "VIGOR VB"; }
+    std::uint32_t family() const override { return 2; }
+    std::string_view vendor() const override { return "VIGOR"; }
+    std::string_view default_model() const override { return "VB2-32M"; }
+    bool valid_model(std::string_view model) const override { return vb::valid_model(model); }
+    std::string_view model_hint() const override {
+        return "a VIGOR model such as VB2-32M or VH-40MR";
+    }
+    int max_station() const override { return 247; }
+    const image::Naming& naming() const override { return naming_; }
+
+    image::Layout layout() const override {
+        image::Layout l;
+        l.family = family();
+        l.family_name = name();
+        auto set = [&](Area a, std::uint32_t n) { l.size[static_cast<std::size_t>(a)] = n; };
+        set(Area::X, 256);
+        set(Area::Y, 256);
+        // M0–M3071 and M9000–M9255 in one array so that numbers equal indices.
+        set(Area::M, 9256);
+        set(Area::S, 1000);
+        set(Area::T, 256);
+        set(Area::C, 256);
+        set(Area::D, 9256);
+        set(Area::TV, 256);
+        // C0–C199 one word each, C200–C255 two words each (low word first).
+        set(Area::CV, 200 + 56 * 2);
+        l.holes = {{Area::M, 3072, 9000 - 3072}, {Area::D, 8000, 9000 - 8000}};
+        // FX2N's latched ranges (docs/profile-vb.md, "Device areas").
+        l.retentive = {
+            {Area::M, 500, 3072 - 500},
+            {Area::S, 500, 500},
+            {Area::T, 246, 10},
+            {Area::TV, 246, 10},
+            {Area::C, 100, 100},
+            {Area::CV, 100, 100},
+            {Area::C, 220, 36},
+            {Area::CV, naming_.counter_word(220), 36 * 2},  // C220–C255, two words each
+            {Area::D, 200, 8000 - 200},
+        };
+        return l;
+    }
+
+    const modbus::AddressMap& map() const override { return vb::map(); }
+
+    const instructions::Table& instructions() const override {
+        static const instructions::Table kTable{
+            {"CNT", &instructions::make_cnt},
+            {"MOV", &instructions::make_mov},
+        };
+        return kTable;
+    }
+
+    std::unique_ptr<instructions::Services> services(
+        const config::Config& /*config*/) const override {
+        auto s = std::make_unique<instructions::CounterServices>();
+        // M9200–M9234: count direction of C200–C234 (FX M8200–M8234).
+        s->direction = {Area::M, special::kCountDown};
+        return s;
+    }
+
+    std::unique_ptr<engine::Specials> specials(const config::Config& /*config*/) const override {
+        return make_specials();
+    }
+
+    // No measurement subsystem yet: the plant alone.
+    void attach(engine::Engine& /*engine*/,
+                const config::Config& /*config*/,
+                engine::SensorSource& /*sensors*/) const override {}
+
+private:
+    image::Naming naming_ = make_naming();
+};
+
+const Vb kProfile;
+const Registration kRegistration{kProfile};
+
+}  // namespace
+
+}  // namespace plcemu::profiles::vb
