@@ -76,8 +76,11 @@ std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap&
     for (const auto& r : map.rows()) {
         const unsigned first = r.wire_start;
         const unsigned last = r.wire_start + r.count - 1u;
-        rows.push_back({table_name(r.table),
-                        manual_number(r.table, first, 5) + "-" + manual_number(r.table, last, 5),
+        // 5-digit numbers end at x9999 (wire 9998): a row beyond has none (the VB's 3000h rows).
+        const std::string five =
+            last < 9999 ? manual_number(r.table, first, 5) + "-" + manual_number(r.table, last, 5)
+                        : "-";
+        rows.push_back({table_name(r.table), five,
                         manual_number(r.table, first, 6) + "-" + manual_number(r.table, last, 6),
                         std::to_string(first) + "-" + std::to_string(last), r.label, r.codes,
                         access_of(map, r, naming)});
@@ -158,11 +161,11 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
     if (own) out << " The map is the config's modbus.map, not the profile's default.";
     out << "\n\n";
     char line[512];
-    std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-10s %-54s %-15s %s\n", "table", "5-digit",
+    std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-11s %-54s %-15s %s\n", "table", "5-digit",
                   "6-digit", "wire", std::string(profile.vendor()).c_str(), "codes", "access");
     out << line;
     for (const auto& r : rows) {
-        std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-10s %-54s %-15s %s\n",
+        std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-11s %-54s %-15s %s\n",
                       r.table.c_str(), r.five.c_str(), r.six.c_str(), r.wire.c_str(),
                       r.fatek.c_str(), r.codes.c_str(), r.access.c_str());
         out << line;
