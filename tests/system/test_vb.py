@@ -570,6 +570,8 @@ def test_print_map_csv(tmp_path):
     by = {(row["table"], row["wire"]): row for row in rows}
     x = by[("discrete inputs", "13312-13567")]
     assert x["vigor"].startswith("X0-X377") and x["function_codes"] == "02"
+    assert x["modbus_5digit"] == "-"  # 5-digit numbers end at 19999
+    assert by[("coils", "8192-9191")]["modbus_5digit"] == "08193-09192"
     assert by[("coils", "13056-13311")]["vigor"].startswith("Y0-Y377")
     assert by[("holding registers", "9700-9811")]["modbus_6digit"] == "409701-409812"
     assert by[("input registers", "0-7999")]["function_codes"] == "04"
