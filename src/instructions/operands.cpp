@@ -77,9 +77,16 @@ WordSource Operands::word_source(const char* key) {
         return {true, static_cast<std::uint16_t>(v & 0xFFFF), {}};
     }
     auto d = naming_.parse_device(op.text);
-    if (!d)
-        fail(key, "expected a register (R, D), WMn-style bits or a constant, got '" +
+    if (!d) {
+        // The family's own register names: a VB has no R, and spells timer values TN.
+        std::string names;
+        for (auto a : {image::Area::R, image::Area::D, image::Area::TV, image::Area::CV}) {
+            if (naming_.area_name(a).empty()) continue;
+            names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
+        }
+        fail(key, "expected a register (" + names + "), WMn-style bits or a constant, got '" +
                       config::excerpt(op.text) + "'");
+    }
     const std::uint32_t span = d->word_of_bits ? 16 : 1;
     if ((!d->word_of_bits && image::is_bit_area(d->area)) ||
         !layout_.contains({d->area, d->index, span})) {
