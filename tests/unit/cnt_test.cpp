@@ -1,0 +1,83 @@
+// CNT (the FX family's counter, as the VB writes it: docs/profile-vb.md): each OFF→ON of EN
+// counts; a 16-bit counter stops at K, a 32-bit one counts up or down by its direction relay and
+// wraps; the contact is ON while the value is at least K; K is a constant or a word device.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "plcemu/config/config.hpp"
+#include "plcemu/daemon/plc.hpp"
+#include "plcemu/image/image.hpp"
+#include "support/config_errors.hpp"
+
+namespace plcemu::instructions {
+namespace {
+
+using image::Area;
+
+// A VB PLC running `program` (YAML list entries, one per line), stepped scan by scan.
+struct Rig {
+    explicit Rig(const std::string& program)
+        : plc(config::parse_config("profile: vb\nprogram:\n" + program, "c.yaml")) {}
+    void pulse(std::uint32_t m, int n = 1) {
+        for (int i = 0; i < n; ++i) {
+            plc.image().set_bit(Area::M, m, true);
+            plc.engine().run_scans(1);
+            plc.image().set_bit(Area::M, m, false);
+            plc.engine().run_scans(1);
+        }
+    }
+    std::uint16_t cv(std::uint32_t word) { return plc.image().word(Area::CV, word); }
+    bool contact(std::uint32_t c) { return plc.image().bit(Area::C, c); }
+    daemon::Plc plc;
+};
+
+TEST(Cnt, SixteenBitCounterCountsRisingEdgesAndStopsAtK) {
+    Rig rig("  - CNT: {en: M0, c: C5, k: 3}\n");
+    rig.plc.image().set_bit(Area::M, 0, true);
+    rig.plc.engine().run_scans(5);  // held ON: one edge only
+    EXPECT_EQ(rig.cv(5), 1);
+    EXPECT_FALSE(rig.contact(5));
+    rig.plc.image().set_bit(Area::M, 0, false);
+    rig.plc.engine().run_scans(1);
+    rig.pulse(0, 4);
+    EXPECT_EQ(rig.cv(5), 3);  // stops at K
+    EXPECT_TRUE(rig.contact(5));
+}
+
+TEST(Cnt, KFromARegister) {
+    Rig rig("  - CNT: {en: M0, c: C0, k: D10}\n");
+    rig.plc.image().set_word(Area::D, 10, 2);
+    rig.pulse(0);
+    EXPECT_FALSE(rig.contact(0));
+    rig.pulse(0);
+    EXPECT_TRUE(rig.contact(0));
+    EXPECT_EQ(rig.cv(0), 2);
+}
+
+TEST(Cnt, ThirtyTwoBitCounterCountsDownWhileItsDirectionRelayIsOn) {
+    // C200 takes CV words 200 (low) and 201 (high); M9200 is its direction.
+    Rig rig("  - CNT: {en: M0, c: C200, k: 2}\n");
+    rig.pulse(0, 2);
+    EXPECT_EQ(rig.cv(200), 2);
+    EXPECT_TRUE(rig.contact(200));
+    rig.plc.image().set_bit(Area::M, 9200, true);
+    rig.pulse(0, 3);  // 2 → −1
+    EXPECT_EQ(rig.cv(200), 0xFFFF);
+    EXPECT_EQ(rig.cv(201), 0xFFFF);
+    EXPECT_FALSE(rig.contact(200));
+}
+
+TEST(Cnt, OperandErrorsNameTheirPosition) {
+    auto error = [](const std::string& program) {
+        return testing::config_failure([&] { Rig rig(program); }).what;
+    };
+    EXPECT_NE(error("  - CNT: {en: M0, c: D5, k: 3}\n").find("c.yaml:3:22: CNT.c"),
+              std::string::npos);
+    EXPECT_NE(error("  - CNT: {en: M0, c: C5, k: 40000}\n").find("CNT.k"), std::string::npos);
+    EXPECT_NE(error("  - CNT: {en: X8, c: C5, k: 3}\n").find("CNT.en"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace plcemu::instructions
