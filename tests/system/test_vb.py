@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from conftest import _spawn, raw_request, run_plcemud
+from conftest import REPO, _spawn, raw_request, run_plcemud
 
 ILLEGAL_FUNCTION = 1
 ILLEGAL_ADDRESS = 2
@@ -473,8 +473,6 @@ def test_profile_vb_alone_is_a_valid_config(tmp_path, start_plcemud):
 
 
 def test_config_vb_yaml_is_valid():
-    from conftest import REPO
-
     r = run_plcemud("-c", REPO / "config" / "vb.yaml", "--check-config")
     assert r.returncode == 0, r.stderr
     assert "ok" in r.stdout

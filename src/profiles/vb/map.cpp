@@ -21,20 +21,15 @@ constexpr const char* kInputCodes = "02";
 constexpr const char* kHoldingCodes = "03 06 16 22 23";
 constexpr const char* kInputRegCodes = "04";
 
-struct BitRow {
-    std::uint16_t wire;
-    Range devices;
-    const char* label;
-};
-
-struct WordRow {
+// One row, served by two tables (coils and discrete inputs, holding and input registers).
+struct Row {
     std::uint16_t wire;
     Range devices;
     const char* label;
 };
 
 // FX3U MODBUS manual (JY997D26201) §9.3, bit devices, with the VB's M9000 for M8000.
-constexpr BitRow kBits[] = {
+constexpr Row kBits[] = {
     {0x0000, {Area::M, 0, 3072}, "M0-M3071"},
     {0x1E00, {Area::M, 9000, 256}, "M9000-M9255 (special)"},
     {0x2000, {Area::S, 0, 1000}, "S0-S999"},
@@ -45,7 +40,7 @@ constexpr BitRow kBits[] = {
 
 // D as FX numbers it (D9000 right after D7999, as FX3U D8000 at 1F40h); timer and counter
 // values where the FBs map has them, so one SCADA template reads both families.
-constexpr WordRow kWords[] = {
+constexpr Row kWords[] = {
     {0, {Area::D, 0, 8000}, "D0-D7999"},
     {8000, {Area::D, 9000, 256}, "D9000-D9255 (special)"},
     {9000, {Area::TV, 0, 256}, "TN0-TN255 (timer values)"},
@@ -77,8 +72,6 @@ std::vector<MapRow> rows() {
     return r;
 }
 
-}  // namespace
-
 const std::vector<Range>& read_only() {
     namespace sp = special;
     static const std::vector<Range> kReadOnly{
@@ -89,6 +82,8 @@ const std::vector<Range>& read_only() {
     };
     return kReadOnly;
 }
+
+}  // namespace
 
 const modbus::AddressMap& map() {
     static const auto kMap = modbus::make_table_map(rows(), read_only());

@@ -9,7 +9,4 @@ namespace plcemu::profiles::vb {
 /// §9.3) with the VB's devices, timer and counter values where the FBs map has them.
 const modbus::AddressMap& map();
 
-/// Device ranges no Modbus write may change, under the default map or a config's own.
-const std::vector<image::Range>& read_only();
-
 }  // namespace plcemu::profiles::vb
