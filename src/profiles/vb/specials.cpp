@@ -12,16 +12,6 @@ namespace {
 using image::Area;
 namespace sp = special;
 
-// A square wave of the simulated clock, ON for the first half of each period. A clock whose
-// half period is shorter than the scan would alias to a constant when sampled at each scan
-// start (M9011 with a 10 ms scan), so it toggles every scan instead, as the FBs clocks do
-// (docs/profile-vb.md, "Special relays and registers").
-bool square(const engine::ScanContext& ctx, std::chrono::nanoseconds period) {
-    const auto half = period / 2;
-    if (ctx.dt > half) return ctx.scan % 2 == 0;
-    return (ctx.now / half) % 2 == 0;
-}
-
 class VbSpecials final : public engine::Specials {
 public:
     void power_up(image::Image& image, std::uint8_t /*station*/) noexcept override {
@@ -45,10 +35,10 @@ public:
         img.set_bit(Area::M, sp::kAlwaysOff, false);
         img.set_bit(Area::M, sp::kFirstScan, ctx.first_scan);
         img.set_bit(Area::M, sp::kAfterFirst, !ctx.first_scan);
-        img.set_bit(Area::M, sp::kClock10ms, square(ctx, milliseconds(10)));
-        img.set_bit(Area::M, sp::kClock100ms, square(ctx, milliseconds(100)));
-        img.set_bit(Area::M, sp::kClock1s, square(ctx, seconds(1)));
-        img.set_bit(Area::M, sp::kClock1min, square(ctx, minutes(1)));
+        img.set_bit(Area::M, sp::kClock10ms, engine::square_wave(ctx, milliseconds(10)));
+        img.set_bit(Area::M, sp::kClock100ms, engine::square_wave(ctx, milliseconds(100)));
+        img.set_bit(Area::M, sp::kClock1s, engine::square_wave(ctx, seconds(1)));
+        img.set_bit(Area::M, sp::kClock1min, engine::square_wave(ctx, minutes(1)));
     }
 
     // The VB has no station register: `station` stays as configured.
