@@ -26,6 +26,7 @@ Window PlcUnit::resolve(Table table, std::uint16_t addr, std::uint16_t qty, bool
     Window w{Status::Ok};
     // A packed row (WM0) serves registers over bits: the window reads and writes them 16 a time.
     w.packed = res.packed;
+    w.count = res.elements == qty ? 0 : res.elements;  // 0: the whole request
     if (image::is_bit_area(res.devices.area)) {
         w.bits = image_.bits(res.devices.area) + res.devices.start;
     } else {

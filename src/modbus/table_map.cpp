@@ -27,7 +27,7 @@ Resolution resolve_rows(const std::vector<MapRow>& rows,
             started = true;
         } else if (row.devices.area != res.devices.area || dev != res.devices.end() ||
                    row.packed != res.packed) {
-            return {};
+            break;  // another device range: the caller resolves the rest on its own
         }
         const std::uint32_t n = std::min(left, row_end - wire);
         res.devices.count += per * n;
@@ -35,7 +35,8 @@ Resolution resolve_rows(const std::vector<MapRow>& rows,
         wire += n;
         if (left == 0) break;
     }
-    if (!started || left != 0 || !img.layout().contains(res.devices)) return {};
+    if (!started || !img.layout().contains(res.devices)) return {};
+    res.elements = static_cast<std::uint16_t>(qty - left);
     res.status = Status::Ok;
     return res;
 }

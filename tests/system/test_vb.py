@@ -357,12 +357,23 @@ def test_counter_rows_continue_each_other(rows_plc):
     assert regs(c, 9699, 3) == [0x6199, 0x0200, 0x8200]
 
 
-@pytest.mark.xfail(strict=True, reason="docs/profile-vb.md, 'Modbus map': a request across two "
-                   "rows whose devices do not continue each other is refused with 02 for now")
-def test_request_across_two_rows_of_other_devices(rows_plc):
-    """D7999 at 7999 and D9000 at 8000, C255 and Y0, Y377 and X0 are adjacent wire addresses."""
+def test_request_across_two_rows_of_other_devices_is_served_as_one(rows_plc):
+    """D7999 at 7999 and D9000 at 8000, C255 and Y0, Y377 and X0 are adjacent wire addresses:
+    one request reads both rows, and a write across them lands in both or in neither."""
     c = rows_plc
-    assert exc(c.read_holding_registers(7999, 2, slave=1)) == 0
+    assert values(c.read_holding_registers(7999, 2, slave=1), "holding", 2) == [0x1F3F, 0x9000]
+    assert values(c.read_input_registers(7999, 2, slave=1), "input", 2) == [0x1F3F, 0x9000]
+    assert values(c.read_coils(0x32FF, 2, slave=1), "coils", 2) == [1, 1]  # C255, Y0
+    assert values(c.read_discrete_inputs(0x33FF, 2, slave=1), "inputs", 2) == [1, 1]  # Y377, X0
+    assert not c.write_registers(7999, [0x1111, 0x2222], slave=1).isError()
+    assert values(c.read_holding_registers(7999, 2, slave=1), "holding", 2) == [0x1111, 0x2222]
+    # D9009 is writable, D9010 (scan time) is not: the whole write is refused, D9009 unchanged.
+    before = values(c.read_holding_registers(8009, 1, slave=1), "holding", 1)
+    assert exc(c.write_registers(8009, [7, 7], slave=1)) == 2
+    assert values(c.read_holding_registers(8009, 1, slave=1), "holding", 1) == before
+    # A request that runs from a row into a gap is refused whole.
+    assert exc(c.read_holding_registers(8255, 2, slave=1)) == 2
+    c.write_registers(7999, [0x1F3F, 0x9000], slave=1)  # restore for the other row tests
 
 
 # --- FC02/FC04, read-only items --------------------------------------------------------------

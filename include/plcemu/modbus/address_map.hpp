@@ -30,6 +30,9 @@ struct Resolution {
     Status status = Status::IllegalDataAddress;  ///< Ok or the refusal
     image::Range devices;                        ///< valid when Ok
     bool packed = false;                         ///< registers over 16 bits each
+    /// Wire elements `devices` covers from the first address; fewer than asked when the next
+    /// address belongs to a row whose devices do not continue these (resolve the rest then).
+    std::uint16_t elements = 0;
 };
 
 /// The map of one PLC. Resolution reads the image because a family may keep maps there.
@@ -49,9 +52,10 @@ public:
     virtual const std::vector<image::Range>& read_only() const = 0;
 };
 
-/// Resolves a request against `rows`: it may run across rows that continue the same device
-/// range (D7999 at 7999, D9000 at 8000 do not continue each other; D0–D3999 split in two rows
-/// do). Anything a row does not map, or a device the image lacks, is exception 02.
+/// Resolves a request against `rows`, as far as one contiguous device range goes: across rows
+/// that continue the same range (C199, C200 values), and stopping where the next row maps
+/// other devices (D7999 at 7999, D9000 at 8000), with `elements` saying how far it got. An
+/// address no row maps, or a device the image lacks, is exception 02.
 Resolution resolve_rows(const std::vector<MapRow>& rows,
                         const image::Image& image,
                         Table table,

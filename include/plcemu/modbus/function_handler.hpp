@@ -35,6 +35,49 @@ struct FunctionReply {
     static FunctionReply pdu(std::size_t n) { return {Status::Ok, n}; }
 };
 
+/// The memory of a whole request: the windows of consecutive parts, in wire order. A request
+/// within one map row (nearly all) has one part.
+struct Span {
+    static constexpr std::size_t kMaxParts = 8;    ///< more rows than this in one request: 02
+    Status status = Status::IllegalDataAddress;    ///< Ok, or the first part's refusal
+    std::array<Window, kMaxParts> parts{};         ///< the windows
+    std::array<std::uint16_t, kMaxParts> first{};  ///< element index each part starts at
+    std::size_t n = 0;                             ///< parts used
+
+    /// The part holding element `i`, and `i` within it.
+    const Window& at(std::size_t& i) const {
+        std::size_t k = n - 1;
+        while (k > 0 && i < first[k]) --k;
+        i -= first[k];
+        return parts[k];
+    }
+    /// Coil or discrete input `i`.
+    bool bit(std::size_t i) const {
+        const Window& w = at(i);
+        return w.bits[i] != 0;
+    }
+    /// Writes coil `i`.
+    void set_bit(std::size_t i, bool v) const {
+        const Window& w = at(i);
+        w.bits[i] = v ? 1 : 0;
+    }
+    /// Register `i`.
+    std::uint16_t word(std::size_t i) const {
+        const Window& w = at(i);
+        return w.word(i);
+    }
+    /// Writes register `i`.
+    void set_word(std::size_t i, std::uint16_t v) const {
+        const Window& w = at(i);
+        w.set_word(i, v);
+    }
+};
+
+/// Resolves `qty` elements from `addr` part by part, each part as far as one device range goes;
+/// every part must resolve (and, for a write, be writable) before anything is touched.
+Span resolve_span(
+    Unit& unit, Table table, std::uint16_t addr, std::uint16_t qty, bool write) noexcept;
+
 /// Function code → handler; nullptr: exception 01.
 using FunctionTable = std::array<FunctionHandler, 128>;
 

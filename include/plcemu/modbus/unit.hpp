@@ -29,6 +29,10 @@ struct Window {
     /// Registers over bits: register i is bits[16i] (b0) … bits[16i+15] (b15), and `words` is
     /// null (a map row of packed bits such as WM0).
     bool packed = false;
+    /// Elements the window covers from the request's first address; 0: all of them. A request
+    /// that runs across two map rows whose devices do not continue each other (D7999, D9000) is
+    /// served as consecutive windows (see resolve_span).
+    std::uint16_t count = 0;
 
     /// Register `i` of a register window.
     std::uint16_t word(std::size_t i) const {

@@ -93,7 +93,7 @@ Access parse(const std::uint8_t* pdu, std::size_t n) {
 FunctionReply data_access(const FunctionRequest& req, PduBuffer out) noexcept {
     const std::uint8_t* pdu = req.pdu.data();
     const Access a = parse(pdu, req.pdu.size());
-    const Window w = req.unit.resolve(a.table, a.addr, a.qty, a.write);
+    const Span w = resolve_span(req.unit, a.table, a.addr, a.qty, a.write);
     // A table the unit does not serve outranks a malformed request (exception 01 before 03).
     if (w.status == Status::IllegalFunction) return FunctionReply::refuse(w.status);
     if (a.status != Status::Ok) return FunctionReply::refuse(a.status);
@@ -110,7 +110,7 @@ FunctionReply data_access(const FunctionRequest& req, PduBuffer out) noexcept {
             out[k++] = static_cast<std::uint8_t>(bytes);
             std::fill_n(out.begin() + 2, bytes, std::uint8_t{0});
             for (std::size_t i = 0; i < a.qty; ++i) {
-                if (w.bits[i])
+                if (w.bit(i))
                     out[2 + i / 8] = static_cast<std::uint8_t>(out[2 + i / 8] | 1u << (i % 8));
             }
             k += bytes;
@@ -126,7 +126,7 @@ FunctionReply data_access(const FunctionRequest& req, PduBuffer out) noexcept {
             }
             break;
         case 0x05:  // the reply echoes the request
-            w.bits[0] = be16(pdu + 3) == 0xFF00 ? 1 : 0;
+            w.set_bit(0, be16(pdu + 3) == 0xFF00);
             std::copy_n(pdu + 1, 4, out.begin() + 1);
             k = 5;
             break;
@@ -136,7 +136,8 @@ FunctionReply data_access(const FunctionRequest& req, PduBuffer out) noexcept {
             k = 5;
             break;
         case 0x0F:
-            for (std::size_t i = 0; i < a.qty; ++i) w.bits[i] = (pdu[6 + i / 8] >> (i % 8)) & 1u;
+            for (std::size_t i = 0; i < a.qty; ++i)
+                w.set_bit(i, ((pdu[6 + i / 8] >> (i % 8)) & 1u) != 0);
             std::copy_n(pdu + 1, 4, out.begin() + 1);  // address and quantity
             k = 5;
             break;

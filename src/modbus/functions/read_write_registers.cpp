@@ -13,8 +13,8 @@ FunctionReply read_write_registers(const FunctionRequest& req, PduBuffer out) no
     const std::uint16_t waddr = be16(pdu + 5);
     const std::uint16_t wqty = be16(pdu + 7);
     const std::size_t bytes = pdu[9];
-    const Window ww = req.unit.resolve(Table::HoldingRegisters, waddr, wqty, true);
-    const Window rw = req.unit.resolve(Table::HoldingRegisters, raddr, rqty, false);
+    const Span ww = resolve_span(req.unit, Table::HoldingRegisters, waddr, wqty, true);
+    const Span rw = resolve_span(req.unit, Table::HoldingRegisters, raddr, rqty, false);
     if (ww.status == Status::IllegalFunction) return FunctionReply::refuse(Status::IllegalFunction);
     if (rqty < 1 || rqty > 125 || wqty < 1 || wqty > 121 || bytes != wqty * 2u || n != 10 + bytes) {
         return FunctionReply::refuse(Status::IllegalDataValue);
