@@ -1,5 +1,7 @@
 #include "plcemu/engine/engine.hpp"
 
+#include <algorithm>
+
 namespace plcemu::engine {
 
 Declarations declarations_of(const Program& program) {
@@ -12,6 +14,23 @@ bool square_wave(const ScanContext& ctx, std::chrono::nanoseconds period) noexce
     const auto half = period / 2;
     if (ctx.dt > half) return ctx.scan % 2 == 0;
     return (ctx.now / half) % 2 == 0;
+}
+
+void write_calendar(std::uint16_t* seven_words, const Calendar& c) noexcept {
+    seven_words[0] = static_cast<std::uint16_t>(c.second);
+    seven_words[1] = static_cast<std::uint16_t>(c.minute);
+    seven_words[2] = static_cast<std::uint16_t>(c.hour);
+    seven_words[3] = static_cast<std::uint16_t>(c.day);
+    seven_words[4] = static_cast<std::uint16_t>(c.month);
+    seven_words[5] = static_cast<std::uint16_t>(c.year % 100);
+    seven_words[6] = static_cast<std::uint16_t>(c.weekday);
+}
+
+void ScanTimes::update(const ScanContext& ctx) noexcept {
+    const auto units = static_cast<long long>(ctx.dt / unit);
+    current = static_cast<std::uint16_t>(std::clamp<long long>(units, 0, 0xFFFF));
+    min = std::min(min, current);
+    max = std::max(max, current);
 }
 
 Engine::Engine(image::Image& image,

@@ -37,6 +37,31 @@ public:
 /// fastest wave a program or a master can see.
 bool square_wave(const ScanContext& ctx, std::chrono::nanoseconds period) noexcept;
 
+/// Writes `calendar` to seven consecutive words: second, minute, hour, day, month, year (two
+/// digits), weekday (0 = Sunday), the order of both the FBs R4128–R4134 and the VB D9013–D9019
+/// (docs/profile-fbs.md, docs/profile-vb.md).
+void write_calendar(std::uint16_t* seven_words, const Calendar& calendar) noexcept;
+
+/// The current, minimum and maximum scan time: the simulated interval between scan starts
+/// (deterministic, whatever the host's load), counted in whole `unit`s and held to 0–65535.
+/// A family decides where the three words go.
+struct ScanTimes {
+    explicit ScanTimes(std::chrono::nanoseconds per) noexcept
+        : unit(per) {}
+    /// Forgets the minimum and maximum (at power-up).
+    void reset() noexcept {
+        min = 0xFFFF;
+        max = 0;
+    }
+    /// Takes this scan's interval, `ctx.dt`.
+    void update(const ScanContext& ctx) noexcept;
+
+    std::chrono::nanoseconds unit;  ///< 1 ms on an FBs, 0.1 ms on a VB
+    std::uint16_t current = 0;      ///< the last scan's time
+    std::uint16_t min = 0xFFFF;     ///< the shortest since power-up
+    std::uint16_t max = 0;          ///< the longest since power-up
+};
+
 /// A family without special devices (tests of the engine alone).
 class NoSpecials final : public Specials {
 public:

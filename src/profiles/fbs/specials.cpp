@@ -1,6 +1,5 @@
 #include "profiles/fbs/specials.hpp"
 
-#include <algorithm>
 #include <chrono>
 
 #include "plcemu/engine/engine.hpp"
@@ -33,8 +32,7 @@ public:
         r[sp::kCpuStatus] = 0;
         r[sp::kStation] = station;
         r[sp::kModelCode] = model_code_;
-        scan_min_ms_ = 0xFFFF;
-        scan_max_ms_ = 0;
+        scan_times_.reset();
     }
 
     void scan_start(const engine::ScanContext& ctx) noexcept override {
@@ -63,29 +61,19 @@ public:
         r[sp::kCpuStatus] = 0;
         r[sp::kModelCode] = model_code_;
 
-        r[sp::kCalendar + 0] = static_cast<std::uint16_t>(c.second);
-        r[sp::kCalendar + 1] = static_cast<std::uint16_t>(c.minute);
-        r[sp::kCalendar + 2] = static_cast<std::uint16_t>(c.hour);
-        r[sp::kCalendar + 3] = static_cast<std::uint16_t>(c.day);
-        r[sp::kCalendar + 4] = static_cast<std::uint16_t>(c.month);
-        r[sp::kCalendar + 5] = static_cast<std::uint16_t>(c.year % 100);
-        r[sp::kCalendar + 6] = static_cast<std::uint16_t>(c.weekday);
+        engine::write_calendar(r + sp::kCalendar, c);
 
-        // Scan time: the simulated interval between scan starts, in ms (deterministic; equal to
-        // scan_ms while the engine keeps its period).
-        const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(ctx.dt).count();
-        const auto cur = static_cast<std::uint16_t>(std::clamp<long long>(ms, 0, 0xFFFF));
-        scan_max_ms_ = std::max(scan_max_ms_, cur);
-        scan_min_ms_ = std::min(scan_min_ms_, cur);
-        r[sp::kScanTime] = cur;
-        r[sp::kScanTime + 1] = scan_max_ms_;
-        r[sp::kScanTime + 2] = scan_min_ms_;
+        // Scan time in ms (equal to scan_ms while the engine keeps its period): R4136 current,
+        // R4137 maximum, R4138 minimum (docs/profile-fbs.md).
+        scan_times_.update(ctx);
+        r[sp::kScanTime] = scan_times_.current;
+        r[sp::kScanTime + 1] = scan_times_.max;
+        r[sp::kScanTime + 2] = scan_times_.min;
     }
 
 private:
     std::uint16_t model_code_;
-    std::uint16_t scan_min_ms_ = 0xFFFF;
-    std::uint16_t scan_max_ms_ = 0;
+    engine::ScanTimes scan_times_{std::chrono::milliseconds(1)};
 };
 
 }  // namespace

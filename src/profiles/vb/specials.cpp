@@ -1,6 +1,5 @@
 #include "profiles/vb/specials.hpp"
 
-#include <algorithm>
 #include <chrono>
 
 #include "plcemu/engine/engine.hpp"
@@ -22,8 +21,7 @@ public:
         d[sp::kErrorCode] = 0;
         d[sp::kErrorEntry] = 0;
         d[sp::kMbusTimeout] = 0;
-        scan_min_ = 0xFFFF;
-        scan_max_ = 0;
+        scan_times_.reset();
     }
 
     void scan_start(const engine::ScanContext& ctx) noexcept override {
@@ -46,29 +44,18 @@ public:
                   const engine::Calendar& c,
                   std::uint8_t& /*station*/) noexcept override {
         auto* d = ctx.image.words(Area::D);
-        d[sp::kCalendar + 0] = static_cast<std::uint16_t>(c.second);
-        d[sp::kCalendar + 1] = static_cast<std::uint16_t>(c.minute);
-        d[sp::kCalendar + 2] = static_cast<std::uint16_t>(c.hour);
-        d[sp::kCalendar + 3] = static_cast<std::uint16_t>(c.day);
-        d[sp::kCalendar + 4] = static_cast<std::uint16_t>(c.month);
-        d[sp::kCalendar + 5] = static_cast<std::uint16_t>(c.year % 100);
-        d[sp::kCalendar + 6] = static_cast<std::uint16_t>(c.weekday);
+        engine::write_calendar(d + sp::kCalendar, c);
 
-        // Scan time in 0.1 ms: the simulated interval between scan starts (deterministic;
-        // scan_ms × 10 while the engine keeps its period).
-        const auto tenths =
-            std::chrono::duration_cast<std::chrono::microseconds>(ctx.dt).count() / 100;
-        const auto cur = static_cast<std::uint16_t>(std::clamp<long long>(tenths, 0, 0xFFFF));
-        scan_min_ = std::min(scan_min_, cur);
-        scan_max_ = std::max(scan_max_, cur);
-        d[sp::kScanTime] = cur;
-        d[sp::kScanTime + 1] = scan_min_;
-        d[sp::kScanTime + 2] = scan_max_;
+        // Scan time in 0.1 ms (scan_ms × 10 while the engine keeps its period): D9010 current,
+        // D9011 minimum, D9012 maximum (docs/profile-vb.md).
+        scan_times_.update(ctx);
+        d[sp::kScanTime] = scan_times_.current;
+        d[sp::kScanTime + 1] = scan_times_.min;
+        d[sp::kScanTime + 2] = scan_times_.max;
     }
 
 private:
-    std::uint16_t scan_min_ = 0xFFFF;
-    std::uint16_t scan_max_ = 0;
+    engine::ScanTimes scan_times_{std::chrono::microseconds(100)};
 };
 
 }  // namespace
