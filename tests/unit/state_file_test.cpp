@@ -218,7 +218,7 @@ TEST_F(StateFileTest, DataChangedAfterACleanCloseIsCaughtByTheDataChecksum) {
 TEST_F(StateFileTest, AnotherLayoutDoesNotMatchAndIsMovedAside) {
     { StateFile f(path_, layout(), fixed_now()); }
     image::Layout other = layout();
-    other.size[static_cast<int>(Area::D)] = 8000;
+    other.set_size(Area::D, 8000);
     StateFile f(path_, other, fixed_now());
     EXPECT_EQ(f.origin(), StateOrigin::Created);
     const std::string& t = f.notes().front().text;

@@ -26,6 +26,8 @@ struct Layout {
 
     /// Devices in area `a`.
     std::uint32_t size_of(Area a) const { return size[static_cast<std::size_t>(a)]; }
+    /// Gives area `a` `n` devices (0: the family has no such area).
+    void set_size(Area a, std::uint32_t n) { size[static_cast<std::size_t>(a)] = n; }
     /// True when every device of the range exists.
     bool contains(const Range& r) const {
         if (r.count > size_of(r.area) || r.start > size_of(r.area) - r.count) return false;

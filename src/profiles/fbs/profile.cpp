@@ -49,20 +49,19 @@ public:
         image::Layout l;
         l.family = family();
         l.family_name = name();
-        auto set = [&](Area a, std::uint32_t n) { l.size[static_cast<std::size_t>(a)] = n; };
-        set(Area::X, 256);
-        set(Area::Y, 256);
-        set(Area::M, 2002);
-        set(Area::S, 1000);
-        set(Area::T, 256);
-        set(Area::C, 256);
+        l.set_size(Area::X, 256);
+        l.set_size(Area::Y, 256);
+        l.set_size(Area::M, 2002);
+        l.set_size(Area::S, 1000);
+        l.set_size(Area::T, 256);
+        l.set_size(Area::C, 256);
         // R0–R8071 as one array: R4168–R4999 exist on no FBs and are never mapped, but one
         // array keeps the R numbers equal to indices.
-        set(Area::R, 8072);
-        set(Area::D, 4000);
-        set(Area::TV, 256);
+        l.set_size(Area::R, 8072);
+        l.set_size(Area::D, 4000);
+        l.set_size(Area::TV, 256);
         // C0–C199 one word each, C200–C255 two words each (low word first).
-        set(Area::CV, 200 + 56 * 2);
+        l.set_size(Area::CV, 200 + 56 * 2);
         // The FBs manual's default retentive ranges (docs/profile-fbs.md).
         l.retentive = {
             {Area::M, 800, 600},

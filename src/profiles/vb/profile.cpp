@@ -52,18 +52,17 @@ public:
         image::Layout l;
         l.family = family();
         l.family_name = name();
-        auto set = [&](Area a, std::uint32_t n) { l.size[static_cast<std::size_t>(a)] = n; };
-        set(Area::X, 256);
-        set(Area::Y, 256);
+        l.set_size(Area::X, 256);
+        l.set_size(Area::Y, 256);
         // M0–M3071 and M9000–M9255 in one array so that numbers equal indices.
-        set(Area::M, 9256);
-        set(Area::S, 1000);
-        set(Area::T, 256);
-        set(Area::C, 256);
-        set(Area::D, 9256);
-        set(Area::TV, 256);
+        l.set_size(Area::M, 9256);
+        l.set_size(Area::S, 1000);
+        l.set_size(Area::T, 256);
+        l.set_size(Area::C, 256);
+        l.set_size(Area::D, 9256);
+        l.set_size(Area::TV, 256);
         // C0–C199 one word each, C200–C255 two words each (low word first).
-        set(Area::CV, 200 + 56 * 2);
+        l.set_size(Area::CV, 200 + 56 * 2);
         l.holes = {{Area::M, 3072, 9000 - 3072}, {Area::D, 8000, 9000 - 8000}};
         // FX2N's latched ranges (docs/profile-vb.md, "Device areas").
         l.retentive = {
