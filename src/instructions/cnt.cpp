@@ -105,10 +105,11 @@ std::unique_ptr<engine::Instruction> make_cnt(const config::InstructionConfig& i
     }
     if (b.wide) {
         if (const auto* cs = dynamic_cast<const CounterServices*>(&ctx.services)) {
-            const std::uint32_t first = ctx.naming.first_32bit_counter;
-            image::Device rel{cs->direction.area, cs->direction.first_relay + (c.index - first),
-                              false};
-            if (ctx.layout.contains({rel.area, rel.index, 1})) b.direction = rel;
+            const std::uint32_t nth = c.index - ctx.naming.first_32bit_counter;
+            const image::Device rel{cs->direction.area, cs->direction.first_relay + nth, false};
+            if (nth < cs->direction.counters && ctx.layout.contains({rel.area, rel.index, 1})) {
+                b.direction = rel;
+            }
         }
     }
     ops.finish();

@@ -16,10 +16,12 @@ std::unique_ptr<engine::Instruction> make_cnt(const config::InstructionConfig& i
                                               const BindContext& ctx);
 
 /// Where a family keeps the count direction of its 32-bit counters: relay `first_relay` + (n −
-/// first counter) is the direction of counter n (ON = down).
+/// first counter) is the direction of counter n (ON = down) for the first `counters` 32-bit
+/// counters; the others always count up.
 struct CounterDirection {
     image::Area area = image::Area::M;  ///< the relays' area
     std::uint32_t first_relay = 0;      ///< relay of the first 32-bit counter
+    std::uint32_t counters = 0;         ///< how many 32-bit counters have a direction relay
 };
 
 /// The services CNT needs, offered by the families that have it.

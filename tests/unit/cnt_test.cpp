@@ -69,6 +69,17 @@ TEST(Cnt, ThirtyTwoBitCounterCountsDownWhileItsDirectionRelayIsOn) {
     EXPECT_FALSE(rig.contact(200));
 }
 
+TEST(Cnt, CountersBeyondC234HaveNoDirectionRelay) {
+    // M9200–M9234 steer C200–C234 only (docs/profile-vb.md): M9235 is plain storage, so C235
+    // (CV words 270 and 271) counts up.
+    Rig rig("  - CNT: {en: M0, c: C235, k: 2}\n");
+    rig.plc.image().set_bit(Area::M, 9235, true);
+    rig.pulse(0, 2);
+    EXPECT_EQ(rig.cv(270), 2);
+    EXPECT_EQ(rig.cv(271), 0);
+    EXPECT_TRUE(rig.contact(235));
+}
+
 TEST(Cnt, OperandErrorsNameTheirPosition) {
     auto error = [](const std::string& program) {
         return testing::config_failure([&] { Rig rig(program); }).what;

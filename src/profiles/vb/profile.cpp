@@ -92,8 +92,9 @@ public:
     std::unique_ptr<instructions::Services> services(
         const config::Config& /*config*/) const override {
         auto s = std::make_unique<instructions::CounterServices>();
-        // M9200–M9234: count direction of C200–C234 (FX M8200–M8234).
-        s->direction = {Area::M, special::kCountDown};
+        // M9200–M9234: count direction of C200–C234 (FX M8200–M8234); C235–C255 have none here
+        // (docs/profile-vb.md).
+        s->direction = {Area::M, special::kCountDown, special::kCountDownRelays};
         return s;
     }
 

@@ -23,6 +23,7 @@ inline constexpr std::uint32_t kClock1s = 9013;         ///< M9013 1 s clock
 inline constexpr std::uint32_t kClock1min = 9014;       ///< M9014 1 min clock
 inline constexpr std::uint32_t kOperationError = 9067;  ///< M9067 operation error
 inline constexpr std::uint32_t kCountDown = 9200;       ///< M9200–M9234 direction of C200–C234
+inline constexpr std::uint32_t kCountDownRelays = 35;   ///< M9200–M9234: 35 relays
 
 /// Special registers.
 inline constexpr std::uint32_t kScanTime = 9010;  ///< D9010 current, D9011 min, D9012 max
