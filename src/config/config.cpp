@@ -48,20 +48,10 @@ public:
     explicit Reader(std::string file)
         : file_(std::move(file)) {}
 
-    // " (X and Y are numbered in octal …)" when the text names an octal area with a digit 8 or 9.
+    // " (X and Y are numbered in octal …)" after an error about `text`, or "".
     std::string octal_hint(const std::string& text) const {
-        std::string u;
-        for (char c : text) u += static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
-        std::string areas;
-        bool hit = false;
-        for (const auto& p : naming_->prefixes) {
-            if (naming_->radix[static_cast<std::size_t>(p.area)] != 8) continue;
-            areas += (areas.empty() ? "" : " and ") + std::string(p.text);
-            const std::string prefix(p.text);
-            hit = hit || (u.rfind(prefix, 0) == 0 &&
-                          u.find_first_of("89", prefix.size()) != std::string::npos);
-        }
-        return hit ? " (" + areas + " are numbered in octal: 7 is followed by 10)" : "";
+        const std::string why = naming_->why_not(text);
+        return why.empty() ? "" : " (" + why + ")";
     }
 
     /// From the `profile:` key on, devices and constants are spelt the profile's way.

@@ -104,6 +104,18 @@ std::string Naming::format_range(const Range& r) const {
     return s;
 }
 
+std::string Naming::why_not(std::string_view text) const {
+    std::string areas;
+    bool hit = false;
+    for (const auto& p : prefixes) {
+        if (radix[static_cast<std::size_t>(p.area)] != 8) continue;
+        areas += (areas.empty() ? "" : " and ") + std::string(p.text);
+        hit = hit || (starts_with_nocase(text, p.text) &&
+                      text.find_first_of("89", p.text.size()) != std::string_view::npos);
+    }
+    return hit ? areas + " are numbered in octal: 7 is followed by 10" : "";
+}
+
 bool Naming::parse_integer(std::string_view s, long long& out) const {
     if (s.empty()) return false;
     bool neg = false;

@@ -27,8 +27,11 @@ bool Operands::has(const char* key) const { return find(key) != nullptr; }
 
 void Operands::fail(const char* key, const std::string& message) const {
     const config::Operand* op = find(key);
-    throw config::ConfigError(op ? op->pos : ic_.pos,
-                              config::excerpt(ic_.mnemonic) + "." + key + ": " + message);
+    std::string text = config::excerpt(ic_.mnemonic) + "." + key + ": " + message;
+    // X8 on a VB: say that X and Y count in octal, as the config loader does.
+    const std::string why = op ? naming_.why_not(op->text) : "";
+    if (!why.empty()) text += " (" + why + ")";
+    throw config::ConfigError(op ? op->pos : ic_.pos, text);
 }
 
 const config::Operand& Operands::require(const char* key) {

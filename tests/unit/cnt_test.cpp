@@ -87,7 +87,10 @@ TEST(Cnt, OperandErrorsNameTheirPosition) {
     EXPECT_NE(error("  - CNT: {en: M0, c: D5, k: 3}\n").find("c.yaml:3:22: CNT.c"),
               std::string::npos);
     EXPECT_NE(error("  - CNT: {en: M0, c: C5, k: 40000}\n").find("CNT.k"), std::string::npos);
-    EXPECT_NE(error("  - CNT: {en: X8, c: C5, k: 3}\n").find("CNT.en"), std::string::npos);
+    EXPECT_NE(error("  - CNT: {en: X8, c: C5, k: 3}\n")
+                  .find("c.yaml:3:15: CNT.en: expected a bit device (X, Y, M, S, T, C) or 0/1, got "
+                        "'X8' (X and Y are numbered in octal: 7 is followed by 10)"),
+              std::string::npos);
 }
 
 }  // namespace

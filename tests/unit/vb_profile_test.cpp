@@ -79,6 +79,18 @@ TEST(VbNaming, XAndYAreOctal) {
     EXPECT_EQ(naming().format_device(Area::D, 9010), "D9010");
 }
 
+// A refused X8 or Y19 says why: the config loader and the program's operands add it.
+TEST(VbNaming, WhyNotNamesTheOctalAreas) {
+    const std::string octal = "X and Y are numbered in octal: 7 is followed by 10";
+    EXPECT_EQ(naming().why_not("X8"), octal);
+    EXPECT_EQ(naming().why_not("y19"), octal);
+    EXPECT_EQ(naming().why_not("Y10-Y18"), octal);
+    for (const char* other : {"X17", "M8", "D9", "Z9", ""}) {
+        EXPECT_EQ(naming().why_not(other), "") << other;
+    }
+    EXPECT_EQ(test::profile("fbs").naming().why_not("X8"), "");  // decimal there
+}
+
 TEST(VbNaming, TimerAndCounterSpelling) {
     EXPECT_EQ(naming().parse_device("TN5"), (Device{Area::TV, 5, false}));
     EXPECT_EQ(naming().parse_device("CN199"), (Device{Area::CV, 199, false}));
@@ -484,6 +496,15 @@ TEST(VbConfig, ErrorsNameLineAndColumn) {
                                          config::parse_config("profile: vb\n" + c.text, "v.yaml");
                                      }),
                                      "v.yaml", c.line, c.col, c.needle);
+    }
+    // A program's operand in octal X/Y with an 8 or 9 is refused at its position, saying why.
+    for (const char* text : {"program:\n  - MOV: {en: X8, s: K1, d: D0}\n",
+                             "program:\n  - CNT: {en: Y19, c: C0, k: K1}\n"}) {
+        SCOPED_TRACE(text);
+        testing::expect_config_error(testing::config_failure([&] { Rig rig(text); }), "vb.yaml", 3,
+                                     15, ".en: expected a bit device");
+        testing::expect_config_error(testing::config_failure([&] { Rig rig(text); }), "vb.yaml", 3,
+                                     15, "(X and Y are numbered in octal: 7 is followed by 10)");
     }
     // Devices that do not exist are refused when the PLC is built.
     for (const char* text : {"init: {D8000: 1}\n", "init: {M5000: 1}\n"}) {

@@ -52,6 +52,10 @@ struct Naming {
     std::string format_device(Area a, std::uint32_t index) const;
     /// The name of an area ("" when the family has none).
     std::string_view area_name(Area a) const { return names[static_cast<std::size_t>(a)]; }
+    /// Why `text`, refused as a device, may have been meant as one: "X and Y are numbered in
+    /// octal: 7 is followed by 10" when it names an octal area with a digit 8 or 9 (X8 on a VB),
+    /// else "". Errors about a device add it.
+    std::string why_not(std::string_view text) const;
 
     /// The one integer grammar of configs, presets and operands: decimal with an optional sign,
     /// 0x1F, the manual's 1Fh / 0A556h, K31 and, for families that write them, H1F. Values
