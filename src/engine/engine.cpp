@@ -32,8 +32,12 @@ void Engine::power_up() {
     r[sp::kCpuStatus] = 0;
     r[sp::kStation] = station_;
     r[sp::kModelCode] = options_.model_code;
+    // Simulated time and the scan-time registers count from this power-up.
     scans_ = 0;
     started_ = false;
+    last_ = Duration{0};
+    scan_min_ms_ = 0xFFFF;
+    scan_max_ms_ = 0;
 }
 
 void Engine::special_relays(const ScanContext& ctx) noexcept {
