@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -54,7 +55,9 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
     try {
-        const config::Config c = config::parse_config(text, std::string(kName));
+        // Shared, not copied: the PLC keeps the config as a reload would.
+        const auto c =
+            std::make_shared<const config::Config>(config::parse_config(text, std::string(kName)));
         daemon::Plc plc(c);
         plc.engine().run_scans(2);
     } catch (const config::ConfigError& e) {
