@@ -47,8 +47,10 @@ void Engine::add_subsystem(std::unique_ptr<Subsystem> s) { subsystems_.push_back
 
 void Engine::power_up() {
     specials_->power_up(image_, station_);
+    // Simulated time counts from this power-up.
     scans_ = 0;
     started_ = false;
+    last_ = Duration{0};
 }
 
 void Engine::step(Duration now, const Calendar& calendar) noexcept {

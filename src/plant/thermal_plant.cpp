@@ -55,9 +55,9 @@ double unit_interval(std::uint64_t x) {
 
 void History::add(std::int64_t t0, std::int64_t t1, double value) noexcept {
     if (t1 <= t0) return;
-    if (pts_.empty() || pts_.back().t != t0) {
+    if (size() == 0 || pts_.back().t != t0) {
         // First record, or a gap (the signal was 0 in it).
-        pts_.push_back({t0, pts_.empty() ? 0.0 : pts_.back().c});
+        pts_.push_back({t0, size() == 0 ? 0.0 : pts_.back().c});
         extend_ = false;
     }
     const double inc = value * static_cast<double>(t1 - t0);
@@ -72,23 +72,25 @@ void History::add(std::int64_t t0, std::int64_t t1, double value) noexcept {
     // A signal that changes every scan over a very long dead time: keep every other point (the
     // integral stays exact at the points kept; the memory stays bounded).
     constexpr std::size_t kMaxPoints = 1u << 18;
-    if (pts_.size() > kMaxPoints) {
-        std::deque<Point> kept;
-        for (std::size_t i = 0; i < pts_.size(); i += 2) kept.push_back(pts_[i]);
-        if (kept.back().t != pts_.back().t) kept.push_back(pts_.back());
-        pts_ = std::move(kept);
+    if (size() > kMaxPoints) {
+        const Point last = pts_.back();
+        std::size_t n = 0;
+        for (std::size_t i = head_; i < pts_.size(); i += 2) pts_[n++] = pts_[i];
+        if (pts_[n - 1].t != last.t) pts_[n++] = last;
+        pts_.resize(n);
+        head_ = 0;
         extend_ = false;
     }
 }
 
 double History::at(std::int64_t t) const noexcept {
-    const Point& first = pts_.front();
+    const Point& first = front();
     if (t <= first.t) return first.c - before_ * static_cast<double>(first.t - t);
     if (t >= pts_.back().t) return pts_.back().c;  // nothing recorded yet past the end
     // The first point after t. Queries come just after the forgotten part (the dead-time line
     // is asked about t − θ right after forget_before(t − θ)), so a scan from the front beats a
-    // binary search over the deque.
-    auto it = pts_.begin() + 1;
+    // binary search.
+    auto it = pts_.begin() + static_cast<std::ptrdiff_t>(head_) + 1;
     while (it->t <= t) ++it;
     const Point& b = *it;
     const Point& a = *(it - 1);
@@ -97,14 +99,22 @@ double History::at(std::int64_t t) const noexcept {
 
 double History::mean(std::int64_t t0, std::int64_t t1) const noexcept {
     if (t1 <= t0) return 0.0;
-    if (pts_.empty()) return before_;
+    if (size() == 0) return before_;
     return (at(t1) - at(t0)) / static_cast<double>(t1 - t0);
 }
 
 void History::forget_before(std::int64_t t) noexcept {
-    while (pts_.size() >= 2 && pts_[1].t <= t) {
-        before_ = (pts_[1].c - pts_[0].c) / static_cast<double>(pts_[1].t - pts_[0].t);
-        pts_.pop_front();
+    while (size() >= 2 && pts_[head_ + 1].t <= t) {
+        const Point& a = pts_[head_];
+        const Point& b = pts_[head_ + 1];
+        before_ = (b.c - a.c) / static_cast<double>(b.t - a.t);
+        ++head_;
+    }
+    // Drop the forgotten prefix once it is half the vector: each point is moved at most once
+    // per point forgotten, and the capacity is kept for the points to come.
+    if (head_ > 0 && 2 * head_ >= pts_.size()) {
+        pts_.erase(pts_.begin(), pts_.begin() + static_cast<std::ptrdiff_t>(head_));
+        head_ = 0;
     }
 }
 

@@ -1,6 +1,6 @@
 // libFuzzer harness: the config loader. Input: YAML text → config::parse_config → daemon::Plc
 // (binding the program) → two scans. The only exception allowed out of the loader and the
-// build is config::ConfigError, and its message starts with "<name>:<line>:<col>: " (SPEC §8);
+// build is config::ConfigError, and its message starts with "<name>:<line>:<col>: " (docs/configuration.md, "Configuration");
 // anything else, or a crash, is a bug.
 
 #include <spdlog/spdlog.h>
@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -54,7 +55,9 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
     try {
-        const config::Config c = config::parse_config(text, std::string(kName));
+        // Shared, not copied: the PLC keeps the config as a reload would.
+        const auto c =
+            std::make_shared<const config::Config>(config::parse_config(text, std::string(kName)));
         daemon::Plc plc(c);
         plc.engine().run_scans(2);
     } catch (const config::ConfigError& e) {

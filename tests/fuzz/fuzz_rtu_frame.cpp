@@ -27,10 +27,10 @@ namespace {
 
 void check_reply(fuzz::Rig& rig,
                  std::span<const std::uint8_t> req,
-                 const std::vector<std::uint8_t>& rep) {
+                 std::span<const std::uint8_t> rep) {
     const std::uint8_t unit = req[0];
     if (rep.empty()) {
-        fuzz::check(unit != rig.plc->engine().station() && !rig.is_sim(unit),
+        fuzz::check(unit != rig.plc().engine().station() && !rig.is_sim(unit),
                     "no reply to a request for the station or the simulator");
         return;
     }
@@ -41,43 +41,63 @@ void check_reply(fuzz::Rig& rig,
     fuzz::check(rep[rep.size() - 2] == (crc & 0xFF) && rep[rep.size() - 1] == (crc >> 8),
                 "reply CRC is wrong");
     fuzz::check(rep[0] == unit, "reply address differs");
-    fuzz::check_reply_pdu(req.subspan(1, req.size() - 3),
-                          std::span(rep).subspan(1, rep.size() - 3));
+    fuzz::check_reply_pdu(req.subspan(1, req.size() - 3), rep.subspan(1, rep.size() - 3));
 }
 
-// Serves one frame that passed the CRC check and checks what came of it.
-void serve(fuzz::Rig& rig, fuzz::Peer& peer, std::span<const std::uint8_t> frame) {
-    fuzz::exchange() = {{frame.begin(), frame.end()}, {}};
-    fuzz::check(frame.size() >= 4 && frame.size() <= modbus::RtuFramer::kMaxFrame,
-                "frame size out of range");
-    fuzz::Snapshot before;
-    before.take(rig.plc->image());
-    const auto rep = peer.take(rig.plc->dispatcher().serve_rtu(frame, peer.buffer()));
-    fuzz::exchange().reply = rep;
-    check_reply(rig, frame, rep);
-    // A broadcast write is applied without an answer; judge it as answered.
-    const bool answered = frame[0] == 0 || (rep.size() > 1 && (rep[1] & 0x80) == 0);
-    fuzz::check_image(rig.plc->image(), before, frame[1], answered, rig.is_sim(frame[0]));
-}
+// Serves frames that passed the CRC check and checks what came of each.
+class Server {
+public:
+    explicit Server(fuzz::Rig& rig)
+        : rig_(rig) {}
 
-}  // namespace
+    void serve(std::span<const std::uint8_t> frame) {
+        static fuzz::Peer peer;
+        fuzz::exchange() = {frame, {}};
+        fuzz::check(frame.size() >= 4 && frame.size() <= modbus::RtuFramer::kMaxFrame,
+                    "frame size out of range");
+        daemon::Plc& plc = rig_.plc();
+        if (!have_before_) before().take(plc.image());
+        const auto rep = peer.take(plc.dispatcher().serve_rtu(frame, peer.buffer()));
+        fuzz::exchange().reply = rep;
+        fuzz::record(rep);
+        check_reply(rig_, frame, rep);
+        // A broadcast write is applied without an answer; judge it as answered.
+        const bool answered = frame[0] == 0 || (rep.size() > 1 && (rep[1] & 0x80) == 0);
+        have_before_ =
+            fuzz::check_image(plc.image(), before(), frame[1], answered, rig_.is_sim(frame[0]));
+    }
 
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    if (size < 1) return 0;
+    /// Runs a scan.
+    void scan() {
+        rig_.plc().engine().run_scans(1);
+        have_before_ = false;
+    }
+
+private:
+    static fuzz::Snapshot& before() {
+        static fuzz::Snapshot s;
+        return s;
+    }
+
+    fuzz::Rig& rig_;
+    bool have_before_ = false;  // before() holds the image as it is now
+};
+
+// One input on `rig` (just reset).
+void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
     const std::uint8_t control = data[0];
     const bool raw = (control & 0x80) != 0;
     const unsigned scan_every = control & 0x07;
     std::span<const std::uint8_t> in(data + 1, size - 1);
 
-    static fuzz::Peer peer;
-    fuzz::Rig rig = fuzz::make_rig();
+    Server server(rig);
     unsigned frames = 0;
     auto after_frame = [&] {
-        if (scan_every != 0 && ++frames % scan_every == 0) rig.plc->engine().run_scans(1);
+        if (scan_every != 0 && ++frames % scan_every == 0) server.scan();
     };
 
     if (!raw) {
-        std::vector<std::uint8_t> frame;
+        static std::vector<std::uint8_t> frame;  // kept: its capacity serves every input
         while (in.size() >= 2) {
             const std::size_t n = std::min<std::size_t>(in[0], in.size() - 1);
             frame.assign(in.begin() + 1, in.begin() + 1 + static_cast<std::ptrdiff_t>(n));
@@ -87,10 +107,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             frame.push_back(static_cast<std::uint8_t>(crc >> 8));
             // The framer drops these (too short, too long).
             if (frame.size() < 4 || frame.size() > modbus::RtuFramer::kMaxFrame) continue;
-            serve(rig, peer, frame);
+            server.serve(frame);
             after_frame();
         }
-        return 0;
+        return;
     }
 
     const auto timing = modbus::RtuTiming::for_line(9600, 'E', 8, 1);
@@ -104,7 +124,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const std::uint16_t crc = modbus::crc16(b.data(), b.size() - 2);
         fuzz::check(b[b.size() - 2] == (crc & 0xFF) && b[b.size() - 1] == crc >> 8,
                     "the framer passed a frame with a bad CRC");
-        serve(rig, peer, b);
+        server.serve(b);
         after_frame();
     };
     while (in.size() >= 3) {
@@ -116,5 +136,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         handle(framer.receive(chunk, now));
     }
     handle(framer.expire(now + timing.t35));
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    if (size < 1) return 0;
+    fuzz::run_input(data, size, run);
     return 0;
 }

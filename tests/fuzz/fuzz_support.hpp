@@ -1,5 +1,6 @@
 #pragma once
-// Shared by the request harnesses: the PLC under test, the reply buffer a transport would own,
+// Shared by the request harnesses: the PLC under test (one for every input, reset between
+// inputs, and every so often checked against a new one), the reply buffer a transport would own,
 // image snapshots and the invariants every reply must keep.
 
 #include <spdlog/spdlog.h>
@@ -10,12 +11,16 @@
 #include <array>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "plcemu/config/config.hpp"
 #include "support/fake_time.hpp"
 #include "plcemu/daemon/plc.hpp"
+#include "profiles/fbs/special_registers.hpp"
+#include "support/profiles.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "simulator/simulator_unit.hpp"
@@ -47,16 +52,48 @@ program:
 /// inputs fast).
 inline constexpr std::uint64_t kMaxStep = 8;
 
-/// The request being served and its reply, printed when an invariant breaks.
+/// The request being served and its reply, printed when an invariant breaks (views of the
+/// input and of the reply buffer, valid while the input runs).
 struct Exchange {
-    std::vector<std::uint8_t> request;  ///< as handed to the dispatcher
-    std::vector<std::uint8_t> reply;    ///< as read back
+    std::span<const std::uint8_t> request;  ///< as handed to the dispatcher
+    std::span<const std::uint8_t> reply;    ///< as read back
 };
 
 /// The current exchange.
 inline Exchange& exchange() {
     static Exchange e;
     return e;
+}
+
+/// A word of a byte buffer, read and written in place.
+typedef std::uint64_t __attribute__((may_alias, aligned(1))) BufferWord;
+
+/// Copies `n` bytes between two image-sized buffers of the harness (the image's storage and its
+/// copies), several times per input. The loop is the copy, unchecked: memcpy's ASan interceptor
+/// would check both ranges' shadow first, a cost as large as the copy, and UBSan's checks of each
+/// step would keep the loop from being vectorized; neither has anything to find in buffers that
+/// are whole by construction.
+__attribute__((no_sanitize("address", "undefined"), no_builtin("memcpy", "memmove"))) inline void
+copy_bytes(std::byte* dst, const std::byte* src, std::size_t n) {
+    const std::size_t words = n / sizeof(BufferWord);
+    auto* d = reinterpret_cast<BufferWord*>(dst);
+    const auto* s = reinterpret_cast<const BufferWord*>(src);
+    for (std::size_t i = 0; i < words; ++i) d[i] = s[i];
+    for (std::size_t i = words * sizeof(BufferWord); i < n; ++i) dst[i] = src[i];
+}
+
+/// True when `n` bytes of two such buffers are equal (see copy_bytes).
+__attribute__((no_sanitize("address", "undefined"), no_builtin("memcmp", "bcmp"))) inline bool
+same_bytes(const std::byte* a, const std::byte* b, std::size_t n) {
+    const std::size_t words = n / sizeof(BufferWord);
+    const auto* x = reinterpret_cast<const BufferWord*>(a);
+    const auto* y = reinterpret_cast<const BufferWord*>(b);
+    std::uint64_t diff = 0;
+    for (std::size_t i = 0; i < words; ++i) diff |= x[i] ^ y[i];
+    for (std::size_t i = words * sizeof(BufferWord); i < n; ++i) {
+        diff |= static_cast<std::uint64_t>(a[i] ^ b[i]);
+    }
+    return diff == 0;
 }
 
 /// Reports a broken invariant the way libFuzzer records a crash.
@@ -85,27 +122,273 @@ inline const config::Config& harness_config() {
 
 using testing::FakeTime;
 
-/// The PLC with its simulator-control unit, wired as the daemon wires them.
-struct Rig {
-    std::unique_ptr<daemon::Plc> plc;               ///< the PLC
-    std::unique_ptr<FakeTime> time;                 ///< time control for the simulator unit
-    std::unique_ptr<simulator::SimulatorUnit> sim;  ///< the simulator-control unit
-    std::uint8_t sim_unit = 0;                      ///< its unit ID
+/// The PLC with its simulator-control unit, wired as the daemon wires them. Building one costs
+/// far more than an input (the program binds its operands, the plant and the measurement are set
+/// up), so one rig serves every input and reset() puts it back to the state it was built in.
+class Rig {
+public:
+    Rig() { build(); }
+    Rig(const Rig&) = delete;
+    Rig& operator=(const Rig&) = delete;
+
+    /// The PLC.
+    daemon::Plc& plc() { return *plc_; }
 
     /// True when a request for `unit` goes to the simulator unit.
-    bool is_sim(std::uint8_t unit) { return unit == sim_unit && unit != plc->engine().station(); }
+    bool is_sim(std::uint8_t unit) { return unit == sim_unit_ && unit != plc_->engine().station(); }
+
+    /// Back to the state of a new rig: the station as built, a power-up (the next scan is a
+    /// first scan, which starts TPCTL and the temperature measurement afresh), the image and the
+    /// plant as built, the time control as new. The simulator unit keeps nothing of its own (it
+    /// reads the plant and the time control afresh for every request).
+    void reset() {
+        if (plc_->engine().station() != station_) restore_station();
+        // The plant changes in scans (the simulator unit's steps run scans too) and in writes to
+        // the simulator unit, nowhere else: without either, it is still as built.
+        const bool plant_touched = plant_touched_ || plc_->engine().scans() > 0;
+        plc_->engine().power_up();
+        const auto s = plc_->image().storage();
+        copy_bytes(s.data(), image_.data(), s.size());  // also undoes power_up()'s writes
+        if (plant_touched) plc_->plant() = *plant_;
+        plant_touched_ = false;
+        plc_->dispatcher().set_unknown_unit_policy(policy_);
+        reset_time();
+    }
+
+    /// Notes that something outside reset()'s view used the plant (a sensor sample).
+    void touch_plant() { plant_touched_ = true; }
+
+private:
+    // A master set the station (R4055 = 55xxh, docs/profile-fbs.md), which power_up() keeps. A
+    // first scan over the image as built with R4055 = 5500h + the station as built sets it back;
+    // what else that scan does, reset() undoes as it undoes an input's scans. A rig that still
+    // differs is built anew.
+    void restore_station() {
+        plc_->engine().power_up();
+        image::Image& img = plc_->image();
+        copy_bytes(img.storage().data(), image_.data(), image_.size());
+        img.set_word(image::Area::R, profiles::fbs::special::kStation,
+                     static_cast<std::uint16_t>(0x5500 | station_));
+        plc_->engine().run_scans(1);
+        if (plc_->engine().station() != station_) build();
+    }
+
+    void build() {
+        // Shared, not copied: the config is the same for every rig.
+        static const auto config = std::make_shared<const config::Config>(harness_config());
+        tap_.reset();
+        sim_.reset();
+        time_.reset();
+        plant_touched_ = false;
+        plc_ = std::make_unique<daemon::Plc>(config);
+        const auto s = plc_->image().storage();
+        image_.assign(s.begin(), s.end());
+        plant_.emplace(plc_->plant());
+        station_ = plc_->engine().station();
+        sim_unit_ = static_cast<std::uint8_t>(config->simulator.unit);
+        policy_ = config->modbus.tcp.unknown_unit == config::UnknownUnit::Silent
+                      ? modbus::UnknownUnitPolicy::Silent
+                      : modbus::UnknownUnitPolicy::Exception;
+        attach_simulator();
+    }
+
+    void attach_simulator() {
+        tap_.reset();
+        sim_.reset();
+        time_.emplace(plc_->engine());
+        reset_time();
+        sim_.emplace(plc_->plant(), *time_);
+        tap_.emplace(*sim_, plant_touched_);
+        plc_->dispatcher().set_simulator(&*tap_, sim_unit_);
+    }
+
+    // The simulator unit as the dispatcher sees it, noting every write that lands (a write is
+    // what changes the plant's parameters or faults).
+    class Tap final : public modbus::Unit {
+    public:
+        Tap(simulator::SimulatorUnit& unit, bool& written)
+            : unit_(unit),
+              written_(written) {}
+        modbus::Window resolve(modbus::Table table,
+                               std::uint16_t addr,
+                               std::uint16_t qty,
+                               bool write) noexcept override {
+            return unit_.resolve(table, addr, qty, write);
+        }
+        void written(modbus::Table table, std::uint16_t addr, std::uint16_t qty) noexcept override {
+            written_ = true;
+            unit_.written(table, addr, qty);
+        }
+
+    private:
+        simulator::SimulatorUnit& unit_;
+        bool& written_;
+    };
+
+    // Every field of the fake as a new one has it (the recorded calls kept only their capacity).
+    void reset_time() {
+        FakeTime& t = *time_;
+        t.set_frozen(false);
+        t.scale = 1.0;
+        t.frozen_log.clear();
+        t.queued = 0;
+        t.cancels = 0;
+        t.steps.clear();
+        t.frozen_when_stepped.clear();
+        t.fixed_time.reset();
+        t.max_step = kMaxStep;  // keep one input's work bounded
+    }
+
+    std::unique_ptr<daemon::Plc> plc_;
+    std::optional<FakeTime> time_;
+    std::optional<simulator::SimulatorUnit> sim_;
+    std::optional<Tap> tap_;
+    bool plant_touched_ = false;    // a write reached the simulator unit since the last reset
+    std::vector<std::byte> image_;  // the image as built
+    std::optional<plant::ThermalPlant> plant_;  // the plant as built
+    std::uint8_t station_ = 0;                  // the station as built
+    std::uint8_t sim_unit_ = 0;                 // the simulator unit's ID
+    modbus::UnknownUnitPolicy policy_{};        // the unknown-unit policy as built
 };
 
-/// A fresh rig per input, so that every input replays on its own.
-inline Rig make_rig() {
-    Rig r;
-    r.plc = std::make_unique<daemon::Plc>(harness_config());
-    r.time = std::make_unique<FakeTime>(r.plc->engine());
-    r.time->max_step = kMaxStep;  // keep one input's work bounded
-    r.sim = std::make_unique<simulator::SimulatorUnit>(r.plc->plant(), *r.time);
-    r.sim_unit = static_cast<std::uint8_t>(harness_config().simulator.unit);
-    r.plc->dispatcher().set_simulator(r.sim.get(), r.sim_unit);
-    return r;
+/// What an input made the PLC do, for comparing two runs of it: every reply, then the image,
+/// the engine and the plant as the input left them.
+class Trace {
+public:
+    /// Starts recording (a trace records nothing until then).
+    void start() {
+        on_ = true;
+        bytes_.clear();
+    }
+    /// Records a reply.
+    void reply(std::span<const std::uint8_t> rep) {
+        if (!on_) return;
+        put(rep.size());
+        bytes_.insert(bytes_.end(), rep.begin(), rep.end());
+    }
+    /// Records the state the input left, and stops recording.
+    void finish(Rig& rig) {
+        if (!on_) return;
+        auto& plc = rig.plc();
+        const auto s = plc.image().storage();
+        const auto* b = reinterpret_cast<const std::uint8_t*>(s.data());
+        image_at_ = bytes_.size();
+        bytes_.insert(bytes_.end(), b, b + s.size());
+        state_at_ = bytes_.size();
+        put(plc.engine().scans());
+        put(static_cast<std::uint64_t>(plc.engine().now().count()));
+        put(plc.engine().station());
+        auto& p = plc.plant();
+        for (int c = 0; c < plant::kChannels; ++c) {
+            putd(p.true_temperature(c));
+            putd(p.heater_power(c));
+            putd(p.drive_now(c));
+            putd(p.params(c).ambient_c);
+            putd(p.params(c).k_c);
+            putd(p.params(c).tau_s);
+            putd(p.params(c).dead_time_s);
+            putd(p.params(c).noise_c);
+            const Faults f = p.faults(c);
+            put(std::uint64_t{f.sensor_broken} | std::uint64_t{f.heater_open} << 1 |
+                std::uint64_t{f.heater_shorted} << 2 | std::uint64_t{f.reading_frozen} << 3);
+            const plant::SensorSample x = p.sense(c);  // the sensor as the next scan sees it
+            put(x.broken);
+            putd(x.celsius);
+        }
+        on_ = false;
+    }
+    /// The bytes recorded.
+    const std::vector<std::uint8_t>& bytes() const { return bytes_; }
+    /// Where byte `i` of the record is, in words.
+    std::string where(std::size_t i) const {
+        char w[96];
+        if (i < image_at_) {
+            std::snprintf(w, sizeof w, "in the replies (byte %zu)", i);
+        } else if (i < state_at_) {
+            std::snprintf(w, sizeof w, "in the image (storage byte %zu)", i - image_at_);
+        } else {
+            std::snprintf(w, sizeof w, "in the engine or the plant (byte %zu)", i - state_at_);
+        }
+        return w;
+    }
+
+private:
+    using Faults = plant::Faults;
+    void put(std::uint64_t v) {
+        for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+    }
+    void putd(double d) {
+        std::uint64_t v;
+        std::memcpy(&v, &d, sizeof v);
+        put(v);
+    }
+
+    bool on_ = false;
+    std::vector<std::uint8_t> bytes_;
+    std::size_t image_at_ = 0;  // where the image starts in bytes_
+    std::size_t state_at_ = 0;  // where the engine and the plant start
+};
+
+/// The trace of the run in progress.
+inline Trace*& trace() {
+    static Trace* t = nullptr;
+    return t;
+}
+
+/// Records a reply in the trace of the run in progress.
+inline void record(std::span<const std::uint8_t> rep) {
+    if (trace() != nullptr) trace()->reply(rep);
+}
+
+/// How often an input is run a second time on a new rig to check that reset() left nothing of
+/// the inputs before it (PLCEMU_FUZZ_CHECK_RESET=1: every input).
+inline constexpr std::uint64_t kCheckEvery = 256;
+
+/// Runs `body(rig, data, size)` for one input on the shared rig, reset first. Every
+/// kCheckEvery-th input also runs on a new rig, and the two runs must do the same: replies,
+/// image, engine and plant.
+template <class Body>
+void run_input(const std::uint8_t* data, std::size_t size, Body body) {
+    static Rig rig;
+    static std::uint64_t n = 0;
+    static const bool every = std::getenv("PLCEMU_FUZZ_CHECK_RESET") != nullptr;
+    static std::vector<std::uint8_t> previous;  // the input before, named when a check fails
+    const bool check = every || ++n % kCheckEvery == 0;
+    rig.reset();
+    exchange() = {};
+    if (!check) {
+        body(rig, data, size);
+    } else {
+        static Trace reused, fresh;
+        reused.start();
+        trace() = &reused;
+        body(rig, data, size);
+        reused.finish(rig);
+        rig.touch_plant();  // finish() took sensor samples
+        Rig other;
+        fresh.start();
+        trace() = &fresh;
+        body(other, data, size);
+        fresh.finish(other);
+        trace() = nullptr;
+        if (reused.bytes() != fresh.bytes()) {
+            const auto& x = reused.bytes();
+            const auto& y = fresh.bytes();
+            std::size_t i = 0;
+            while (i < x.size() && i < y.size() && x[i] == y[i]) ++i;
+            std::fprintf(stderr,
+                         "reset drift: this input did on the reused rig what it does not do on a "
+                         "new one (first difference %s): an input before it left state that "
+                         "Rig::reset() missed. Replay the one before, then this one. Input "
+                         "before:",
+                         reused.where(i).c_str());
+            for (std::uint8_t b : previous) std::fprintf(stderr, " %02x", b);
+            std::fprintf(stderr, "\n");
+            std::abort();
+        }
+        // This input ran last on `other`: `rig` is reset before the next one anyway.
+    }
+    previous.assign(data, data + size);
 }
 
 /// The reply buffer the dispatcher writes into, as a transport owns one.
@@ -115,8 +398,9 @@ public:
     modbus::ReplyBuffer buffer() { return out_; }
 
     /// The first `n` bytes of the buffer: the reply just built.
-    std::vector<std::uint8_t> take(std::size_t n) const {
-        return {out_.begin(), out_.begin() + static_cast<std::ptrdiff_t>(n)};
+    std::span<const std::uint8_t> take(std::size_t n) const {
+        check(n <= out_.size(), "reply length beyond the reply buffer");
+        return std::span(out_).first(n);
     }
 
 private:
@@ -149,13 +433,14 @@ public:
     /// Copies the image now.
     void take(image::Image& img) {
         const auto s = img.storage();
-        bytes_.assign(s.begin(), s.end());
+        bytes_.resize(s.size());
+        copy_bytes(bytes_.data(), s.data(), s.size());
     }
 
     /// True when nothing in the image changed.
     bool same(image::Image& img) const {
         const auto s = img.storage();
-        return s.size() == bytes_.size() && std::memcmp(s.data(), bytes_.data(), s.size()) == 0;
+        return s.size() == bytes_.size() && same_bytes(s.data(), bytes_.data(), s.size());
     }
 
     /// True when none of the devices of `r` changed.
@@ -170,7 +455,7 @@ private:
     std::vector<std::byte> bytes_;
 };
 
-/// The ranges no Modbus write may change: SPEC §2's read-only items (X, IR, the special relays
+/// The ranges no Modbus write may change: the map's read-only items (X, IR, the special relays
 /// and registers; written out here rather than taken from the map under test), the map's own
 /// list, and the config's write_protect.
 inline const std::vector<image::Range>& protected_ranges() {
@@ -190,16 +475,18 @@ inline const std::vector<image::Range>& protected_ranges() {
 /// Checks the image after a request with function code `fc` that got `answered` (a normal,
 /// non-exception reply; broadcasts count as answered). A write to the simulator unit may run
 /// scans (its step register), which change the image as scans do: only reads are checked.
-inline void check_image(
+/// Returns true when the whole image was found unchanged (`before` still holds it).
+inline bool check_image(
     image::Image& img, const Snapshot& before, std::uint8_t fc, bool answered, bool to_simulator) {
-    if (to_simulator && answered && !reads_only(fc)) return;
+    if (to_simulator && answered && !reads_only(fc)) return false;
     if (!answered || reads_only(fc)) {
         check(before.same(img), "a read, a refused or an unanswered request changed the image");
-        return;
+        return true;
     }
     for (const auto& r : protected_ranges()) {
         check(before.same(img, r), "a Modbus write changed a read-only or write-protected device");
     }
+    return false;
 }
 
 /// Checks a reply PDU (function code onward) against its request PDU: function code echoed or

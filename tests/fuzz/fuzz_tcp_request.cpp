@@ -24,10 +24,10 @@ namespace {
 void check_reply(fuzz::Rig& rig,
                  bool silent,
                  std::span<const std::uint8_t> req,
-                 const std::vector<std::uint8_t>& rep) {
+                 std::span<const std::uint8_t> rep) {
     const std::uint8_t unit = req[6];
     if (rep.empty()) {
-        const std::uint8_t station = rig.plc->engine().station();
+        const std::uint8_t station = rig.plc().engine().station();
         fuzz::check(silent && unit != station && unit != 0xFF && unit != 0 && !rig.is_sim(unit),
                     "no reply to a request for the station, unit 0 or 255 or the simulator");
         return;
@@ -38,24 +38,22 @@ void check_reply(fuzz::Rig& rig,
                 "reply is not exactly one MBAP frame");
     fuzz::check(rep[0] == req[0] && rep[1] == req[1], "reply transaction ID differs");
     fuzz::check(rep[6] == unit, "reply unit ID differs");
-    fuzz::check_reply_pdu(req.subspan(7), std::span(rep).subspan(7));
+    fuzz::check_reply_pdu(req.subspan(7), rep.subspan(7));
 }
 
-}  // namespace
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    if (size < 1) return 0;
+// One input on `rig` (just reset).
+void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
     const std::uint8_t control = data[0];
     const unsigned scan_every = control & 0x07;
     const bool silent = (control & 0x08) != 0;
     std::span<const std::uint8_t> stream(data + 1, size - 1);
 
     static fuzz::Peer peer;
-    fuzz::Rig rig = fuzz::make_rig();
-    daemon::Plc* plc = rig.plc.get();
-    plc->dispatcher().set_unknown_unit_policy(silent ? modbus::UnknownUnitPolicy::Silent
-                                                     : modbus::UnknownUnitPolicy::Exception);
-    fuzz::Snapshot before;
+    static fuzz::Snapshot before;
+    daemon::Plc& plc = rig.plc();
+    plc.dispatcher().set_unknown_unit_policy(silent ? modbus::UnknownUnitPolicy::Silent
+                                                    : modbus::UnknownUnitPolicy::Exception);
+    bool have_before = false;  // `before` holds the image as it is now
     unsigned frames = 0;
     for (;;) {
         const modbus::MbapFrame f = modbus::next_mbap_frame(stream);
@@ -65,14 +63,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const auto req = stream.first(f.size);
         stream = stream.subspan(f.size);
 
-        before.take(plc->image());
-        const auto rep = peer.take(plc->dispatcher().serve_tcp(req, peer.buffer()));
-        fuzz::exchange() = {{req.begin(), req.end()}, rep};
+        if (!have_before) before.take(plc.image());
+        const auto rep = peer.take(plc.dispatcher().serve_tcp(req, peer.buffer()));
+        fuzz::exchange() = {req, rep};
+        fuzz::record(rep);
         check_reply(rig, silent, req, rep);
         const bool answered = rep.size() > 7 && (rep[7] & 0x80) == 0;
-        fuzz::check_image(plc->image(), before, req[7], answered, rig.is_sim(req[6]));
+        have_before = fuzz::check_image(plc.image(), before, req[7], answered, rig.is_sim(req[6]));
 
-        if (scan_every != 0 && ++frames % scan_every == 0) plc->engine().run_scans(1);
+        if (scan_every != 0 && ++frames % scan_every == 0) {
+            plc.engine().run_scans(1);
+            have_before = false;
+        }
     }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    if (size < 1) return 0;
+    fuzz::run_input(data, size, run);
     return 0;
 }

@@ -248,6 +248,23 @@ TEST(Engine, ScanTimeRegisters) {
     EXPECT_EQ(rig.r(4137), 0xFFFF);
 }
 
+// A power-up starts the simulated time and the scan-time registers over: the next scan is at
+// time 0, and the maximum and minimum scan times count from it.
+TEST(Engine, PowerUpStartsTimeAndScanTimesOver) {
+    Rig rig(10);
+    rig.engine->run_scans(3);
+    rig.engine->step(rig.engine->now() + milliseconds(25), {});
+    ASSERT_EQ(rig.r(4137), 25);
+    rig.engine->power_up();
+    EXPECT_EQ(rig.engine->now(), Duration{0});
+    EXPECT_EQ(rig.engine->scans(), 0u);
+    rig.engine->run_scans(1);
+    EXPECT_EQ(rig.engine->now(), Duration{0});
+    EXPECT_EQ(rig.r(4136), 10);
+    EXPECT_EQ(rig.r(4137), 10);
+    EXPECT_EQ(rig.r(4138), 10);
+}
+
 // docs/profile-fbs.md, Scan cycle and special registers: R4128-R4134 calendar (second, minute,
 // hour, day, month, year, weekday) from the calendar passed in (the engine reads no clock).
 TEST(Engine, CalendarRegistersComeFromThePassedCalendar) {

@@ -503,6 +503,22 @@ TEST(TemperatureTable, ChangedTableIsReReadAndMeasurementRestarts) {
     EXPECT_EQ(rig.code(), t::kRunning);
 }
 
+// A power-up restarts the measurement: the table is read anew and execute code 00h holds until
+// every channel was read again.
+TEST(TemperatureTable, APowerUpRestartsTheMeasurement) {
+    Rig rig;
+    rig.standard_table();
+    rig.run_ms(4010);
+    ASSERT_EQ(rig.code(), t::kRunning);
+    rig.engine->power_up();
+    rig.run_ms(10);
+    EXPECT_EQ(rig.code(), t::kIdle);
+    rig.run_ms(3980);
+    EXPECT_EQ(rig.code(), t::kIdle);
+    rig.run_ms(20);
+    EXPECT_EQ(rig.code(), t::kRunning);
+}
+
 TEST(TemperatureTable, InvalidSensorCodeReadsBroken) {
     // Decision: a sensor code that is not one of the module's types reads as a broken sensor.
     Rig rig;

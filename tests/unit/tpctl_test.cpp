@@ -93,6 +93,11 @@ public:
             ++scans_;
         }
     }
+    /// A power-up: the next scan is a first scan, at time 0.
+    void power_up() {
+        scans_ = 0;
+        now_ = Duration{0};
+    }
     /// Scans until `d` of simulated time has passed.
     void run_for(Duration d) { scan(static_cast<int>(d / dt_)); }
     Duration now() const { return now_; }
@@ -391,6 +396,24 @@ TEST(Tpctl, FirstExecutionGivesDefaultGainsToPointsWhosePrIs0) {
     rig.en(true);
     rig.scan();
     EXPECT_EQ(rig.r(kPr + 1), 0);
+}
+
+// A power-up gives a first scan, which starts the instruction as loaded: the next scan with
+// EN = 1 is a first execution again (docs/profile-fbs.md, "FUN86 TPCTL").
+TEST(Tpctl, APowerUpStartsTheInstructionAsLoaded) {
+    Rig rig;
+    rig.pv(0, 0);
+    rig.en(true);
+    rig.scan();
+    ASSERT_EQ(rig.r(kPr), 110);
+    rig.r(kPr) = 0;
+    rig.scan(2);
+    EXPECT_EQ(rig.r(kPr), 0);  // no first execution while it runs
+    rig.power_up();
+    rig.scan();
+    EXPECT_EQ(rig.r(kPr), 110);
+    EXPECT_EQ(rig.r(kIr), 17);
+    EXPECT_EQ(rig.r(kDr), 50);
 }
 
 TEST(Tpctl, GainsAreReadEachSolutionFromPrIrDr) {

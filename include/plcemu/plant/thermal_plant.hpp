@@ -9,9 +9,9 @@
 
 #include <array>
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/engine/declarations.hpp"
@@ -67,7 +67,7 @@ public:
     /// Forgets what lies wholly before `t`.
     void forget_before(std::int64_t t) noexcept;
     /// Points kept.
-    std::size_t size() const { return pts_.size(); }
+    std::size_t size() const { return pts_.size() - head_; }
 
 private:
     struct Point {
@@ -75,8 +75,13 @@ private:
         double c;        // integral of the signal up to t, value·ns
     };
     double at(std::int64_t t) const noexcept;  // running integral at t
+    const Point& front() const { return pts_[head_]; }
 
-    std::deque<Point> pts_;
+    // The points kept are pts_[head_..]: forgetting moves head_, and the forgotten prefix is
+    // dropped once it is half the vector. Nothing is allocated until the first record, so an
+    // idle channel costs no heap (a plant has 64 of these).
+    std::vector<Point> pts_;
+    std::size_t head_ = 0;
     double last_ = 0.0;    // value of the last segment
     bool extend_ = false;  // the last segment may be extended
     double before_ = 0.0;  // value before the first point

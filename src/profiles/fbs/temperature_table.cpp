@@ -262,6 +262,9 @@ void TemperatureTable::convert(engine::ScanContext& ctx, ModuleState& m) noexcep
 }
 
 void TemperatureTable::inputs(engine::ScanContext& ctx) noexcept {
+    // A power-up restarts the measurement (docs/profile-fbs.md, "Temperature measurement"):
+    // the table is read anew and no earlier conversion counts.
+    if (ctx.first_scan) have_snapshot_ = false;
     image::Image& img = ctx.image;
     const auto& layout = img.layout();
     if (opt_.table.index >= layout.size_of(opt_.table.area)) return;

@@ -210,6 +210,9 @@ public:
     }
 
     void execute(engine::ScanContext& ctx) noexcept override {
+        // The first scan after a power-up runs the program as loaded (docs/profile-fbs.md,
+        // "FUN86 TPCTL": first execution), whatever an earlier run of the engine left here.
+        if (ctx.first_scan) *this = Tpctl(std::move(b_), table_);
         image::Image& img = ctx.image;
         const bool en = b_.en.read(img);
         const bool rising = en && !prev_en_;
