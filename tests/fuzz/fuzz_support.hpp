@@ -291,7 +291,7 @@ public:
             const Faults f = p.faults(c);
             put(std::uint64_t{f.sensor_broken} | std::uint64_t{f.heater_open} << 1 |
                 std::uint64_t{f.heater_shorted} << 2 | std::uint64_t{f.reading_frozen} << 3);
-            const plant::SensorSample x = p.sense(c);  // the sensor as the next scan sees it
+            const engine::SensorSample x = p.sense(c);  // the sensor as the next scan sees it
             put(x.broken);
             putd(x.celsius);
         }
