@@ -1,7 +1,7 @@
 // libFuzzer harness: the config loader. Input: YAML text → config::parse_config → daemon::Plc
 // (binding the program) → two scans. The only exception allowed out of the loader and the
-// build is config::ConfigError, and its message starts with "<name>:<line>:<col>: " (docs/configuration.md, "Configuration");
-// anything else, or a crash, is a bug.
+// build is config::ConfigError, and its message starts with "<name>:<line>:<col>: "
+// (docs/configuration.md, "Configuration"); anything else, or a crash, is a bug.
 
 #include <spdlog/spdlog.h>
 
