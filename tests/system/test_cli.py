@@ -219,6 +219,8 @@ def test_time_scale_override_speeds_up_the_simulated_clock(start_plcemud):
 
 def test_start_up_summary_and_connection_log(start_plcemud):
     d = start_plcemud(BASE_CONFIG + "model: FBs-60MN\nstation: 9\nscan_ms: 20\n")
+    # The summary is logged just after the listener opens: a client may get in first.
+    assert d.wait_log("time scale"), d.log_text()
     log = d.log_text()
     assert re.search(r"plcemud \S+: profile fbs, model FBs-60MN, station 9, scan 20 ms, "
                      r"time scale 1\b", log), log
