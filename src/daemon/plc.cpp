@@ -30,6 +30,30 @@ engine::Program build_program(const config::Config& config) {
                                       profile.naming(), *services);
 }
 
+plant::PlantSetup plant_setup(const config::Config& config, const engine::Declarations& program) {
+    const auto declared = plant::ThermalPlant::drives_of(program);
+    plant::PlantSetup setup;
+    setup.seed = config.plant.seed;
+    for (std::size_t i = 0; i < setup.channels.size(); ++i) {
+        config::ChannelConfig cc = config.plant.defaults;
+        for (const auto& [idx, c] : config.plant.channels) {
+            if (static_cast<std::size_t>(idx) == i) cc = c;
+        }
+        plant::ChannelSetup& ch = setup.channels[i];
+        ch.params = {cc.ambient_c, cc.k_c, cc.tau_s, cc.dead_time_s, cc.noise_c, cc.cooling};
+        ch.faults = {cc.faults.sensor_broken, cc.faults.heater_open, cc.faults.heater_shorted,
+                     cc.faults.reading_frozen};
+        // `plant.channels.N.drive` wins over the output the program declares for the channel.
+        ch.drive = declared[i];
+        if (cc.drive) {
+            const bool output = cc.drive->area == image::Area::Y;
+            ch.drive = {output ? plant::Drive::Kind::Output : plant::Drive::Kind::Register,
+                        *cc.drive};
+        }
+    }
+    return setup;
+}
+
 std::unique_ptr<modbus::AddressMap> map_of(const config::Config& config) {
     if (!config.modbus.map) return nullptr;
     const profiles::Profile& profile = profiles::of(config);
@@ -101,8 +125,7 @@ Plc::Plc(std::shared_ptr<const config::Config> config,
     // The plant and the measurement before the program, the outputs to the plant after it
     // (docs/architecture.md, "A scan"): the plant attaches to the outputs the program declares.
     auto plant = std::make_unique<plant::ThermalPlant>(
-        config_->plant,
-        plant::ThermalPlant::drives_of(engine::declarations_of(engine_->program())));
+        plant_setup(*config_, engine::declarations_of(engine_->program())));
     plant_ = plant.get();
     engine_->add_subsystem(std::move(plant));
     profile.attach(*engine_, *config_, *plant_);

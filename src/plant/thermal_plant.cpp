@@ -28,14 +28,6 @@ ChannelParams clamp_params(ChannelParams p) {
     return p;
 }
 
-ChannelParams params_of(const config::ChannelConfig& c) {
-    return clamp_params({c.ambient_c, c.k_c, c.tau_s, c.dead_time_s, c.noise_c, c.cooling});
-}
-
-Drive drive_of(const image::Device& d) {
-    return {d.area == image::Area::Y ? Drive::Kind::Output : Drive::Kind::Register, d};
-}
-
 // splitmix64: a counter-based generator, so sample n of channel c is the same in every run.
 std::uint64_t mix(std::uint64_t x) {
     x += 0x9E3779B97F4A7C15ULL;
@@ -120,18 +112,14 @@ void History::forget_before(std::int64_t t) noexcept {
 
 // ---------------------------------------------------------------------------------------------
 
-ThermalPlant::ThermalPlant(const config::PlantConfig& config,
-                           const std::array<Drive, kChannels>& drives)
-    : seed_(config.seed) {
-    for (int i = 0; i < kChannels; ++i) {
-        config::ChannelConfig cc = config.defaults;
-        for (const auto& [idx, c] : config.channels) {
-            if (idx == i) cc = c;
-        }
-        Channel& c = ch_[static_cast<std::size_t>(i)];
-        c.p = params_of(cc);
-        c.faults = cc.faults;
-        c.drive = cc.drive ? drive_of(*cc.drive) : drives[static_cast<std::size_t>(i)];
+ThermalPlant::ThermalPlant(const PlantSetup& setup)
+    : seed_(setup.seed) {
+    for (std::size_t i = 0; i < ch_.size(); ++i) {
+        const ChannelSetup& cs = setup.channels[i];
+        Channel& c = ch_[i];
+        c.p = clamp_params(cs.params);
+        c.faults = cs.faults;
+        c.drive = cs.drive;
         c.t = c.p.ambient_c;
         c.last = c.t;
     }

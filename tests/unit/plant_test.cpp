@@ -22,7 +22,7 @@ namespace {
 // The plant a PLC of `cfg` gets: its channels driven by the outputs the program declares.
 std::unique_ptr<ThermalPlant> plant_of(const config::Config& cfg) {
     return std::make_unique<ThermalPlant>(
-        cfg.plant, ThermalPlant::drives_of(engine::declarations_of(daemon::build_program(cfg))));
+        daemon::plant_setup(cfg, engine::declarations_of(daemon::build_program(cfg))));
 }
 
 using image::Area;
@@ -42,7 +42,7 @@ private:
 
 // An engine with one plant channel driven by a register (u = R200/16383) or by Y30.
 struct Rig {
-    explicit Rig(config::ChannelConfig ch,
+    explicit Rig(ChannelParams ch,
                  Drive::Kind kind = Drive::Kind::Register,
                  int scan_ms = 10,
                  std::function<void(engine::ScanContext&)> program = {})
@@ -53,12 +53,11 @@ struct Rig {
         if (program) p.push_back(std::make_unique<Program>(std::move(program)));
         engine = std::make_unique<engine::Engine>(image, o, std::move(p));
         engine->power_up();
-        config::PlantConfig pc;
-        pc.defaults = ch;
-        std::array<Drive, kChannels> d{};
-        d[0] = kind == Drive::Kind::Register ? Drive{kind, {Area::R, 200, false}}
-                                             : Drive{kind, {Area::Y, 30, false}};
-        auto pl = std::make_unique<ThermalPlant>(pc, d);
+        PlantSetup setup;
+        for (auto& c : setup.channels) c.params = ch;
+        setup.channels[0].drive = kind == Drive::Kind::Register ? Drive{kind, {Area::R, 200, false}}
+                                                                : Drive{kind, {Area::Y, 30, false}};
+        auto pl = std::make_unique<ThermalPlant>(setup);
         plant = pl.get();
         engine->add_subsystem(std::move(pl));
     }
@@ -74,15 +73,15 @@ struct Rig {
 
 double seconds(engine::Duration d) { return std::chrono::duration<double>(d).count(); }
 
-config::ChannelConfig no_dead_time() {
-    config::ChannelConfig c;
+ChannelParams no_dead_time() {
+    ChannelParams c;
     c.dead_time_s = 0;
     return c;
 }
 
 TEST(Plant, DefaultsAreTheDocumentedValues) {
     // docs/simulator-and-plant.md, Thermal plant: K 400 °C, τ 120 s, θ 5 s, 25 °C.
-    ThermalPlant p(config::PlantConfig{}, {});
+    ThermalPlant p(PlantSetup{});
     for (int c = 0; c < kChannels; ++c) {
         EXPECT_EQ(p.params(c).k_c, 400.0);
         EXPECT_EQ(p.params(c).tau_s, 120.0);
@@ -109,7 +108,7 @@ TEST(Plant, FirstOrderStepFollowsTheAnalyticSolution) {
 
 TEST(Plant, ExactDiscretisationIsStableForAnyScanPeriod) {
     // A scan much longer than τ must neither oscillate nor overshoot.
-    config::ChannelConfig c = no_dead_time();
+    ChannelParams c = no_dead_time();
     c.tau_s = 0.5;
     Rig rig(c, Drive::Kind::Register, 1000);
     rig.image.set_word(Area::R, 200, 16383);
@@ -138,7 +137,7 @@ TEST(Plant, SameResultWhateverTheScanPeriod) {
 
 TEST(Plant, DeadTimeDelaysTheResponseByTheta) {
     // docs/simulator-and-plant.md, Thermal plant: the response is delayed by θ.
-    config::ChannelConfig c;
+    ChannelParams c;
     c.dead_time_s = 5.0;
     Rig rig(c);
     rig.image.set_word(Area::R, 200, 16383);
@@ -177,7 +176,7 @@ TEST(Plant, PwmDutyOfTheYOutputIsTheAveragePower) {
 
 TEST(Plant, CoolingChannelsPullTemperatureDown) {
     // docs/simulator-and-plant.md, Thermal plant: cooling channels pull T down.
-    config::ChannelConfig c = no_dead_time();
+    ChannelParams c = no_dead_time();
     c.cooling = true;
     c.ambient_c = 80;
     c.k_c = 60;
@@ -233,13 +232,13 @@ TEST(Plant, SensorBrokenAndReadingFrozenFaults) {
 TEST(Plant, NoiseIsGaussianWithSigmaAndDeterministicPerSeed) {
     // docs/simulator-and-plant.md, Thermal plant, noise; issue 3 item 5: a fixed seed gives the
     // same samples.
-    config::PlantConfig pc;
-    pc.defaults.noise_c = 0.5;
+    PlantSetup pc;
+    for (auto& c : pc.channels) c.params.noise_c = 0.5;
     pc.seed = 42;
-    ThermalPlant a(pc, {});
-    ThermalPlant b(pc, {});
+    ThermalPlant a(pc);
+    ThermalPlant b(pc);
     pc.seed = 43;
-    ThermalPlant other(pc, {});
+    ThermalPlant other(pc);
     double sum = 0, sq = 0;
     int differ = 0;
     const int n = 20000;
@@ -297,7 +296,7 @@ plant:
 }
 
 TEST(Plant, ChangingDeadTimeAtRunTimeKeepsThePowerInFlight) {
-    config::ChannelConfig c;
+    ChannelParams c;
     c.dead_time_s = 5;
     Rig rig(c);
     rig.image.set_word(Area::R, 200, 16383);

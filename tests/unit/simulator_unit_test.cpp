@@ -46,8 +46,7 @@ struct Rig {
         o.scan_period = std::chrono::milliseconds(10);
         engine = std::make_unique<engine::Engine>(image, o, engine::Program{});
         engine->power_up();
-        auto p =
-            std::make_unique<ThermalPlant>(config::PlantConfig{}, std::array<Drive, kChannels>{});
+        auto p = std::make_unique<ThermalPlant>(plant::PlantSetup{});
         plant = p.get();
         engine->add_subsystem(std::move(p));
         time = std::make_unique<FakeTime>(*engine);

@@ -33,6 +33,10 @@ image::Layout plc_layout(const config::Config& config);
 /// The config's program built with its profile's instruction table (throws config::ConfigError).
 engine::Program build_program(const config::Config& config);
 
+/// How the plant of a config starts: `plant:` with its per-channel overrides, each channel driven
+/// by its `drive` or else by the output the program declares for it.
+plant::PlantSetup plant_setup(const config::Config& config, const engine::Declarations& program);
+
 /// The map of a config's `modbus.map`, or null when the config keeps the profile's map.
 std::unique_ptr<modbus::AddressMap> map_of(const config::Config& config);
 

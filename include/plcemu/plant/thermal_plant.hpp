@@ -13,7 +13,6 @@
 #include <optional>
 #include <vector>
 
-#include "plcemu/config/config.hpp"
 #include "plcemu/engine/declarations.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/sensors.hpp"
@@ -24,8 +23,15 @@ namespace plcemu::plant {
 /// Channels of the plant: as many as a temperature measurement can number.
 inline constexpr int kChannels = 32;
 
-/// The fault switches of a channel, as in the config.
-using Faults = config::Faults;
+/// The fault switches of a channel.
+struct Faults {
+    bool sensor_broken = false;   ///< reading 32767, abnormal bit
+    bool heater_open = false;     ///< u forced to 0
+    bool heater_shorted = false;  ///< u forced to 1
+    bool reading_frozen = false;  ///< reading stops changing
+
+    bool operator==(const Faults&) const = default;
+};
 
 /// Process parameters of one channel, in engineering units.
 struct ChannelParams {
@@ -51,6 +57,19 @@ struct Drive {
     image::Device device;    ///< the Y bit or the R/D word
 
     bool operator==(const Drive&) const = default;
+};
+
+/// How one channel starts.
+struct ChannelSetup {
+    ChannelParams params;  ///< process parameters (clamped to the model's ranges)
+    Faults faults;         ///< fault switches
+    Drive drive;           ///< what drives the actuator
+};
+
+/// How the plant starts: the values the daemon takes from `plant:` and the program.
+struct PlantSetup {
+    std::uint64_t seed = 1;                          ///< noise seed (deterministic)
+    std::array<ChannelSetup, kChannels> channels{};  ///< channel c
 };
 
 /// A piecewise-constant signal over simulated time (nanoseconds), kept as its running integral
@@ -96,8 +115,8 @@ private:
 /// exactly for a drive that is constant over the step, so any scan period is stable.
 class ThermalPlant final : public engine::Subsystem, public engine::SensorSource {
 public:
-    /// A plant from `plant:` with the drives given (index = channel; missing = none).
-    ThermalPlant(const config::PlantConfig& config, const std::array<Drive, kChannels>& drives);
+    /// A plant as `setup` says.
+    explicit ThermalPlant(const PlantSetup& setup);
 
     /// The default drives of a built program: channel c is driven by the first output the
     /// program declares as c's actuator, else by nothing.
