@@ -26,8 +26,26 @@ image::Layout plc_layout(const config::Config& config) {
 engine::Program build_program(const config::Config& config) {
     const profiles::Profile& profile = profiles::of(config);
     const auto services = profile.services(config);
-    return instructions::make_program(config.program, profile.instructions(), plc_layout(config),
-                                      profile.naming(), *services);
+    auto where = [](const config::Position& p) {
+        return instructions::Where{p.file, p.line, p.column};
+    };
+    std::vector<instructions::Entry> entries;
+    entries.reserve(config.program.size());
+    for (const auto& ic : config.program) {
+        instructions::Entry e{ic.mnemonic, where(ic.pos), {}};
+        e.operands.reserve(ic.operands.size());
+        for (const auto& [key, op] : ic.operands) {
+            e.operands.emplace_back(key, instructions::Operand{op.text, where(op.pos)});
+        }
+        entries.push_back(std::move(e));
+    }
+    try {
+        return instructions::make_program(entries, profile.instructions(), plc_layout(config),
+                                          profile.naming(), *services);
+    } catch (const instructions::BindError& e) {
+        const auto& w = e.where();
+        throw config::ConfigError({w.file, w.line, w.column}, e.what());
+    }
 }
 
 plant::PlantSetup plant_setup(const config::Config& config, const engine::Declarations& program) {

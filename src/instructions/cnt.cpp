@@ -75,8 +75,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<engine::Instruction> make_cnt(const config::InstructionConfig& ic,
-                                              const BindContext& ctx) {
+std::unique_ptr<engine::Instruction> make_cnt(const Entry& ic, const BindContext& ctx) {
     Operands ops(ic, ctx);
     Cnt::Bound b;
     b.en = ops.bit_source("en", true);

@@ -12,8 +12,7 @@ namespace plcemu::instructions {
 /// K and stops there; a 32-bit counter counts up or down (down while its direction relay is
 /// ON) through the whole 32-bit range. The contact is ON while the value is at least K (a down
 /// counter: until it falls below K). K is a constant or a word device.
-std::unique_ptr<engine::Instruction> make_cnt(const config::InstructionConfig& ic,
-                                              const BindContext& ctx);
+std::unique_ptr<engine::Instruction> make_cnt(const Entry& ic, const BindContext& ctx);
 
 /// Where a family keeps the count direction of its 32-bit counters: relay `first_relay` + (n −
 /// first counter) is the direction of counter n (ON = down) for the first `counters` 32-bit

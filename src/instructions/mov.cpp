@@ -27,8 +27,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<engine::Instruction> make_mov(const config::InstructionConfig& ic,
-                                              const BindContext& ctx) {
+std::unique_ptr<engine::Instruction> make_mov(const Entry& ic, const BindContext& ctx) {
     Operands ops(ic, ctx);
     const BitSource en = ops.bit_source("en", true);
     const WordSource s = ops.word_source("s");

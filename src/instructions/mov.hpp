@@ -9,7 +9,6 @@
 namespace plcemu::instructions {
 
 /// `MOV: {en: M1926, s: WM800, d: R4012}`: while EN is ON, D = S each scan.
-std::unique_ptr<engine::Instruction> make_mov(const config::InstructionConfig& ic,
-                                              const BindContext& ctx);
+std::unique_ptr<engine::Instruction> make_mov(const Entry& ic, const BindContext& ctx);
 
 }  // namespace plcemu::instructions

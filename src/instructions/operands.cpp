@@ -1,8 +1,10 @@
 #include "operands.hpp"
 
+#include "plcemu/image/excerpt.hpp"
+
 namespace plcemu::instructions {
 
-Operands::Operands(const config::InstructionConfig& ic, const BindContext& ctx)
+Operands::Operands(const Entry& ic, const BindContext& ctx)
     : ic_(ic),
       ctx_(ctx),
       layout_(ctx.layout),
@@ -16,7 +18,7 @@ void Operands::refuse_reserved(const char* key, const image::Range& written) con
     }
 }
 
-const config::Operand* Operands::find(const char* key) const {
+const Operand* Operands::find(const char* key) const {
     for (const auto& [k, v] : ic_.operands) {
         if (k == key) return &v;
     }
@@ -26,24 +28,24 @@ const config::Operand* Operands::find(const char* key) const {
 bool Operands::has(const char* key) const { return find(key) != nullptr; }
 
 void Operands::fail(const char* key, const std::string& message) const {
-    const config::Operand* op = find(key);
-    std::string text = config::excerpt(ic_.mnemonic) + "." + key + ": " + message;
+    const Operand* op = find(key);
+    std::string text = image::excerpt(ic_.mnemonic) + "." + key + ": " + message;
     // X8 on a VB: say that X and Y count in octal, as the config loader does.
     const std::string why = op ? naming_.why_not(op->text) : "";
     if (!why.empty()) text += " (" + why + ")";
-    throw config::ConfigError(op ? op->pos : ic_.pos, text);
+    throw BindError(op ? op->where : ic_.where, text);
 }
 
-const config::Operand& Operands::require(const char* key) {
+const Operand& Operands::require(const char* key) {
     used_.insert(key);
-    const config::Operand* op = find(key);
+    const Operand* op = find(key);
     if (!op) fail(key, "operand is required");
     return *op;
 }
 
 BitSource Operands::bit_source(const char* key, bool fallback) {
     used_.insert(key);
-    const config::Operand* op = find(key);
+    const Operand* op = find(key);
     if (!op) return {true, fallback, {}};
     long long v = 0;
     // A device name wins; anything else that parses is a constant (0x1F, 1Fh and K31 too).
@@ -54,10 +56,10 @@ BitSource Operands::bit_source(const char* key, bool fallback) {
     auto d = naming_.parse_device(op->text);
     if (!d || d->word_of_bits || !layout_.contains({d->area, d->index, 1})) {
         fail(key, "expected a bit device (X, Y, M, S, T, C) or 0/1, got '" +
-                      config::excerpt(op->text) + "'");
+                      image::excerpt(op->text) + "'");
     }
     if (!image::is_bit_area(d->area))
-        fail(key, "expected a bit device, got '" + config::excerpt(op->text) + "'");
+        fail(key, "expected a bit device, got '" + image::excerpt(op->text) + "'");
     return {false, false, *d};
 }
 
@@ -67,7 +69,7 @@ image::Device Operands::bit_output(const char* key) {
     if (!d || d->word_of_bits ||
         !(d->area == image::Area::Y || d->area == image::Area::M || d->area == image::Area::S) ||
         !layout_.contains({d->area, d->index, 1})) {
-        fail(key, "expected a Y, M or S output, got '" + config::excerpt(op.text) + "'");
+        fail(key, "expected a Y, M or S output, got '" + image::excerpt(op.text) + "'");
     }
     return *d;
 }
@@ -88,12 +90,12 @@ WordSource Operands::word_source(const char* key) {
             names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
         }
         fail(key, "expected a register (" + names + "), WMn-style bits or a constant, got '" +
-                      config::excerpt(op.text) + "'");
+                      image::excerpt(op.text) + "'");
     }
     const std::uint32_t span = d->word_of_bits ? 16 : 1;
     if ((!d->word_of_bits && image::is_bit_area(d->area)) ||
         !layout_.contains({d->area, d->index, span})) {
-        fail(key, "'" + config::excerpt(op.text) + "' is not a word operand of this PLC");
+        fail(key, "'" + image::excerpt(op.text) + "' is not a word operand of this PLC");
     }
     return {false, 0, *d};
 }
@@ -116,7 +118,7 @@ image::Device Operands::word_device(const char* key,
         for (auto a : areas)
             names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
         fail(key, "expected " + std::to_string(span) + " word(s) in " + names + ", got '" +
-                      config::excerpt(op.text) + "'");
+                      image::excerpt(op.text) + "'");
     }
     return *d;
 }
@@ -137,7 +139,7 @@ image::Device Operands::device(const char* key,
         for (auto a : areas)
             names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
         fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names +
-                      ", got '" + config::excerpt(op.text) + "'");
+                      ", got '" + image::excerpt(op.text) + "'");
     }
     return *d;
 }
@@ -146,9 +148,9 @@ long long Operands::integer(const char* key, long long lo, long long hi) {
     const auto& op = require(key);
     long long v = 0;
     if (!naming_.parse_integer(op.text, v))
-        fail(key, "expected an integer, got '" + config::excerpt(op.text) + "'");
+        fail(key, "expected an integer, got '" + image::excerpt(op.text) + "'");
     if (v < lo || v > hi) {
-        fail(key, config::excerpt(op.text) + " is out of range " + std::to_string(lo) + ".." +
+        fail(key, image::excerpt(op.text) + " is out of range " + std::to_string(lo) + ".." +
                       std::to_string(hi));
     }
     return v;
@@ -157,8 +159,8 @@ long long Operands::integer(const char* key, long long lo, long long hi) {
 void Operands::finish() const {
     for (const auto& [k, v] : ic_.operands) {
         if (!used_.count(k)) {
-            throw config::ConfigError(v.pos, config::excerpt(ic_.mnemonic) + ": unknown operand '" +
-                                                 config::excerpt(k) + "'");
+            throw BindError(v.where, image::excerpt(ic_.mnemonic) + ": unknown operand '" +
+                                         image::excerpt(k) + "'");
         }
     }
 }

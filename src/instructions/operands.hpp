@@ -7,7 +7,6 @@
 #include <set>
 #include <string>
 
-#include "plcemu/config/config.hpp"
 #include "plcemu/instructions/instructions.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/image/layout.hpp"
@@ -39,7 +38,7 @@ struct WordSource {
 /// The operands of one instruction entry.
 class Operands {
 public:
-    Operands(const config::InstructionConfig& ic, const BindContext& ctx);
+    Operands(const Entry& entry, const BindContext& ctx);
 
     /// True when the operand is present.
     bool has(const char* key) const;
@@ -62,7 +61,7 @@ public:
     long long integer(const char* key, long long lo, long long hi);
     /// Fails on operands nobody asked for (typos).
     void finish() const;
-    /// Throws a ConfigError at the operand (or at the mnemonic when absent).
+    /// Throws a BindError at the operand (or at the mnemonic when absent).
     [[noreturn]] void fail(const char* key, const std::string& message) const;
     /// Fails at `key` when `written` lands on an output the profile reserves (a module's own
     /// outputs).
@@ -73,10 +72,10 @@ public:
     const BindContext& context() const { return ctx_; }
 
 private:
-    const config::Operand* find(const char* key) const;
-    const config::Operand& require(const char* key);
+    const Operand* find(const char* key) const;
+    const Operand& require(const char* key);
 
-    const config::InstructionConfig& ic_;
+    const Entry& ic_;
     const BindContext& ctx_;
     const image::Layout& layout_;
     const image::Naming& naming_;

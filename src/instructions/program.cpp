@@ -1,29 +1,41 @@
-// A program from its config entries, through a profile's instruction table.
+// A program from its entries, through a profile's instruction table.
 
 #include <string>
 
+#include "plcemu/image/excerpt.hpp"
 #include "plcemu/instructions/instructions.hpp"
 
 namespace plcemu::instructions {
 
-engine::Program make_program(const std::vector<config::InstructionConfig>& program,
+std::string Where::text() const {
+    return file + ":" + std::to_string(line) + ":" + std::to_string(column);
+}
+
+BindError::BindError(Where where, const std::string& message)
+    : std::runtime_error(message),
+      where_(std::move(where)) {}
+
+engine::Program make_program(const std::vector<Entry>& program,
                              const Table& table,
                              const image::Layout& layout,
                              const image::Naming& naming,
                              const Services& services) {
     engine::Program p;
     p.reserve(program.size());
-    for (const auto& ic : program) {
-        const auto it = table.find(ic.mnemonic);
+    // What the entries bound so far declared, kept as the program grows: each entry checks its
+    // operands against it without re-reading the earlier instructions.
+    engine::Declarations earlier;
+    for (const auto& e : program) {
+        const auto it = table.find(e.mnemonic);
         if (it == table.end()) {
             std::string names;
             for (const auto& [k, v] : table) names += std::string(names.empty() ? "" : ", ") + k;
-            throw config::ConfigError(ic.pos, "unknown instruction '" +
-                                                  config::excerpt(ic.mnemonic) +
-                                                  "' (this profile knows: " + names + ")");
+            throw BindError(e.where, "unknown instruction '" + image::excerpt(e.mnemonic) +
+                                         "' (this profile knows: " + names + ")");
         }
-        const BindContext ctx{layout, naming, services, p};
-        p.push_back(it->second(ic, ctx));
+        const BindContext ctx{layout, naming, services, earlier};
+        p.push_back(it->second(e, ctx));
+        p.back()->declare(earlier);
     }
     return p;
 }

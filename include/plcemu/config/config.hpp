@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "plcemu/image/area.hpp"
+#include "plcemu/image/excerpt.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
 
@@ -203,9 +204,7 @@ Config load_config(const std::string& path);
 /// Parses config text; `name` is used in error positions.
 Config parse_config(const std::string& text, const std::string& name);
 
-/// Text a user wrote (a value, a key, an operand) as an error may quote it: control characters
-/// escaped (\n, \x1B, \u2028) so it cannot break or forge log lines, and cut after `max_chars`
-/// characters with "…" so a pasted blob is never echoed whole.
-std::string excerpt(std::string_view text, std::size_t max_chars = 40);
+/// The loader quotes what a user wrote as every module does (plcemu/image/excerpt.hpp).
+using image::excerpt;
 
 }  // namespace plcemu::config

@@ -1,20 +1,55 @@
 #pragma once
-// Building program instructions from their config entries: an instruction table maps mnemonics
-// to builders (each profile has its own), and a builder gets the operands and the services it
-// needs, never the whole config.
+// Building program instructions from program entries: an instruction table maps mnemonics to
+// builders (each profile has its own), and a builder gets its entry's operands and the services
+// it needs. The daemon turns the config's `program:` into entries; nothing here reads a config.
 
 #include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "plcemu/config/config.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
 
 namespace plcemu::instructions {
+
+/// Where a program entry or an operand stands in the file it was written in.
+struct Where {
+    std::string file;  ///< file name as given
+    int line = 0;      ///< 1-based line
+    int column = 0;    ///< 1-based column
+
+    /// "file:line:col".
+    std::string text() const;
+};
+
+/// An operand as written ("R100", "K10"), and where.
+struct Operand {
+    std::string text;  ///< the scalar as written
+    Where where;       ///< where it stands
+};
+
+/// One program entry, e.g. `TPCTL: {en: M0, ...}`.
+struct Entry {
+    std::string mnemonic;                                   ///< "MOV", "TPCTL", …
+    Where where;                                            ///< where the mnemonic stands
+    std::vector<std::pair<std::string, Operand>> operands;  ///< in the order written
+};
+
+/// An entry that cannot be built: the message, and where the fault is (the daemon reports it
+/// as a configuration error at that line and column).
+class BindError : public std::runtime_error {
+public:
+    BindError(Where where, const std::string& message);
+    /// Where the fault is.
+    const Where& where() const { return where_; }
+
+private:
+    Where where_;
+};
 
 /// What a profile offers its instructions while they bind. A profile with more to offer derives
 /// from it (its own instructions know the derived type).
@@ -26,21 +61,20 @@ struct Services {
 
 /// What an instruction may look at while it binds its operands.
 struct BindContext {
-    const image::Layout& layout;     ///< device limits
-    const image::Naming& naming;     ///< how devices and constants are written
-    const Services& services;        ///< the profile's services
-    const engine::Program& earlier;  ///< the entries bound before this one (their declarations)
+    const image::Layout& layout;          ///< device limits
+    const image::Naming& naming;          ///< how devices and constants are written
+    const Services& services;             ///< the profile's services
+    const engine::Declarations& earlier;  ///< what the entries bound before this one declared
 };
 
-/// Builds one instruction; throws config::ConfigError (with the operand's position).
-using Builder = std::unique_ptr<engine::Instruction> (*)(const config::InstructionConfig&,
-                                                         const BindContext&);
+/// Builds one instruction; throws BindError (at the operand's position).
+using Builder = std::unique_ptr<engine::Instruction> (*)(const Entry&, const BindContext&);
 /// Mnemonic → builder.
 using Table = std::map<std::string, Builder, std::less<>>;
 
 /// Builds the whole program with `table`; an unknown mnemonic is an error naming the ones the
 /// table knows.
-engine::Program make_program(const std::vector<config::InstructionConfig>& program,
+engine::Program make_program(const std::vector<Entry>& program,
                              const Table& table,
                              const image::Layout& layout,
                              const image::Naming& naming,

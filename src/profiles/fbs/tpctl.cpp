@@ -45,15 +45,11 @@ struct Bound {
     Device sv, os, pr, ir, dr, out, wr;
     std::optional<Device> err;
     std::optional<Device> alm;
-    config::Position pos;  // of the mnemonic
+    instructions::Where pos;  // of the mnemonic
 };
 
 bool sn_zn_valid(long long sn, long long zn) {
     return sn >= 0 && sn <= 31 && zn >= 1 && zn <= kMaxPoints && sn + zn <= kMaxPoints;
-}
-
-std::string where(const config::Position& p) {
-    return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column);
 }
 
 // A block of `span` registers in R0–R3839, R5000–R8071 or D0–D3999 (never across the SR/IR/OR
@@ -69,10 +65,10 @@ Device register_block(Operands& ops, const char* key, std::uint32_t span) {
     return d;
 }
 
-Bound bind(const config::InstructionConfig& ic, const BindContext& ctx) {
+Bound bind(const instructions::Entry& ic, const BindContext& ctx) {
     Operands ops(ic, ctx);
     Bound b;
-    b.pos = ic.pos;
+    b.pos = ic.where;
     b.en = ops.bit_source("en", true);
     b.hc = ops.bit_source("hc", true);
     b.md = ops.has("md") ? static_cast<int>(ops.integer("md", 0, 1)) : 0;
@@ -104,7 +100,7 @@ Range block(const Device& d, int n) {
 // The manual: "WR … can't be repeated in using". Two TPCTLs writing the same working registers,
 // outputs or Y bits would fight each scan, and an operand inside the instruction's own WR would
 // be overwritten, so both are refused at load.
-void check_overlaps(const Bound& me, const config::InstructionConfig& ic, const BindContext& ctx) {
+void check_overlaps(const Bound& me, const instructions::Entry& ic, const BindContext& ctx) {
     if (!me.valid) return;
     Operands ops(ic, ctx);
     const Range wr = block(me.wr, kWorkingWords);
@@ -121,7 +117,7 @@ void check_overlaps(const Bound& me, const config::InstructionConfig& ic, const 
     // Each pair is checked once, at the later entry, against what the earlier ones own.
     const Range mine_or = block(me.out, me.points);
     const Range mine_y = block(me.yn, me.points);
-    for (const auto& c : engine::declarations_of(ctx.earlier).claims) {
+    for (const auto& c : ctx.earlier.claims) {
         const std::string of = " of the " + std::string(c.mnemonic) + " at " + c.where;
         switch (c.kind) {
             case engine::ClaimKind::Working:
@@ -196,7 +192,7 @@ public:
 
     void declare(engine::Declarations& out) const override {
         if (!b_.valid) return;  // never executes, never writes
-        const std::string at = where(b_.pos);
+        const std::string at = b_.pos.text();
         out.claims.push_back(
             {block(b_.wr, kWorkingWords), engine::ClaimKind::Working, "TPCTL", at});
         out.claims.push_back({block(b_.out, b_.points), engine::ClaimKind::Output, "TPCTL", at});
@@ -461,7 +457,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<engine::Instruction> make_tpctl(const config::InstructionConfig& ic,
+std::unique_ptr<engine::Instruction> make_tpctl(const instructions::Entry& ic,
                                                 const BindContext& ctx) {
     Bound b = bind(ic, ctx);
     Operands ops(ic, ctx);

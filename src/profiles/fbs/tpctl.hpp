@@ -35,10 +35,10 @@ inline constexpr std::uint16_t kPvRemap = 0xA55A;
 }  // namespace tpctl
 
 /// `TPCTL: {en: M0, hc: 1, md: 0, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120,
-/// ir: R130, dr: R140, or: R200, wr: R300, err: M100, alm: M101}`. Throws config::ConfigError
+/// ir: R130, dr: R140, or: R200, wr: R300, err: M100, alm: M101}`. Throws instructions::BindError
 /// naming the operand for an invalid operand or working registers that overlap another TPCTL's.
 /// It declares its PWM outputs as the actuators of channels Sn…Sn+Zn−1, and owns WR, OR and Yn.
-std::unique_ptr<engine::Instruction> make_tpctl(const config::InstructionConfig& ic,
+std::unique_ptr<engine::Instruction> make_tpctl(const instructions::Entry& ic,
                                                 const instructions::BindContext& ctx);
 
 }  // namespace plcemu::profiles::fbs
