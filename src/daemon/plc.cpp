@@ -78,24 +78,11 @@ std::unique_ptr<modbus::AddressMap> map_of(const config::Config& config) {
     std::vector<modbus::MapRow> rows;
     for (const auto& r : *config.modbus.map) {
         modbus::MapRow row;
-        switch (r.table) {
-            case config::MapTable::Coils:
-                row.table = modbus::Table::Coils;
-                row.codes = "01 05 15";
-                break;
-            case config::MapTable::DiscreteInputs:
-                row.table = modbus::Table::DiscreteInputs;
-                row.codes = "02";
-                break;
-            case config::MapTable::Holding:
-                row.table = modbus::Table::HoldingRegisters;
-                row.codes = "03 06 16 22 23";
-                break;
-            case config::MapTable::Input:
-                row.table = modbus::Table::InputRegisters;
-                row.codes = "04";
-                break;
-        }
+        constexpr modbus::Table kTables[] = {
+            modbus::Table::Coils, modbus::Table::DiscreteInputs, modbus::Table::HoldingRegisters,
+            modbus::Table::InputRegisters};  // config::MapTable's order
+        row.table = kTables[static_cast<std::size_t>(r.table)];
+        row.codes = modbus::function_codes(row.table);
         row.wire_start = r.start;
         row.count = r.count;
         row.packed = r.device.word_of_bits;

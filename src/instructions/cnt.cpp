@@ -87,16 +87,7 @@ std::unique_ptr<engine::Instruction> make_cnt(const Entry& ic, const BindContext
         ops.fail("c", "counter " + ctx.naming.format_device(Area::C, c.index) +
                           " has no current value in this PLC");
     }
-    long long k = 0;
-    const auto& text = ic.operands;
-    bool constant = false;
-    for (const auto& [key, op] : text) {
-        if (key == "k" && !ctx.naming.parse_device(op.text) &&
-            ctx.naming.parse_integer(op.text, k)) {
-            constant = true;
-        }
-    }
-    if (constant) {
+    if (ops.constant("k")) {
         b.k = b.wide ? ops.integer("k", -2147483648LL, 2147483647LL) : ops.integer("k", 0, 32767);
     } else {
         b.k_constant = false;

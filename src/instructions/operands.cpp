@@ -27,6 +27,16 @@ const Operand* Operands::find(const char* key) const {
 
 bool Operands::has(const char* key) const { return find(key) != nullptr; }
 
+std::optional<long long> Operands::constant(const char* key) const {
+    const Operand* op = find(key);
+    long long v = 0;
+    // A device name wins; anything else that parses is a constant (0x1F, 1Fh and K31 too).
+    if (op == nullptr || naming_.parse_device(op->text) || !naming_.parse_integer(op->text, v)) {
+        return std::nullopt;
+    }
+    return v;
+}
+
 void Operands::fail(const char* key, const std::string& message) const {
     const Operand* op = find(key);
     std::string text = image::excerpt(ic_.mnemonic) + "." + key + ": " + message;
@@ -47,11 +57,9 @@ BitSource Operands::bit_source(const char* key, bool fallback) {
     used_.insert(key);
     const Operand* op = find(key);
     if (!op) return {true, fallback, {}};
-    long long v = 0;
-    // A device name wins; anything else that parses is a constant (0x1F, 1Fh and K31 too).
-    if (!naming_.parse_device(op->text) && naming_.parse_integer(op->text, v)) {
-        if (v != 0 && v != 1) fail(key, "a constant enable must be 0 or 1");
-        return {true, v == 1, {}};
+    if (const auto v = constant(key)) {
+        if (*v != 0 && *v != 1) fail(key, "a constant enable must be 0 or 1");
+        return {true, *v == 1, {}};
     }
     auto d = naming_.parse_device(op->text);
     if (!d || d->word_of_bits || !layout_.contains({d->area, d->index, 1})) {
@@ -76,10 +84,9 @@ image::Device Operands::bit_output(const char* key) {
 
 WordSource Operands::word_source(const char* key) {
     const auto& op = require(key);
-    long long v = 0;
-    if (!naming_.parse_device(op.text) && naming_.parse_integer(op.text, v)) {
-        if (v < -32768 || v > 65535) fail(key, "constant out of 16-bit range");
-        return {true, static_cast<std::uint16_t>(v & 0xFFFF), {}};
+    if (const auto v = constant(key)) {
+        if (*v < -32768 || *v > 65535) fail(key, "constant out of 16-bit range");
+        return {true, static_cast<std::uint16_t>(*v & 0xFFFF), {}};
     }
     auto d = naming_.parse_device(op.text);
     if (!d) {

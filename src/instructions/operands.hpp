@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -42,6 +43,8 @@ public:
 
     /// True when the operand is present.
     bool has(const char* key) const;
+    /// The operand's value when it is present and a constant (K10, 0x1F), not a device.
+    std::optional<long long> constant(const char* key) const;
     /// A bit input; absent gives `fallback`.
     BitSource bit_source(const char* key, bool fallback);
     /// A bit output device (Y, M, S).

@@ -6,6 +6,20 @@
 
 namespace plcemu::modbus {
 
+const char* function_codes(Table table) {
+    switch (table) {
+        case Table::Coils:
+            return "01 05 15";
+        case Table::DiscreteInputs:
+            return "02";
+        case Table::HoldingRegisters:
+            return "03 06 16 22 23";
+        case Table::InputRegisters:
+            return "04";
+    }
+    return "";
+}
+
 Resolution resolve_rows(const std::vector<MapRow>& rows,
                         const image::Image& img,
                         Table table,

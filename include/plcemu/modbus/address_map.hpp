@@ -52,6 +52,9 @@ public:
     virtual const std::vector<image::Range>& read_only() const = 0;
 };
 
+/// The function codes that reach a table, as the manuals list them ("03 06 16 22 23").
+const char* function_codes(Table table);
+
 /// Resolves a request against `rows`, as far as one contiguous device range goes: across rows
 /// that continue the same range (C199, C200 values), and stopping where the next row maps
 /// other devices (D7999 at 7999, D9000 at 8000), with `elements` saying how far it got. An

@@ -16,11 +16,6 @@ using image::Range;
 using modbus::MapRow;
 using modbus::Table;
 
-constexpr const char* kCoilCodes = "01 05 15";
-constexpr const char* kInputCodes = "02";
-constexpr const char* kHoldingCodes = "03 06 16 22 23";
-constexpr const char* kInputRegCodes = "04";
-
 // One row, served by two tables (coils and discrete inputs, holding and input registers).
 struct Row {
     std::uint16_t wire;
@@ -52,22 +47,26 @@ std::vector<MapRow> rows() {
     std::vector<MapRow> r;
     for (const auto& b : kBits) {
         r.push_back({Table::Coils, b.wire, static_cast<std::uint16_t>(b.devices.count), b.devices,
-                     kCoilCodes, b.label});
+                     modbus::function_codes(Table::Coils), b.label});
     }
     for (const auto& b : kBits) {
         r.push_back({Table::DiscreteInputs, b.wire, static_cast<std::uint16_t>(b.devices.count),
-                     b.devices, kInputCodes, b.label});
+                     b.devices, modbus::function_codes(Table::DiscreteInputs), b.label});
     }
     // X only as discrete inputs: FC01/05/15 at 3400h get exception 02.
-    r.push_back(
-        {Table::DiscreteInputs, 0x3400, 256, {Area::X, 0, 256}, kInputCodes, "X0-X377 (octal)"});
+    r.push_back({Table::DiscreteInputs,
+                 0x3400,
+                 256,
+                 {Area::X, 0, 256},
+                 modbus::function_codes(Table::DiscreteInputs),
+                 "X0-X377 (octal)"});
     for (const auto& w : kWords) {
         r.push_back({Table::HoldingRegisters, w.wire, static_cast<std::uint16_t>(w.devices.count),
-                     w.devices, kHoldingCodes, w.label});
+                     w.devices, modbus::function_codes(Table::HoldingRegisters), w.label});
     }
     for (const auto& w : kWords) {
         r.push_back({Table::InputRegisters, w.wire, static_cast<std::uint16_t>(w.devices.count),
-                     w.devices, kInputRegCodes, w.label});
+                     w.devices, modbus::function_codes(Table::InputRegisters), w.label});
     }
     return r;
 }
