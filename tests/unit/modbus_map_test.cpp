@@ -801,3 +801,76 @@ TEST_F(ModbusMap, AProfileMayAddOrRefuseFunctionCodes) {
 
 }  // namespace
 }  // namespace plcemu::modbus
+
+namespace plcemu::modbus {
+namespace {
+
+// A map whose adjacent rows hold other devices (as a VB's D7999 at 7999 and D9000 at 8000): a
+// request across them is served as one, and a write lands in every row or, when one part is
+// read-only, in none (docs/profile-vb.md, "Modbus map").
+class SpanningRows : public ::testing::Test {
+protected:
+    image::Image img_{test::fbs_layout()};
+    std::unique_ptr<AddressMap> map_ = make_table_map(
+        {
+            {Table::HoldingRegisters, 0, 10, {image::Area::D, 100, 10}, "", "D100-D109"},
+            {Table::HoldingRegisters, 10, 10, {image::Area::R, 200, 10}, "", "R200-R209"},
+            {Table::HoldingRegisters,
+             20,
+             10,
+             {image::Area::D, 300, 10},
+             "",
+             "D300-D309",
+             false,
+             true},  // read-only
+            {Table::Coils, 0, 8, {image::Area::M, 0, 8}, "", "M0-M7"},
+            {Table::Coils, 8, 8, {image::Area::Y, 0, 8}, "", "Y0-Y7"},
+        },
+        {});
+    PlcUnit unit_{img_, *map_, {}};
+    std::uint8_t station_ = 1;
+    Dispatcher disp_{unit_, station_, Identity{"V", "M", "1"}};
+    wire::Wire wire_{disp_};
+
+    Bytes tcp(const Bytes& pdu) { return wire_.tcp(1, pdu); }
+};
+
+TEST_F(SpanningRows, ReadsAcrossRowsOfOtherDevices) {
+    img_.set_word(image::Area::D, 109, 1109);
+    img_.set_word(image::Area::R, 200, 200);
+    img_.set_word(image::Area::R, 209, 209);
+    img_.set_word(image::Area::D, 300, 300);
+    const Bytes r = tcp(wire::read_pdu(0x03, 9, 12));
+    ASSERT_EQ(wire::exception_of(r), 0);
+    const auto w = wire::reply_words(r);
+    ASSERT_EQ(w.size(), 12u);
+    EXPECT_EQ(w[0], 1109);
+    EXPECT_EQ(w[1], 200);
+    EXPECT_EQ(w[10], 209);
+    EXPECT_EQ(w[11], 300);
+    img_.set_bit(image::Area::M, 7, true);
+    img_.set_bit(image::Area::Y, 0, true);
+    const Bytes b = tcp(wire::read_pdu(0x01, 7, 2));
+    EXPECT_EQ(wire::reply_bits(b, 2), (std::vector<bool>{true, true}));
+}
+
+TEST_F(SpanningRows, AWriteLandsInEveryRowOrInNone) {
+    EXPECT_EQ(wire::exception_of(tcp(wire::write_registers_pdu(9, {1, 2}))), 0);
+    EXPECT_EQ(img_.word(image::Area::D, 109), 1);
+    EXPECT_EQ(img_.word(image::Area::R, 200), 2);
+    // R209 is writable, D300 is not: nothing changes.
+    EXPECT_EQ(wire::exception_of(tcp(wire::write_registers_pdu(19, {7, 7}))), 2);
+    EXPECT_EQ(img_.word(image::Area::R, 209), 0);
+    EXPECT_EQ(wire::exception_of(tcp(wire::write_coils_pdu(7, {true, true}))), 0);
+    EXPECT_TRUE(img_.bit(image::Area::M, 7));
+    EXPECT_TRUE(img_.bit(image::Area::Y, 0));
+}
+
+TEST_F(SpanningRows, AnUnmappedAddressRefusesTheWholeRequest) {
+    EXPECT_EQ(wire::exception_of(tcp(wire::read_pdu(0x03, 25, 10))), 2);  // 30 is unmapped
+    EXPECT_EQ(wire::exception_of(tcp(wire::read_pdu(0x01, 15, 2))), 2);
+    EXPECT_EQ(wire::exception_of(tcp(wire::write_registers_pdu(29, {1, 1}))), 2);
+}
+
+}  // namespace
+}  // namespace plcemu::modbus
