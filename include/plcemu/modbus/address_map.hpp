@@ -30,8 +30,9 @@ struct Resolution {
     Status status = Status::IllegalDataAddress;  ///< Ok or the refusal
     image::Range devices;                        ///< valid when Ok
     bool packed = false;                         ///< registers over 16 bits each
-    /// Wire elements `devices` covers from the first address; fewer than asked when the next
-    /// address belongs to a row whose devices do not continue these (resolve the rest then).
+    /// Wire elements `devices` covers from the first address (0: all of them); fewer than asked
+    /// when the next address belongs to a row whose devices do not continue these (resolve the
+    /// rest then).
     std::uint16_t elements = 0;
 };
 
