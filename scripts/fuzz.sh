@@ -65,13 +65,16 @@ for h in "${harnesses[@]}"; do
     find tests/fuzz/corpus/"$h" -type f 2>/dev/null | sort | paste -sd, >"$TMP/$h.seeds"
     [[ -s $TMP/$h.seeds ]] && seeds=(-seed_inputs=@"$TMP/$h.seeds")
     rc=0
+    # -verbosity=0: no status line per new input (unbuffered, each a few write calls); crash
+    # reports and the final statistics are printed all the same.
     nice -n 10 "$bin" -max_total_time="$SECONDS_EACH" -print_final_stats=1 -timeout=10 \
-        -artifact_prefix="$TMP/$h/artifacts/" "${dict[@]}" "${seeds[@]}" >"$log" 2>&1 || rc=$?
+        -verbosity=0 -artifact_prefix="$TMP/$h/artifacts/" "${dict[@]}" "${seeds[@]}" \
+        >"$log" 2>&1 || rc=$?
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
-    corpus=$(sed -n 's/.* corp: \([0-9]*\)\/.*/\1/p' "$log" | tail -n 1)
+    added=$(sed -n 's/^stat::new_units_added: *//p' "$log" | tail -n 1)
     mapfile -t found < <(find "$TMP/$h/artifacts" -type f | sort)
     if ((rc == 0 && ${#found[@]} == 0)); then
-        echo "fuzz: $h: ${execs:-?} executions in ${SECONDS_EACH} s, corpus ${corpus:-?} inputs," \
+        echo "fuzz: $h: ${execs:-?} executions in ${SECONDS_EACH} s, ${added:-?} new inputs," \
             "${#saved[@]} regression inputs replayed, no crash"
         continue
     fi

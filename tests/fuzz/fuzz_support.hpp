@@ -342,7 +342,7 @@ inline void record(std::span<const std::uint8_t> rep) {
 
 /// How often an input is run a second time on a new rig to check that reset() left nothing of
 /// the inputs before it (PLCEMU_FUZZ_CHECK_RESET=1: every input).
-inline constexpr std::uint64_t kCheckEvery = 256;
+inline constexpr std::uint64_t kCheckEvery = 1024;
 
 /// Runs `body(rig, data, size)` for one input on the shared rig, reset first. Every
 /// kCheckEvery-th input also runs on a new rig, and the two runs must do the same: replies,
