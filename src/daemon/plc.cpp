@@ -32,7 +32,7 @@ engine::Program build_program(const config::Config& config) {
     std::vector<instructions::Entry> entries;
     entries.reserve(config.program.size());
     for (const auto& ic : config.program) {
-        instructions::Entry e{ic.mnemonic, where(ic.pos), {}};
+        instructions::Entry e{ic.mnemonic, where(ic.pos), {}, static_cast<int>(entries.size()) + 1};
         e.operands.reserve(ic.operands.size());
         for (const auto& [key, op] : ic.operands) {
             e.operands.emplace_back(key, instructions::Operand{op.text, where(op.pos)});

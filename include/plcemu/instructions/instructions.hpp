@@ -37,6 +37,7 @@ struct Entry {
     std::string mnemonic;                                   ///< "MOV", "TPCTL", …
     Where where;                                            ///< where the mnemonic stands
     std::vector<std::pair<std::string, Operand>> operands;  ///< in the order written
+    int index = 0;  ///< 1-based position in the program (a PLC's step number stands for it)
 };
 
 /// An entry that cannot be built: the message, and where the fault is (the daemon reports it
