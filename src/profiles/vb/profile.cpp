@@ -1,12 +1,17 @@
 // The VIGOR VB profile: the FX2N-style device areas with X/Y in octal, the special devices moved
-// to M9000/D9000, a Modbus slave map after the FX3U default allocation, MOV and CNT
-// (docs/profile-vb.md describes it for users).
+// to M9000/D9000, a Modbus slave map after the FX3U default allocation, and the program entries
+// of the VB manual's examples (docs/profile-vb.md describes it for users).
+
+#include <chrono>
 
 #include "instructions/cnt.hpp"
 #include "instructions/mov.hpp"
+#include "instructions/rst.hpp"
+#include "instructions/tmr.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/model.hpp"
+#include "profiles/vb/services.hpp"
 #include "profiles/vb/specials.hpp"
 
 namespace plcemu::profiles::vb {
@@ -85,16 +90,25 @@ public:
         static const instructions::Table kTable{
             {"CNT", &instructions::make_cnt},
             {"MOV", &instructions::make_mov},
+            {"RST", &instructions::make_rst},
+            {"TMR", &instructions::make_tmr},
         };
         return kTable;
     }
 
     std::unique_ptr<instructions::Services> services(
         const config::Config& /*config*/) const override {
-        auto s = std::make_unique<instructions::CounterServices>();
+        auto s = std::make_unique<Services>();
         // M9200–M9234: count direction of C200–C234 (FX M8200–M8234); C235–C255 have none here
         // (docs/profile-vb.md).
         s->direction = {Area::M, special::kCountDown, special::kCountDownRelays};
+        // The FX2N timers (docs/profile-vb.md, "Device areas"): T0–T199 100 ms, T200–T245 10 ms,
+        // T246–T249 1 ms retentive, T250–T255 100 ms retentive.
+        using std::chrono::milliseconds;
+        s->timers = {{0, 200, milliseconds(100), false},
+                     {200, 46, milliseconds(10), false},
+                     {246, 4, milliseconds(1), true},
+                     {250, 6, milliseconds(100), true}};
         return s;
     }
 
