@@ -4,10 +4,13 @@
 
 #include <chrono>
 
+#include "instructions/cmpout.hpp"
 #include "instructions/cnt.hpp"
 #include "instructions/mov.hpp"
+#include "instructions/pls.hpp"
 #include "instructions/rst.hpp"
 #include "instructions/tmr.hpp"
+#include "instructions/wor.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/model.hpp"
@@ -88,10 +91,13 @@ public:
 
     const instructions::Table& instructions() const override {
         static const instructions::Table kTable{
+            {"CMPOUT", &instructions::make_cmpout},
             {"CNT", &instructions::make_cnt},
             {"MOV", &instructions::make_mov},
+            {"PLS", &instructions::make_pls},
             {"RST", &instructions::make_rst},
             {"TMR", &instructions::make_tmr},
+            {"WOR", &instructions::make_wor},
         };
         return kTable;
     }
