@@ -12,6 +12,7 @@
 #include "instructions/tmr.hpp"
 #include "instructions/wor.hpp"
 #include "plcemu/profiles/profile.hpp"
+#include "profiles/vb/hour.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/model.hpp"
 #include "profiles/vb/services.hpp"
@@ -93,6 +94,8 @@ public:
         static const instructions::Table kTable{
             {"CMPOUT", &instructions::make_cmpout},
             {"CNT", &instructions::make_cnt},
+            {"DHOUR", &make_dhour},
+            {"HOUR", &make_hour},
             {"MOV", &instructions::make_mov},
             {"PLS", &instructions::make_pls},
             {"RST", &instructions::make_rst},
