@@ -127,7 +127,11 @@ Plc::Plc(std::shared_ptr<const config::Config> config,
     engine_ = std::make_unique<engine::Engine>(
         *image_, eo, program ? std::move(*program) : build_program(*config_),
         profile.specials(*config_));
-    if (start_ != Start::Reload) engine_->power_up();
+    if (start_ == Start::Reload) {
+        engine_->reload();
+    } else {
+        engine_->power_up();
+    }
     apply_init();
     // The plant and the measurement before the program, the outputs to the plant after it
     // (docs/architecture.md, "A scan"): the plant attaches to the outputs the program declares.

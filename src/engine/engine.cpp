@@ -53,6 +53,8 @@ void Engine::power_up() {
     last_ = Duration{0};
 }
 
+void Engine::reload() { specials_->reload(image_); }
+
 void Engine::step(Duration now, const Calendar& calendar) noexcept {
     const Duration dt = started_ ? now - last_ : options_.scan_period;
     ScanContext ctx{image_, now, dt, scans_, !started_, modules_};

@@ -3,6 +3,9 @@ and TO") through Modbus TCP against the real daemon: a VB-8T's readings, status 
 VB manual's FNC88/FNC92 examples read them, a broken sensor, a register drive with
 `drive_full_scale`, operation errors for a missing module, and the config errors of `modules:`."""
 
+import signal
+import time
+
 import pytest
 
 from conftest import REPO, run_plcemud
@@ -114,6 +117,29 @@ program:
     assert regs(c, 8067)[0] == 6705 and regs(c, 8069)[0] == 2
     # CR#63 moved before CR#64 failed.
     assert regs(c, 101)[0] == 0
+
+
+def test_reload_is_stop_to_run(start_plcemud):
+    """docs/profile-vb.md, "Special relays and registers": a reload (SIGHUP) is the VB's
+    STOP→RUN, so M9067, D9067 and D9069 are cleared; the other registers keep their values."""
+    d = start_plcemud(VB + """
+modules: [VB-4T]
+program:
+  - FROM: {en: M0, m1: 2, m2: 32, d: D100, n: 1}
+""")
+    c = running(d.client())
+    c.write_coil(0, True, slave=1)
+    deadline = time.monotonic() + 5
+    while regs(c, 8067)[0] != 6705:
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
+    c.write_coil(0, False, slave=1)
+    write(c, 7000, 4321)
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: done"), d.log_text()
+    assert regs(c, 8067)[0] == 0 and regs(c, 8069)[0] == 0
+    assert not coils(c, 7680 + 67)[0]
+    assert regs(c, 7000)[0] == 4321
 
 
 @pytest.mark.parametrize("text,line,col,needle", [

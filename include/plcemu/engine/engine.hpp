@@ -90,6 +90,8 @@ public:
     /// Power-up: the family's special devices take their power-up values. Call once, after
     /// the image holds its retained values.
     void power_up();
+    /// Takes over a running PLC's image after a reload: the family's STOP→RUN, no power-up.
+    void reload();
 
     /// Runs one scan starting at simulated time `now` (monotonic, one period after the last).
     void step(Duration now, const Calendar& calendar) noexcept;

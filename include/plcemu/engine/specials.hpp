@@ -22,6 +22,9 @@ public:
     /// Power-up values, after the image holds its retained values and before any scan.
     /// `station` is the configured station; a family may keep it in a register.
     virtual void power_up(image::Image& image, std::uint8_t station) noexcept = 0;
+    /// A reload of a running PLC, which a family may treat as its STOP→RUN (the image keeps
+    /// its values; no power-up).
+    virtual void reload(image::Image& /*image*/) noexcept {}
     /// At the start of each scan, before inputs and the program: clocks, first-scan pulse.
     virtual void scan_start(const ScanContext& ctx) noexcept = 0;
     /// At the end of each scan: scan time, calendar, and the station a master may have changed

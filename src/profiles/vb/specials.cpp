@@ -14,14 +14,18 @@ namespace sp = special;
 class VbSpecials final : public engine::Specials {
 public:
     void power_up(image::Image& image, std::uint8_t /*station*/) noexcept override {
-        // FX2N behaviour at STOP→RUN: the error flag and code are cleared (VB manual FNC88,
-        // error codes in D9067), the MBUS time-out takes its default (VB manual FNC149, D9129).
-        image.set_bit(Area::M, sp::kOperationError, false);
-        auto* d = image.words(Area::D);
-        d[sp::kErrorCode] = 0;
-        d[sp::kErrorEntry] = 0;
-        d[sp::kMbusTimeout] = 0;
+        reload(image);
+        // The MBUS time-out takes its default (VB manual FNC149, D9129).
+        image.set_word(Area::D, sp::kMbusTimeout, 0);
         scan_times_.reset();
+    }
+
+    // FX2N behaviour at STOP→RUN, which a start and a reload both are here: the error flag,
+    // code and step are cleared (VB manual FNC88, error codes in D9067).
+    void reload(image::Image& image) noexcept override {
+        image.set_bit(Area::M, sp::kOperationError, false);
+        image.set_word(Area::D, sp::kErrorCode, 0);
+        image.set_word(Area::D, sp::kErrorEntry, 0);
     }
 
     void scan_start(const engine::ScanContext& ctx) noexcept override {
