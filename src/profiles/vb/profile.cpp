@@ -1,5 +1,5 @@
 // The VIGOR VB profile: the FX2N-style device areas with X/Y in octal, the special devices moved
-// to M9000/D9000, a Modbus slave map after the FX3U default allocation, MOV and CNT
+// to M9000/D9000, a Modbus slave map after the FX3U default allocation, MOV, CNT and FNC88 PID
 // (docs/profile-vb.md describes it for users).
 
 #include "instructions/cnt.hpp"
@@ -7,6 +7,7 @@
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/model.hpp"
+#include "profiles/vb/pid.hpp"
 #include "profiles/vb/specials.hpp"
 
 namespace plcemu::profiles::vb {
@@ -85,6 +86,7 @@ public:
         static const instructions::Table kTable{
             {"CNT", &instructions::make_cnt},
             {"MOV", &instructions::make_mov},
+            {"PID", &make_pid},
         };
         return kTable;
     }
