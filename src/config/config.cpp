@@ -3,6 +3,8 @@
 #include <arpa/inet.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +25,11 @@ namespace plcemu::config {
 
 namespace {
 
+// The sections every profile has; a profile adds its own (Profile::sections).
+constexpr std::array<std::string_view, 12> kCommonSections{
+    "profile", "model",   "station", "scan_ms",   "time_scale",  "modbus",
+    "init",    "program", "plant",   "simulator", "persistence", "log"};
+
 // The YAML library's own messages are longer but may quote a character of the file.
 constexpr std::size_t kYamlMsgChars = 200;
 
@@ -35,140 +42,6 @@ std::string again(const std::string& kind,
            std::to_string(first.second) +
            (first.first == key ? "" : " as '" + excerpt(first.first) + "'") + ")";
 }
-
-std::string format_error(const Position& p, const std::string& m) {
-    // Line 0: the error is about the file as a whole (e.g. it cannot be opened).
-    if (p.line <= 0) return p.file + ": " + m;
-    return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": " + m;
-}
-
-// Walks the YAML tree; every accessor checks the node's type and throws with its position.
-class Reader {
-public:
-    explicit Reader(std::string file)
-        : file_(std::move(file)) {}
-
-    // " (X and Y are numbered in octal …)" after an error about `text`, or "".
-    std::string octal_hint(const std::string& text) const {
-        const std::string why = naming_->why_not(text);
-        return why.empty() ? "" : " (" + why + ")";
-    }
-
-    /// From the `profile:` key on, devices and constants are spelt the profile's way.
-    void set_naming(const image::Naming& naming) { naming_ = &naming; }
-    const image::Naming& naming() const { return *naming_; }
-
-    Position pos(const YAML::Node& n) const {
-        const YAML::Mark m = n.Mark();
-        // An empty document has no mark: point at its start.
-        if (m.line < 0 || m.column < 0) return {file_, 1, 1};
-        return {file_, m.line + 1, m.column + 1};
-    }
-
-    [[noreturn]] void fail(const YAML::Node& n, const std::string& msg) const {
-        throw ConfigError(pos(n), msg);
-    }
-
-    void expect_map(const YAML::Node& n, const std::string& what) const {
-        if (!n.IsMap()) fail(n, what + ": expected a mapping");
-    }
-
-    // Rejects keys not in `known` (catches typos) and returns the map's entries.
-    void check_keys(const YAML::Node& n,
-                    const std::string& what,
-                    std::initializer_list<const char*> known) const {
-        expect_map(n, what);
-        std::set<std::string> seen;
-        for (auto it = n.begin(); it != n.end(); ++it) {
-            const std::string key = scalar(it->first, what + " key");
-            // yaml-cpp keeps the first of two equal keys: a silent surprise, so refuse it.
-            if (!seen.insert(key).second) {
-                fail(it->first, "duplicate key '" + excerpt(key) + "' in " + what);
-            }
-            bool ok = false;
-            for (const char* k : known) ok = ok || key == k;
-            if (!ok) {
-                std::string list;
-                for (const char* k : known) {
-                    if (!list.empty()) list += ", ";
-                    list += k;
-                }
-                std::string msg = "unknown key '" + excerpt(key) + "' in ";
-                msg += what;
-                msg += " (expected one of: ";
-                msg += list;
-                msg += ")";
-                fail(it->first, msg);
-            }
-        }
-    }
-
-    std::string scalar(const YAML::Node& n, const std::string& what) const {
-        if (!n.IsScalar()) fail(n, what + ": expected a scalar");
-        return n.Scalar();
-    }
-
-    long long integer(const YAML::Node& n,
-                      const std::string& what,
-                      long long lo,
-                      long long hi) const {
-        const std::string s = scalar(n, what);
-        long long v = 0;
-        if (!naming_->parse_integer(s, v))
-            fail(n, what + ": expected an integer, got '" + excerpt(s) + "'");
-        if (v < lo || v > hi) {
-            fail(n, what + ": " + excerpt(s) + " is out of range " + std::to_string(lo) + ".." +
-                        std::to_string(hi));
-        }
-        return v;
-    }
-
-    double number(const YAML::Node& n, const std::string& what, double lo, double hi) const {
-        const std::string s = scalar(n, what);
-        double v = 0;
-        std::istringstream is(s);
-        is >> v;
-        if (!is || !is.eof() || !std::isfinite(v)) {
-            fail(n, what + ": expected a number, got '" + excerpt(s) + "'");
-        }
-        if (v < lo || v > hi) {
-            std::ostringstream o;
-            o << what << ": " << excerpt(s) << " is out of range " << lo << ".." << hi;
-            fail(n, o.str());
-        }
-        return v;
-    }
-
-    bool boolean(const YAML::Node& n, const std::string& what) const {
-        const std::string s = scalar(n, what);
-        if (s == "true" || s == "yes" || s == "on" || s == "1") return true;
-        if (s == "false" || s == "no" || s == "off" || s == "0") return false;
-        fail(n, what + ": expected true or false, got '" + excerpt(s) + "'");
-    }
-
-    image::Device device(const YAML::Node& n, const std::string& what) const {
-        const std::string s = scalar(n, what);
-        auto d = naming_->parse_device(s);
-        if (!d)
-            fail(n, what + ": '" + excerpt(s) + "' is not a device of this PLC" + octal_hint(s));
-        return *d;
-    }
-
-    image::Range range(const YAML::Node& n, const std::string& what) const {
-        const std::string s = scalar(n, what);
-        auto r = naming_->parse_range(s);
-        if (!r) {
-            fail(n, what + ": expected a device range such as D100-D199, got '" + excerpt(s) + "'" +
-                        octal_hint(s));
-        }
-        return *r;
-    }
-
-private:
-    std::string file_;
-    static inline const image::Naming kPlain{};  // before `profile:`: plain integers only
-    const image::Naming* naming_ = &kPlain;
-};
 
 // A numeric IPv4/IPv6 address, as the listener and the allow list take them.
 bool valid_address(const std::string& a) {
@@ -214,11 +87,11 @@ std::string outside(const Reader& r, const image::Layout& layout, const image::R
 
 // Device ranges of a list (write_protect, retentive) must exist on the profile's PLC.
 void check_ranges_exist(const Reader& r,
-                        const YAML::Node& list,
+                        const Node& list,
                         const std::string& what,
                         const image::Layout& layout) {
-    if (!list || !list.IsSequence()) return;
-    for (const auto& e : list) {
+    if (!list || !list.is_sequence()) return;
+    for (const auto& e : list.items) {
         const image::Range rg = r.range(e, what);
         if (!layout.contains(rg)) r.fail(e, what + ": " + outside(r, layout, rg));
     }
@@ -226,14 +99,14 @@ void check_ranges_exist(const Reader& r,
 
 // `modbus.map`: rows of a map that replaces the profile's.
 void read_map(const Reader& r,
-              const YAML::Node& n,
+              const Node& n,
               const image::Layout& layout,
               std::vector<MapRowConfig>& rows) {
-    if (!n.IsSequence())
+    if (!n.is_sequence())
         r.fail(n,
                "modbus.map: expected a list of rows such as {table: holding, start: 0, device: D0, "
                "count: 100}");
-    for (const auto& e : n) {
+    for (const auto& e : n.items) {
         r.check_keys(e, "modbus.map row", {"table", "start", "device", "count", "access"});
         for (const char* k : {"table", "start", "device", "count"}) {
             if (!e[k]) r.fail(e, std::string("modbus.map row: '") + k + "' is required");
@@ -278,7 +151,7 @@ void read_map(const Reader& r,
         const std::uint32_t per = row.device.word_of_bits ? 16 : 1;
         const image::Range devices{row.device.area, row.device.index, per * row.count};
         if (!layout.contains(devices)) r.fail(e, "modbus.map row: " + outside(r, layout, devices));
-        if (const auto a = e["access"]) {
+        if (const auto& a = e["access"]) {
             const std::string s = r.scalar(a, "modbus.map.access");
             if (s != "ro" && s != "rw") r.fail(a, "modbus.map.access: expected ro or rw");
             row.read_only = s == "ro";
@@ -295,7 +168,7 @@ void read_map(const Reader& r,
     }
 }
 
-void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
+void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp) {
     r.check_keys(n, "modbus.tcp",
                  {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients",
                   "idle_timeout_s", "frame_timeout_ms"});
@@ -321,9 +194,9 @@ void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
             r.fail(n["unknown_unit"], "modbus.tcp.unknown_unit: expected 'exception' or 'silent'");
         }
     }
-    if (const auto a = n["allow"]) {
-        if (!a.IsSequence()) r.fail(a, "modbus.tcp.allow: expected a list of CIDR ranges");
-        for (const auto& e : a) {
+    if (const auto& a = n["allow"]) {
+        if (!a.is_sequence()) r.fail(a, "modbus.tcp.allow: expected a list of CIDR ranges");
+        for (const auto& e : a.items) {
             tcp.allow.push_back(r.scalar(e, "modbus.tcp.allow entry"));
             if (!valid_cidr(tcp.allow.back())) {
                 r.fail(e,
@@ -347,7 +220,7 @@ void read_tcp(const Reader& r, const YAML::Node& n, TcpConfig& tcp) {
     }
 }
 
-void read_rtu(const Reader& r, const YAML::Node& n, RtuConfig& rtu) {
+void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu) {
     r.check_keys(n, "modbus.rtu", {"device", "baud", "parity", "data_bits", "stop_bits"});
     if (!n["device"]) r.fail(n, "modbus.rtu: 'device' is required");
     rtu.device = r.scalar(n["device"], "modbus.rtu.device");
@@ -370,43 +243,43 @@ void read_rtu(const Reader& r, const YAML::Node& n, RtuConfig& rtu) {
         rtu.stop_bits = static_cast<int>(r.integer(n["stop_bits"], "modbus.rtu.stop_bits", 1, 2));
 }
 
-void read_modbus(const Reader& r, const YAML::Node& n, ModbusConfig& mb) {
+void read_modbus(const Reader& r, const Node& n, ModbusConfig& mb) {
     r.check_keys(n, "modbus", {"tcp", "rtu", "read_only", "write_protect", "map"});
     if (n["tcp"]) read_tcp(r, n["tcp"], mb.tcp);
-    if (n["rtu"] && !n["rtu"].IsNull()) {
+    if (n["rtu"] && !n["rtu"].is_null()) {
         RtuConfig rtu;
         read_rtu(r, n["rtu"], rtu);
         mb.rtu = rtu;
     }
     if (n["read_only"]) mb.read_only = r.boolean(n["read_only"], "modbus.read_only");
-    if (const auto w = n["write_protect"]) {
-        if (!w.IsSequence()) r.fail(w, "modbus.write_protect: expected a list of device ranges");
-        for (const auto& e : w)
+    if (const auto& w = n["write_protect"]) {
+        if (!w.is_sequence()) r.fail(w, "modbus.write_protect: expected a list of device ranges");
+        for (const auto& e : w.items)
             mb.write_protect.push_back(r.range(e, "modbus.write_protect entry"));
     }
 }
 
-void read_init(const Reader& r, const YAML::Node& n, std::vector<InitEntry>& init) {
+void read_init(const Reader& r, const Node& n, std::vector<InitEntry>& init) {
     r.expect_map(n, "init");
     // Keys naming one device (D7, d7, D07) would preset it twice, the last silently winning.
     std::map<std::tuple<image::Area, std::uint32_t, bool>, std::pair<std::string, int>> first;
-    for (auto it = n.begin(); it != n.end(); ++it) {
+    for (const auto& entry : n.entries) {
+        const auto* it = &entry;
         InitEntry e;
         e.pos = r.pos(it->first);
         e.device = r.device(it->first, "init key");
-        const std::string key = it->first.Scalar();
+        const std::string key = it->first.text;
         const auto [at, fresh] = first.try_emplace(
             {e.device.area, e.device.index, e.device.word_of_bits}, key, e.pos.line);
         if (!fresh) r.fail(it->first, "init: " + again("device", key, at->second));
         const std::string what = "init." + excerpt(key);
-        auto one = [&](const YAML::Node& v) {
+        auto one = [&](const Node& v) {
             e.values.push_back(
                 static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
         };
-        // A copy: `it->second` lives in a temporary proxy that a range-for would outlive.
-        const YAML::Node value = it->second;
-        if (value.IsSequence()) {
-            for (const auto& v : value) one(v);
+        const Node& value = it->second;
+        if (value.is_sequence()) {
+            for (const auto& v : value.items) one(v);
         } else {
             one(value);
         }
@@ -414,22 +287,23 @@ void read_init(const Reader& r, const YAML::Node& n, std::vector<InitEntry>& ini
     }
 }
 
-void read_program(const Reader& r, const YAML::Node& n, std::vector<InstructionConfig>& prog) {
-    if (n.IsNull()) return;
-    if (!n.IsSequence()) r.fail(n, "program: expected a list of instructions");
-    for (const auto& item : n) {
-        if (!item.IsMap() || item.size() != 1) {
+void read_program(const Reader& r, const Node& n, std::vector<InstructionConfig>& prog) {
+    if (n.is_null()) return;
+    if (!n.is_sequence()) r.fail(n, "program: expected a list of instructions");
+    for (const auto& item : n.items) {
+        if (!item.is_map() || item.size() != 1) {
             r.fail(item,
                    "program entry: expected one instruction such as 'MOV: {en: M1926, s: WM800, d: "
                    "R4012}'");
         }
-        const auto kv = *item.begin();
+        const auto& kv = item.entries.front();
         InstructionConfig ic;
         ic.mnemonic = r.scalar(kv.first, "instruction");
         ic.pos = r.pos(kv.first);
         const std::string mnemonic = excerpt(ic.mnemonic);
-        if (!kv.second.IsMap()) r.fail(kv.second, mnemonic + ": expected a mapping of operands");
-        for (auto op = kv.second.begin(); op != kv.second.end(); ++op) {
+        if (!kv.second.is_map()) r.fail(kv.second, mnemonic + ": expected a mapping of operands");
+        for (const auto& entry : kv.second.entries) {
+            const auto* op = &entry;
             const std::string key = r.scalar(op->first, mnemonic + " operand");
             for (const auto& [k, v] : ic.operands) {
                 if (k == key) {
@@ -444,73 +318,7 @@ void read_program(const Reader& r, const YAML::Node& n, std::vector<InstructionC
     }
 }
 
-std::uint8_t module_code(const std::string& name) {
-    static const std::map<std::string, std::uint8_t> kNames{
-        {"TC6", 1}, {"RTD6", 2}, {"TC16", 3}, {"RTD16", 4}, {"TC2", 5}};
-    auto it = kNames.find(name);
-    return it == kNames.end() ? 0 : it->second;
-}
-
-bool sensor_code(std::uint8_t module, const std::string& s, std::uint8_t& out) {
-    static const std::map<std::string, std::uint8_t> kTc{{"J", 0}, {"K", 1}, {"T", 2}, {"E", 3},
-                                                         {"N", 4}, {"B", 5}, {"R", 6}, {"S", 7}};
-    static const std::map<std::string, std::uint8_t> kRtd{
-        {"PT100_DIN", 0}, {"PT100_JIS", 1}, {"PT1000_DIN", 2}, {"PT1000_JIS", 3}};
-    std::string u;
-    for (char c : s) u += static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
-    const bool rtd = module == 2 || module == 4;
-    const auto& m = rtd ? kRtd : kTc;
-    auto it = m.find(u);
-    if (it == m.end()) return false;
-    out = it->second;
-    return true;
-}
-
-void read_temperature(const Reader& r, const YAML::Node& n, TemperatureConfig& t) {
-    r.check_keys(n, "temperature", {"table", "modules", "scan_rate"});
-    if (n["table"]) {
-        t.table = r.device(n["table"], "temperature.table");
-        if (t.table->word_of_bits ||
-            (t.table->area != image::Area::R && t.table->area != image::Area::D)) {
-            r.fail(n["table"], "temperature.table: expected an R or D register");
-        }
-    }
-    if (const auto m = n["modules"]) {
-        if (!m.IsSequence())
-            r.fail(m, "temperature.modules: expected a list such as [TC6:K, RTD6:PT100_DIN]");
-        for (const auto& e : m) {
-            const std::string s = r.scalar(e, "temperature.modules entry");
-            const auto colon = s.find(':');
-            ModuleConfig mc;
-            mc.pos = r.pos(e);
-            mc.name_code = module_code(s.substr(0, colon));
-            if (mc.name_code == 0) {
-                r.fail(e, "temperature.modules: unknown module '" + excerpt(s.substr(0, colon)) +
-                              "' (expected TC6, RTD6, TC16, RTD16 or TC2)");
-            }
-            const bool rtd = mc.name_code == 2 || mc.name_code == 4;
-            const std::string sensor =
-                colon == std::string::npos ? (rtd ? "PT100_DIN" : "K") : s.substr(colon + 1);
-            if (!sensor_code(mc.name_code, sensor, mc.sensor_type)) {
-                r.fail(e, "temperature.modules: unknown sensor '" + excerpt(sensor) +
-                              "' (expected " +
-                              (rtd ? "PT100_DIN, PT100_JIS, PT1000_DIN or PT1000_JIS"
-                                   : "J, K, T, E, N, B, R or S") +
-                              ")");
-            }
-            t.modules.push_back(mc);
-        }
-        if (t.modules.size() > 8) r.fail(m, "temperature.modules: at most 8 modules");
-    }
-    if (n["scan_rate"]) {
-        const std::string s = r.scalar(n["scan_rate"], "temperature.scan_rate");
-        if (s != "normal" && s != "fast")
-            r.fail(n["scan_rate"], "temperature.scan_rate: expected 'normal' or 'fast'");
-        t.fast = s == "fast";
-    }
-}
-
-void read_faults(const Reader& r, const YAML::Node& n, Faults& f) {
+void read_faults(const Reader& r, const Node& n, Faults& f) {
     r.check_keys(n, "faults", {"sensor_broken", "heater_open", "heater_shorted", "reading_frozen"});
     if (n["sensor_broken"]) f.sensor_broken = r.boolean(n["sensor_broken"], "faults.sensor_broken");
     if (n["heater_open"]) f.heater_open = r.boolean(n["heater_open"], "faults.heater_open");
@@ -520,9 +328,10 @@ void read_faults(const Reader& r, const YAML::Node& n, Faults& f) {
         f.reading_frozen = r.boolean(n["reading_frozen"], "faults.reading_frozen");
 }
 
-void read_channel(const Reader& r, const YAML::Node& n, ChannelConfig& c, const std::string& what) {
+void read_channel(const Reader& r, const Node& n, ChannelConfig& c, const std::string& what) {
     r.check_keys(n, what,
-                 {"ambient", "k", "tau", "dead_time", "noise", "cooling", "drive", "faults"});
+                 {"ambient", "k", "tau", "dead_time", "noise", "cooling", "drive",
+                  "drive_full_scale", "faults"});
     if (n["ambient"]) c.ambient_c = r.number(n["ambient"], what + ".ambient", -200, 1000);
     if (n["k"]) c.k_c = r.number(n["k"], what + ".k", 0, 3000);
     if (n["tau"]) c.tau_s = r.number(n["tau"], what + ".tau", 0.1, 100000);
@@ -534,25 +343,29 @@ void read_channel(const Reader& r, const YAML::Node& n, ChannelConfig& c, const 
         const auto a = c.drive->area;
         if (c.drive->word_of_bits ||
             (a != image::Area::Y && a != image::Area::R && a != image::Area::D)) {
-            r.fail(n["drive"],
-                   what + ".drive: expected a Y output (PWM) or an R/D register (OR value)");
+            r.fail(n["drive"], what + ".drive: expected a Y output (PWM) or a register");
         }
+    }
+    if (n["drive_full_scale"]) {
+        c.drive_full_scale = static_cast<int>(
+            r.integer(n["drive_full_scale"], what + ".drive_full_scale", 1, 32767));
     }
     if (n["faults"]) read_faults(r, n["faults"], c.faults);
 }
 
-void read_plant(const Reader& r, const YAML::Node& n, PlantConfig& p) {
+void read_plant(const Reader& r, const Node& n, PlantConfig& p) {
     r.check_keys(n, "plant", {"defaults", "channels", "seed"});
     if (n["defaults"]) read_channel(r, n["defaults"], p.defaults, "plant.defaults");
     if (n["seed"])
         p.seed = static_cast<std::uint64_t>(r.integer(n["seed"], "plant.seed", 0, 1LL << 40));
-    if (const auto ch = n["channels"]) {
+    if (const auto& ch = n["channels"]) {
         r.expect_map(ch, "plant.channels");
         // Keys naming one channel (1, 01, 0x1) would set it twice, the last silently winning.
         std::map<int, std::pair<std::string, int>> first;
-        for (auto it = ch.begin(); it != ch.end(); ++it) {
+        for (const auto& entry : ch.entries) {
+            const auto* it = &entry;
             const int idx = static_cast<int>(r.integer(it->first, "plant.channels key", 0, 31));
-            const std::string key = it->first.Scalar();
+            const std::string key = it->first.text;
             const auto [at, fresh] = first.try_emplace(idx, key, r.pos(it->first).line);
             if (!fresh) r.fail(it->first, "plant.channels: " + again("channel", key, at->second));
             ChannelConfig c = p.defaults;
@@ -562,7 +375,7 @@ void read_plant(const Reader& r, const YAML::Node& n, PlantConfig& p) {
     }
 }
 
-void read_persistence(const Reader& r, const YAML::Node& n, PersistenceConfig& p) {
+void read_persistence(const Reader& r, const Node& n, PersistenceConfig& p) {
     r.check_keys(n, "persistence", {"enabled", "file", "retentive", "sync_ms", "init"});
     if (n["enabled"]) p.enabled = r.boolean(n["enabled"], "persistence.enabled");
     if (n["file"]) p.file = r.scalar(n["file"], "persistence.file");
@@ -577,26 +390,80 @@ void read_persistence(const Reader& r, const YAML::Node& n, PersistenceConfig& p
     }
     if (n["sync_ms"])
         p.sync_ms = static_cast<int>(r.integer(n["sync_ms"], "persistence.sync_ms", 10, 600000));
-    if (const auto ret = n["retentive"]) {
-        if (!ret.IsSequence())
+    if (const auto& ret = n["retentive"]) {
+        if (!ret.is_sequence())
             r.fail(ret, "persistence.retentive: expected a list of device ranges");
         std::vector<image::Range> v;
-        for (const auto& e : ret) v.push_back(r.range(e, "persistence.retentive entry"));
+        for (const auto& e : ret.items) v.push_back(r.range(e, "persistence.retentive entry"));
         // The state file's header records them (image::kMaxRetentiveRanges).
         if (v.size() > 256) r.fail(ret, "persistence.retentive: at most 256 ranges");
         p.retentive = v;
     }
 }
 
-Config read_root(Reader& r, const YAML::Node& root) {
+// The YAML document as a plain tree. A YAML alias shares its node, so a few lines of anchors can
+// stand for an exponential tree: the copy stops at a node count and a depth no real config
+// reaches.
+struct TreeBuilder {
+    static constexpr std::size_t kMaxNodes = 1'000'000;
+    static constexpr int kMaxDepth = 64;
+
+    const std::string& file;
+    std::size_t nodes = 0;
+
+    Node operator()(const YAML::Node& y, int depth) {
+        Node n;
+        const YAML::Mark m = y.Mark();
+        // A node without a mark (an empty document) stands at the start of the file.
+        n.pos = m.line < 0 || m.column < 0 ? Position{file, 1, 1}
+                                           : Position{file, m.line + 1, m.column + 1};
+        if (++nodes > kMaxNodes || depth > kMaxDepth) {
+            throw ConfigError(n.pos, "the config nests too deeply or repeats too much (more than " +
+                                         std::to_string(kMaxDepth) + " levels or " +
+                                         std::to_string(kMaxNodes) + " nodes)");
+        }
+        switch (y.Type()) {
+            case YAML::NodeType::Null:
+                n.kind = Node::Kind::Null;
+                break;
+            case YAML::NodeType::Scalar:
+                n.kind = Node::Kind::Scalar;
+                n.text = y.Scalar();
+                break;
+            case YAML::NodeType::Sequence:
+                n.kind = Node::Kind::Sequence;
+                n.items.reserve(y.size());
+                for (const auto& e : y) n.items.push_back((*this)(e, depth + 1));
+                break;
+            case YAML::NodeType::Map:
+                n.kind = Node::Kind::Map;
+                n.entries.reserve(y.size());
+                for (auto it = y.begin(); it != y.end(); ++it) {
+                    Node key = (*this)(it->first, depth + 1);
+                    n.entries.emplace_back(std::move(key), (*this)(it->second, depth + 1));
+                }
+                break;
+            case YAML::NodeType::Undefined:
+                break;
+        }
+        return n;
+    }
+};
+
+Config read_root(Reader& r, const Node& root) {
     Config c;
-    if (!root.IsMap()) {
+    if (!root.is_map()) {
         r.fail(root, "the config must be a mapping with at least 'profile:' (one of " +
                          profiles::names() + ")");
     }
-    r.check_keys(root, "config",
-                 {"profile", "model", "station", "scan_ms", "time_scale", "modbus", "init",
-                  "program", "temperature", "plant", "simulator", "persistence", "log"});
+    // The common sections, and those a profile reads itself (which may not be this one's).
+    std::vector<std::string> known(kCommonSections.begin(), kCommonSections.end());
+    for (const profiles::Profile* p : profiles::all()) {
+        for (std::string_view s : p->sections()) {
+            if (std::find(known.begin(), known.end(), s) == known.end()) known.emplace_back(s);
+        }
+    }
+    r.check_keys(root, "config", known);
     if (!root["profile"]) r.fail(root, "'profile' is required (one of " + profiles::names() + ")");
     c.profile = r.scalar(root["profile"], "profile");
     const profiles::Profile* profile = profiles::find(c.profile);
@@ -606,13 +473,19 @@ Config read_root(Reader& r, const YAML::Node& root) {
     }
     r.set_naming(profile->naming());
     const image::Layout layout = profile->layout();
-    // Sections of subsystems the family does not have are refused where they stand.
-    for (const char* section : {"temperature"}) {
-        const auto own = profile->sections();
-        if (root[section] && std::find(own.begin(), own.end(), section) == own.end()) {
-            r.fail(root[section],
-                   std::string(section) + ": profile " + c.profile + " has no such subsystem");
+    // A profile's own sections are kept as written for it to read; another profile's are
+    // refused where they stand.
+    const auto own = profile->sections();
+    for (const auto& [key, value] : root.entries) {
+        if (!key.is_scalar()) continue;
+        if (std::find(kCommonSections.begin(), kCommonSections.end(), key.text) !=
+            kCommonSections.end()) {
+            continue;
         }
+        if (std::find(own.begin(), own.end(), key.text) == own.end()) {
+            r.fail(value, key.text + ": profile " + c.profile + " has no such subsystem");
+        }
+        c.sections.emplace_back(key.text, value);
     }
     c.model = std::string(profile->default_model());
     if (root["model"]) {
@@ -632,26 +505,25 @@ Config read_root(Reader& r, const YAML::Node& root) {
     if (root["modbus"]) read_modbus(r, root["modbus"], c.modbus);
     if (root["init"]) read_init(r, root["init"], c.init);
     if (root["program"]) read_program(r, root["program"], c.program);
-    if (root["temperature"]) read_temperature(r, root["temperature"], c.temperature);
     if (root["plant"]) read_plant(r, root["plant"], c.plant);
-    if (const auto s = root["simulator"]) {
+    if (const auto& s = root["simulator"]) {
         r.check_keys(s, "simulator", {"unit", "writable"});
         if (s["unit"])
             c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
         if (s["writable"]) c.simulator.writable = r.boolean(s["writable"], "simulator.writable");
     }
     if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
-    if (const auto m = root["modbus"]) {
+    if (const auto& m = root["modbus"]) {
         check_ranges_exist(r, m["write_protect"], "modbus.write_protect entry", layout);
         if (m["map"]) {
             c.modbus.map.emplace();
             read_map(r, m["map"], layout, *c.modbus.map);
         }
     }
-    if (const auto p = root["persistence"]) {
+    if (const auto& p = root["persistence"]) {
         check_ranges_exist(r, p["retentive"], "persistence.retentive entry", layout);
     }
-    if (const auto l = root["log"]) {
+    if (const auto& l = root["log"]) {
         r.check_keys(l, "log", {"level"});
         if (l["level"]) {
             c.log.level = r.scalar(l["level"], "log.level");
@@ -661,32 +533,25 @@ Config read_root(Reader& r, const YAML::Node& root) {
                 r.fail(l["level"], "log.level: expected trace, debug, info, warn, error or off");
         }
     }
+    profile->check(c);
     return c;
 }
 
 }  // namespace
 
-ConfigError::ConfigError(const Position& pos, const std::string& message)
-    : std::runtime_error(format_error(pos, message)),
-      pos_(pos) {}
-
 Config parse_config(const std::string& text, const std::string& name) {
-    Reader r(name);
-    YAML::Node root;
+    Node root;
     try {
-        root = YAML::Load(text);
+        TreeBuilder build{name};
+        root = build(YAML::Load(text), 0);
     } catch (const YAML::Exception& e) {
         throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
                           excerpt(e.msg, kYamlMsgChars));
     }
-    try {
-        Config c = read_root(r, root);
-        c.path = name;
-        return c;
-    } catch (const YAML::Exception& e) {
-        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
-                          excerpt(e.msg, kYamlMsgChars));
-    }
+    Reader r;
+    Config c = read_root(r, root);
+    c.path = name;
+    return c;
 }
 
 Config load_config(const std::string& path) {

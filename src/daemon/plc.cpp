@@ -66,7 +66,9 @@ plant::PlantSetup plant_setup(const config::Config& config, const engine::Declar
         if (cc.drive) {
             const bool output = cc.drive->area == image::Area::Y;
             ch.drive = {output ? plant::Drive::Kind::Output : plant::Drive::Kind::Register,
-                        *cc.drive};
+                        *cc.drive,
+                        static_cast<double>(
+                            cc.drive_full_scale.value_or(profiles::of(config).drive_full_scale()))};
         }
     }
     return setup;

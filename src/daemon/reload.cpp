@@ -1,5 +1,7 @@
 #include "reload.hpp"
 
+#include <algorithm>
+
 #include "plcemu/profiles/profile.hpp"
 
 #include <sstream>
@@ -60,16 +62,28 @@ bool same_init(const std::vector<config::InitEntry>& a, const std::vector<config
     return true;
 }
 
-bool same_temperature(const config::TemperatureConfig& a, const config::TemperatureConfig& b) {
-    if (a.table != b.table || a.fast != b.fast || a.modules.size() != b.modules.size())
-        return false;
-    for (std::size_t i = 0; i < a.modules.size(); ++i) {
-        if (a.modules[i].name_code != b.modules[i].name_code ||
-            a.modules[i].sensor_type != b.modules[i].sensor_type) {
-            return false;
+// The profile's own sections (`temperature:`, `modules:`), compared as written.
+const config::Node* section(const config::Config& c, const std::string& name) {
+    for (const auto& [n, node] : c.sections) {
+        if (n == name) return &node;
+    }
+    return nullptr;
+}
+
+void changed_sections(const config::Config& a,
+                      const config::Config& b,
+                      std::vector<std::string>& out) {
+    std::vector<std::string> names;
+    for (const auto* c : {&a, &b}) {
+        for (const auto& [n, node] : c->sections) {
+            if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
         }
     }
-    return true;
+    for (const auto& n : names) {
+        const config::Node* x = section(a, n);
+        const config::Node* y = section(b, n);
+        if (x == nullptr || y == nullptr || !x->same(*y)) out.push_back(n + ": changed");
+    }
 }
 
 bool same_map(const std::optional<std::vector<config::MapRowConfig>>& a,
@@ -128,7 +142,7 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     if (!same_program(a.program, b.program)) {
         out.push_back("program: changed (" + std::to_string(b.program.size()) + " instructions)");
     }
-    if (!same_temperature(a.temperature, b.temperature)) out.push_back("temperature: changed");
+    changed_sections(a, b, out);
     cmp("simulator.unit", a.simulator.unit, b.simulator.unit);
     cmp("simulator.writable",
         a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),

@@ -55,7 +55,7 @@ void Engine::power_up() {
 
 void Engine::step(Duration now, const Calendar& calendar) noexcept {
     const Duration dt = started_ ? now - last_ : options_.scan_period;
-    ScanContext ctx{image_, now, dt, scans_, !started_};
+    ScanContext ctx{image_, now, dt, scans_, !started_, modules_};
     started_ = true;
     last_ = now;
     specials_->scan_start(ctx);

@@ -163,6 +163,16 @@ long long Operands::integer(const char* key, long long lo, long long hi) {
     return v;
 }
 
+bool Operands::flag(const char* key) {
+    used_.insert(key);
+    const Operand* op = find(key);
+    if (op == nullptr) return false;
+    const std::string& s = op->text;
+    if (s == "true" || s == "yes" || s == "on" || s == "1") return true;
+    if (s == "false" || s == "no" || s == "off" || s == "0") return false;
+    fail(key, "expected true or false, got '" + image::excerpt(s) + "'");
+}
+
 void Operands::finish() const {
     for (const auto& [k, v] : ic_.operands) {
         if (!used_.count(k)) {

@@ -60,6 +60,8 @@ public:
     image::Device device(const char* key,
                          std::uint32_t span,
                          std::initializer_list<image::Area> areas);
+    /// A yes/no option (`p: true`); absent gives false.
+    bool flag(const char* key);
     /// An integer constant in lo..hi.
     long long integer(const char* key, long long lo, long long hi);
     /// Fails on operands nobody asked for (typos).

@@ -11,6 +11,12 @@ std::string Where::text() const {
     return file + ":" + std::to_string(line) + ":" + std::to_string(column);
 }
 
+void OperationError::raise(image::Image& img, std::uint16_t error, int index) const noexcept {
+    img.write_word(code, error);
+    img.write_word(entry, static_cast<std::uint16_t>(index));
+    img.write_bit(flag, true);
+}
+
 BindError::BindError(Where where, const std::string& message)
     : std::runtime_error(message),
       where_(std::move(where)) {}

@@ -140,8 +140,9 @@ double ThermalPlant::read_drive(const image::Image& img, const Channel& c) const
     const auto& d = c.drive.device;
     if (c.drive.kind == Drive::Kind::None || d.index >= img.layout().size_of(d.area)) return 0.0;
     if (c.drive.kind == Drive::Kind::Output) return img.bit(d.area, d.index) ? 1.0 : 0.0;
-    const double v = static_cast<double>(img.word(d.area, d.index));
-    return std::min(v, 16383.0) / 16383.0;
+    // A signed word: a PID output below 0 is no power, not nearly full power.
+    const double v = static_cast<std::int16_t>(img.word(d.area, d.index));
+    return std::clamp(v / c.drive.full_scale, 0.0, 1.0);
 }
 
 void ThermalPlant::advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcept {

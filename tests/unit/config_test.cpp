@@ -51,7 +51,7 @@ TEST(Config, ProfileAloneIsValidAndEverythingElseDefaults) {
         EXPECT_TRUE(c.modbus.write_protect.empty());
         EXPECT_TRUE(c.init.empty());
         EXPECT_TRUE(c.program.empty());
-        EXPECT_FALSE(c.temperature.table.has_value());
+        EXPECT_TRUE(c.sections.empty());
         EXPECT_EQ(c.simulator.unit, 247);
         EXPECT_EQ(c.log.level, "info");
     }

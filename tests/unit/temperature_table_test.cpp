@@ -39,8 +39,8 @@ std::uint16_t module(std::uint16_t name, std::uint16_t sensor) {
     return static_cast<std::uint16_t>(sensor << 8 | name);
 }
 
-config::ModuleConfig installed(std::uint8_t name, std::uint8_t sensor) {
-    config::ModuleConfig m;
+ModuleConfig installed(std::uint8_t name, std::uint8_t sensor) {
+    ModuleConfig m;
     m.name_code = name;
     m.sensor_type = sensor;
     return m;
@@ -48,8 +48,7 @@ config::ModuleConfig installed(std::uint8_t name, std::uint8_t sensor) {
 
 // Table at R5000, readings at R0 (10000), working registers at D0 (20000), 10 ms scans.
 struct Rig {
-    explicit Rig(std::vector<config::ModuleConfig> chain = {installed(kTC6, kK),
-                                                            installed(kRTD6, kPt100)},
+    explicit Rig(std::vector<ModuleConfig> chain = {installed(kTC6, kK), installed(kRTD6, kPt100)},
                  bool fast = false)
         : image(test::fbs_layout()) {
         engine::EngineOptions o;
@@ -190,7 +189,7 @@ TEST(TemperatureTable, ModuleCountZeroOrAboveEightGivesFEh) {
 
 TEST(TemperatureTable, MoreThan32ChannelsGivesFFh) {
     // FBs manual §21.3.2: channels numbered across modules; more than 32 → FFh, no measurement.
-    Rig rig(std::vector<config::ModuleConfig>{});
+    Rig rig(std::vector<ModuleConfig>{});
     rig.write_table(
         {0xA556, 3, 10000, 20000, module(kTC16, kK), module(kRTD16, kPt100), module(kTC2, kK)});
     rig.run_ms(7000);
@@ -246,7 +245,7 @@ TEST(TemperatureTable, InstalledModuleMismatchSetsBitKMinus1OfWr0LowByte) {
 }
 
 TEST(TemperatureTable, NoDeclaredChainMeansTheTableIsWhatIsInstalled) {
-    Rig rig(std::vector<config::ModuleConfig>{});
+    Rig rig(std::vector<ModuleConfig>{});
     rig.standard_table();
     rig.run_ms(4010);
     EXPECT_EQ(rig.wr(0), t::kRunning << 8);

@@ -48,7 +48,9 @@ TEST(VbProfile, Identity) {
     EXPECT_EQ(vb().vendor(), "VIGOR");
     EXPECT_EQ(vb().default_model(), "VB2-32M");
     EXPECT_EQ(vb().max_station(), 247);
-    EXPECT_TRUE(vb().sections().empty());  // no temperature: section
+    // modules: (docs/profile-vb.md, "Temperature modules"), no FBs temperature: section.
+    EXPECT_EQ(vb().sections(), std::vector<std::string_view>{"modules"});
+    EXPECT_EQ(vb().drive_full_scale(), 1000);
 }
 
 // docs/profile-vb.md, "Identity": V[BH][0-9]?-[0-9]+M[A-Z]*.

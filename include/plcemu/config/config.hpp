@@ -4,36 +4,19 @@
 
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
+#include "plcemu/config/node.hpp"
+#include "plcemu/config/reader.hpp"
 #include "plcemu/image/area.hpp"
 #include "plcemu/image/excerpt.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
 
 namespace plcemu::config {
-
-/// Where something stands in a config file (1-based line and column).
-struct Position {
-    std::string file;  ///< file name as given
-    int line = 0;      ///< 1-based line
-    int column = 0;    ///< 1-based column
-};
-
-/// A configuration error: "file:line:col: message". The daemon exits with status 2 on it.
-class ConfigError : public std::runtime_error {
-public:
-    ConfigError(const Position& pos, const std::string& message);
-    /// Where the error is.
-    const Position& position() const { return pos_; }
-
-private:
-    Position pos_;
-};
 
 /// A scalar operand of an instruction as written ("R100", "0", "K10"), with its position.
 struct Operand {
@@ -104,21 +87,6 @@ struct ModbusConfig {
     std::optional<std::vector<MapRowConfig>> map;
 };
 
-/// One installed temperature module of the emulated expansion chain.
-struct ModuleConfig {
-    std::uint8_t name_code = 0;  ///< 1 TC6, 2 RTD6, 3 TC16, 4 RTD16, 5 TC2
-    std::uint8_t sensor_type =
-        0;         ///< sensor type code (docs/profile-fbs.md, "Temperature measurement")
-    Position pos;  ///< where it was declared
-};
-
-/// `temperature`
-struct TemperatureConfig {
-    std::optional<image::Device> table;  ///< start of the configuration table (R or D)
-    std::vector<ModuleConfig> modules;   ///< installed modules, in chain order
-    bool fast = false;  ///< "scan rate": fast conversion (half time, 1° resolution)
-};
-
 /// Fault switches of a plant channel (docs/simulator-and-plant.md).
 struct Faults {
     bool sensor_broken = false;   ///< reading 32767, abnormal bit
@@ -129,15 +97,17 @@ struct Faults {
 
 /// One simulated process channel (docs/simulator-and-plant.md).
 struct ChannelConfig {
-    double ambient_c = 25.0;             ///< T_amb, °C
-    double k_c = 400.0;                  ///< full-power rise, °C
-    double tau_s = 120.0;                ///< time constant, s
-    double dead_time_s = 5.0;            ///< θ, s
-    double noise_c = 0.0;                ///< sensor noise σ, °C
-    bool cooling = false;                ///< the actuator pulls T down
-    std::optional<image::Device> drive;  ///< Y (PWM duty) or R/D (OR value /16383); default:
-                                         ///< the TPCTL output that controls this channel
-    Faults faults;                       ///< initial faults
+    double ambient_c = 25.0;              ///< T_amb, °C
+    double k_c = 400.0;                   ///< full-power rise, °C
+    double tau_s = 120.0;                 ///< time constant, s
+    double dead_time_s = 5.0;             ///< θ, s
+    double noise_c = 0.0;                 ///< sensor noise σ, °C
+    bool cooling = false;                 ///< the actuator pulls T down
+    std::optional<image::Device> drive;   ///< Y (PWM duty) or a register; default: the output
+                                          ///< the program declares for this channel
+    std::optional<int> drive_full_scale;  ///< a register drive's value for full power (default:
+                                          ///< the profile's)
+    Faults faults;                        ///< initial faults
 };
 
 /// `plant`
@@ -185,11 +155,12 @@ struct Config {
     ModbusConfig modbus;                     ///< transports and access
     std::vector<InitEntry> init;             ///< presets
     std::vector<InstructionConfig> program;  ///< ordered instruction list
-    TemperatureConfig temperature;           ///< measurement table and modules
-    PlantConfig plant;                       ///< thermal plant
-    SimulatorConfig simulator;               ///< simulator-control unit
-    PersistenceConfig persistence;           ///< retentive state file
-    LogConfig log;                           ///< logging
+    /// The sections the profile reads itself (Profile::sections), as written.
+    std::vector<std::pair<std::string, Node>> sections;
+    PlantConfig plant;              ///< thermal plant
+    SimulatorConfig simulator;      ///< simulator-control unit
+    PersistenceConfig persistence;  ///< retentive state file
+    LogConfig log;                  ///< logging
 };
 
 /// Why a device range is refused on a PLC: "D8000 does not exist on this PLC (…)" or "R9000 is

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "plcemu/engine/declarations.hpp"
+#include "plcemu/engine/modules.hpp"
 #include "plcemu/engine/specials.hpp"
 #include "plcemu/image/image.hpp"
 
@@ -29,11 +30,12 @@ struct Calendar {
 
 /// What an instruction sees during one scan.
 struct ScanContext {
-    image::Image& image;  ///< the register image
-    Duration now;         ///< simulated time of this scan's start
-    Duration dt;          ///< simulated time since the previous scan (the scan period)
-    std::uint64_t scan;   ///< scans completed before this one
-    bool first_scan;      ///< true during the first scan after power-up
+    image::Image& image;           ///< the register image
+    Duration now;                  ///< simulated time of this scan's start
+    Duration dt;                   ///< simulated time since the previous scan (the scan period)
+    std::uint64_t scan;            ///< scans completed before this one
+    bool first_scan;               ///< true during the first scan after power-up
+    ModuleBus* modules = nullptr;  ///< the special modules (null: the PLC has none)
 };
 
 /// One program instruction (one file per mnemonic in src/instructions).
@@ -82,6 +84,8 @@ public:
 
     /// Adds a subsystem; subsystems run in the order added (inputs) and reverse (outputs).
     void add_subsystem(std::unique_ptr<Subsystem> s);
+    /// The special modules FROM/TO reach (owned elsewhere, e.g. by a subsystem; null: none).
+    void set_module_bus(ModuleBus* bus) noexcept { modules_ = bus; }
 
     /// Power-up: the family's special devices take their power-up values. Call once, after
     /// the image holds its retained values.
@@ -118,6 +122,7 @@ private:
     Program program_;
     std::unique_ptr<Specials> specials_;
     std::vector<std::unique_ptr<Subsystem>> subsystems_;
+    ModuleBus* modules_ = nullptr;
     std::uint8_t station_ = 1;
     std::uint64_t scans_ = 0;
     Duration last_{0};

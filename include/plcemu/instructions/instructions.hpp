@@ -6,11 +6,13 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "plcemu/engine/engine.hpp"
+#include "plcemu/image/image.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
 
@@ -52,12 +54,25 @@ private:
     Where where_;
 };
 
+/// Where a family reports an instruction's operation error: a code register, a flag relay and a
+/// register naming the program entry (the VB's D9067, M9067, D9069).
+struct OperationError {
+    image::Device code;   ///< takes the error code
+    image::Device flag;   ///< comes ON
+    image::Device entry;  ///< takes the entry's 1-based position
+
+    /// Reports `code` for the program entry `index`.
+    void raise(image::Image& img, std::uint16_t error, int index) const noexcept;
+};
+
 /// What a profile offers its instructions while they bind. A profile with more to offer derives
 /// from it (its own instructions know the derived type).
 struct Services {
     virtual ~Services() = default;
     /// Outputs the program may not drive, each with the reason an error gives.
     std::vector<std::pair<image::Range, std::string>> reserved_outputs;
+    /// Where operation errors go; absent: the family has no such register and they go unseen.
+    std::optional<OperationError> operation_error;
 };
 
 /// What an instruction may look at while it binds its operands.

@@ -51,10 +51,11 @@ struct Drive {
     enum class Kind : std::uint8_t {
         None,     ///< nothing: u = 0
         Output,   ///< a Y output: u is the duty of the bit over time (PWM)
-        Register  ///< an R/D register: u = value / 16383, clamped to 0–1
+        Register  ///< an R/D register: u = value / full_scale (signed), clamped to 0–1
     };
-    Kind kind = Kind::None;  ///< the source
-    image::Device device;    ///< the Y bit or the R/D word
+    Kind kind = Kind::None;     ///< the source
+    image::Device device;       ///< the Y bit or the R/D word
+    double full_scale = 16383;  ///< a register's value for full power (> 0)
 
     bool operator==(const Drive&) const = default;
 };

@@ -55,6 +55,9 @@ public:
     /// Top-level config sections of subsystems the family has (e.g. "temperature"); the loader
     /// refuses the others at their line.
     virtual std::vector<std::string_view> sections() const { return {}; }
+    /// Reads those sections of a loaded config (Config::sections) as the loader's last step, so
+    /// that their errors come with the others. Throws config::ConfigError at the faulty node.
+    virtual void check(const config::Config& /*config*/) const {}
 
     /// The default Modbus map (a config's `modbus.map` replaces it).
     virtual const modbus::AddressMap& map() const = 0;
@@ -63,6 +66,10 @@ public:
     virtual std::vector<std::pair<std::uint8_t, modbus::FunctionHandler>> functions() const {
         return {};
     }
+
+    /// A register's value that drives a plant channel at full power, when the config names
+    /// none (the scale of the family's analog outputs).
+    virtual int drive_full_scale() const { return 16383; }
 
     /// The mnemonics a program may use.
     virtual const instructions::Table& instructions() const = 0;

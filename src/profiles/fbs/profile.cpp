@@ -9,6 +9,7 @@
 #include "profiles/fbs/services.hpp"
 #include "profiles/fbs/special_registers.hpp"
 #include "profiles/fbs/specials.hpp"
+#include "profiles/fbs/temperature_config.hpp"
 #include "profiles/fbs/temperature_table.hpp"
 #include "profiles/fbs/tpctl.hpp"
 
@@ -82,6 +83,7 @@ public:
     }
 
     std::vector<std::string_view> sections() const override { return {"temperature"}; }
+    void check(const config::Config& config) const override { temperature_config(config); }
 
     const modbus::AddressMap& map() const override { return fbs::map(); }
 
@@ -95,7 +97,7 @@ public:
 
     std::unique_ptr<instructions::Services> services(const config::Config& config) const override {
         auto s = std::make_unique<Services>();
-        s->temperature_table = config.temperature.table;
+        s->temperature_table = temperature_config(config).table;
         if (const auto own = temperature::module_outputs(config)) {
             s->reserved_outputs.emplace_back(
                 *own,
@@ -113,7 +115,8 @@ public:
                 const config::Config& config,
                 engine::SensorSource& sensors) const override {
         // The measurement samples the plant before the program reads its readings.
-        if (config.temperature.table) engine.add_subsystem(make_temperature_table(config, sensors));
+        if (temperature_config(config).table)
+            engine.add_subsystem(make_temperature_table(config, sensors));
     }
 
 private:

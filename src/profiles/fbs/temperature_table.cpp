@@ -107,8 +107,9 @@ std::uint32_t main_unit_outputs(const config::Config& config) {
 }
 
 std::optional<image::Range> module_outputs(const config::Config& config) {
-    if (config.temperature.modules.empty()) return std::nullopt;
-    const auto n = static_cast<std::uint32_t>(config.temperature.modules.size());
+    const auto modules = temperature_config(config).modules;
+    if (modules.empty()) return std::nullopt;
+    const auto n = static_cast<std::uint32_t>(modules.size());
     return image::Range{image::Area::Y, main_unit_outputs(config), 8 * n};
 }
 
@@ -135,9 +136,10 @@ TemperatureTable::TemperatureTable(TemperatureOptions options, engine::SensorSou
 
 TemperatureOptions TemperatureTable::options_of(const config::Config& config) {
     TemperatureOptions o;
-    if (config.temperature.table) o.table = *config.temperature.table;
-    o.installed = config.temperature.modules;
-    o.fast = config.temperature.fast;
+    const TemperatureConfig t = temperature_config(config);
+    if (t.table) o.table = *t.table;
+    o.installed = t.modules;
+    o.fast = t.fast;
     o.main_unit_outputs = main_unit_outputs(config);
     return o;
 }

@@ -13,6 +13,7 @@
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/image/area.hpp"
 #include "plcemu/engine/sensors.hpp"
+#include "profiles/fbs/temperature_config.hpp"
 
 namespace plcemu::profiles::fbs {
 
@@ -53,7 +54,7 @@ std::optional<image::Range> module_outputs(const config::Config& config);
 /// How the measurement is set up (from `temperature:` and the model).
 struct TemperatureOptions {
     image::Device table{image::Area::R, 5000, false};  ///< SR: start of the configuration table
-    std::vector<config::ModuleConfig> installed;       ///< the expansion chain (empty: as table)
+    std::vector<ModuleConfig> installed;               ///< the expansion chain (empty: as table)
     bool fast = false;                                 ///< "scan rate" fast
     std::uint32_t main_unit_outputs = 10;              ///< Y points of the main unit
 };

@@ -1,5 +1,5 @@
 #pragma once
-// How a VB instruction reports an operation error: D9067 takes the code, M9067 comes ON and
+// Where a VB instruction reports an operation error: D9067 takes the code, M9067 comes ON and
 // D9069 names the program entry (VB manual FNC88, error codes 6730–6750 "in D9067"). Both stay
 // until a master or the program clears them, or the next start (docs/profile-vb.md, "Special
 // relays and registers").
@@ -7,15 +7,20 @@
 #include <cstdint>
 
 #include "plcemu/image/image.hpp"
+#include "plcemu/instructions/instructions.hpp"
 #include "profiles/vb/specials.hpp"
 
 namespace plcemu::profiles::vb {
 
+/// D9067, M9067, D9069.
+inline const instructions::OperationError kOperationError{
+    {image::Area::D, special::kErrorCode, false},
+    {image::Area::M, special::kOperationError, false},
+    {image::Area::D, special::kErrorEntry, false}};
+
 /// Stores `code` for the program entry `entry` (1-based).
 inline void raise_operation_error(image::Image& img, std::uint16_t code, int entry) noexcept {
-    img.set_word(image::Area::D, special::kErrorCode, code);
-    img.set_word(image::Area::D, special::kErrorEntry, static_cast<std::uint16_t>(entry));
-    img.set_bit(image::Area::M, special::kOperationError, true);
+    kOperationError.raise(img, code, entry);
 }
 
 }  // namespace plcemu::profiles::vb

@@ -1,14 +1,19 @@
 // The VIGOR VB profile: the FX2N-style device areas with X/Y in octal, the special devices moved
-// to M9000/D9000, a Modbus slave map after the FX3U default allocation, MOV, CNT and FNC88 PID
+// to M9000/D9000, a Modbus slave map after the FX3U default allocation, its temperature modules
+// and the instructions of the VB manual's examples, FNC88 PID among them
 // (docs/profile-vb.md describes it for users).
 
 #include "instructions/cnt.hpp"
+#include "instructions/from_to.hpp"
 #include "instructions/mov.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/model.hpp"
+#include "profiles/vb/modules_config.hpp"
+#include "profiles/vb/operation_error.hpp"
 #include "profiles/vb/pid.hpp"
 #include "profiles/vb/specials.hpp"
+#include "profiles/vb/temperature_modules.hpp"
 
 namespace plcemu::profiles::vb {
 
@@ -84,9 +89,9 @@ public:
 
     const instructions::Table& instructions() const override {
         static const instructions::Table kTable{
-            {"CNT", &instructions::make_cnt},
-            {"MOV", &instructions::make_mov},
-            {"PID", &make_pid},
+            {"CNT", &instructions::make_cnt}, {"FROM", &instructions::make_from},
+            {"MOV", &instructions::make_mov}, {"PID", &make_pid},
+            {"TO", &instructions::make_to},
         };
         return kTable;
     }
@@ -97,6 +102,7 @@ public:
         // M9200–M9234: count direction of C200–C234 (FX M8200–M8234); C235–C255 have none here
         // (docs/profile-vb.md).
         s->direction = {Area::M, special::kCountDown, special::kCountDownRelays};
+        s->operation_error = kOperationError;
         return s;
     }
 
@@ -104,10 +110,22 @@ public:
         return make_specials();
     }
 
-    // No measurement subsystem yet: the plant alone.
-    void attach(engine::Engine& /*engine*/,
-                const config::Config& /*config*/,
-                engine::SensorSource& /*sensors*/) const override {}
+    std::vector<std::string_view> sections() const override { return {"modules"}; }
+    void check(const config::Config& config) const override { modules_config(config); }
+
+    // The TPID's analog outputs run 0–1000 (VB manual FNC92, S3+10m).
+    int drive_full_scale() const override { return 1000; }
+
+    // The temperature modules sample the plant before the program reads them with FROM.
+    void attach(engine::Engine& engine,
+                const config::Config& config,
+                engine::SensorSource& sensors) const override {
+        const auto modules = modules_config(config);
+        if (modules.empty()) return;
+        auto bus = std::make_unique<TemperatureModules>(modules, sensors);
+        engine.set_module_bus(bus.get());
+        engine.add_subsystem(std::move(bus));
+    }
 
 private:
     image::Naming naming_ = make_naming();

@@ -1,0 +1,90 @@
+#include "profiles/fbs/temperature_config.hpp"
+
+#include <map>
+#include <string>
+
+#include "plcemu/profiles/profile.hpp"
+
+namespace plcemu::profiles::fbs {
+
+namespace {
+
+using image::excerpt;
+
+std::uint8_t module_code(const std::string& name) {
+    static const std::map<std::string, std::uint8_t> kNames{
+        {"TC6", 1}, {"RTD6", 2}, {"TC16", 3}, {"RTD16", 4}, {"TC2", 5}};
+    auto it = kNames.find(name);
+    return it == kNames.end() ? 0 : it->second;
+}
+
+bool sensor_code(std::uint8_t module, const std::string& s, std::uint8_t& out) {
+    static const std::map<std::string, std::uint8_t> kTc{{"J", 0}, {"K", 1}, {"T", 2}, {"E", 3},
+                                                         {"N", 4}, {"B", 5}, {"R", 6}, {"S", 7}};
+    static const std::map<std::string, std::uint8_t> kRtd{
+        {"PT100_DIN", 0}, {"PT100_JIS", 1}, {"PT1000_DIN", 2}, {"PT1000_JIS", 3}};
+    std::string u;
+    for (char c : s) u += static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+    const bool rtd = module == 2 || module == 4;
+    const auto& m = rtd ? kRtd : kTc;
+    auto it = m.find(u);
+    if (it == m.end()) return false;
+    out = it->second;
+    return true;
+}
+
+void read(const config::Reader& r, const config::Node& n, TemperatureConfig& t) {
+    r.check_keys(n, "temperature", {"table", "modules", "scan_rate"});
+    if (n["table"]) {
+        t.table = r.device(n["table"], "temperature.table");
+        if (t.table->word_of_bits ||
+            (t.table->area != image::Area::R && t.table->area != image::Area::D)) {
+            r.fail(n["table"], "temperature.table: expected an R or D register");
+        }
+    }
+    if (const auto& m = n["modules"]) {
+        if (!m.is_sequence())
+            r.fail(m, "temperature.modules: expected a list such as [TC6:K, RTD6:PT100_DIN]");
+        for (const auto& e : m.items) {
+            const std::string s = r.scalar(e, "temperature.modules entry");
+            const auto colon = s.find(':');
+            ModuleConfig mc;
+            mc.pos = r.pos(e);
+            mc.name_code = module_code(s.substr(0, colon));
+            if (mc.name_code == 0) {
+                r.fail(e, "temperature.modules: unknown module '" + excerpt(s.substr(0, colon)) +
+                              "' (expected TC6, RTD6, TC16, RTD16 or TC2)");
+            }
+            const bool rtd = mc.name_code == 2 || mc.name_code == 4;
+            const std::string sensor =
+                colon == std::string::npos ? (rtd ? "PT100_DIN" : "K") : s.substr(colon + 1);
+            if (!sensor_code(mc.name_code, sensor, mc.sensor_type)) {
+                r.fail(e, "temperature.modules: unknown sensor '" + excerpt(sensor) +
+                              "' (expected " +
+                              (rtd ? "PT100_DIN, PT100_JIS, PT1000_DIN or PT1000_JIS"
+                                   : "J, K, T, E, N, B, R or S") +
+                              ")");
+            }
+            t.modules.push_back(mc);
+        }
+        if (t.modules.size() > 8) r.fail(m, "temperature.modules: at most 8 modules");
+    }
+    if (n["scan_rate"]) {
+        const std::string s = r.scalar(n["scan_rate"], "temperature.scan_rate");
+        if (s != "normal" && s != "fast")
+            r.fail(n["scan_rate"], "temperature.scan_rate: expected 'normal' or 'fast'");
+        t.fast = s == "fast";
+    }
+}
+
+}  // namespace
+
+TemperatureConfig temperature_config(const config::Config& config) {
+    TemperatureConfig t;
+    for (const auto& [name, node] : config.sections) {
+        if (name == "temperature") read(config::Reader(profiles::of(config).naming()), node, t);
+    }
+    return t;
+}
+
+}  // namespace plcemu::profiles::fbs
