@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "edge.hpp"
 #include "operands.hpp"
 
 namespace plcemu::instructions {
@@ -28,9 +29,7 @@ public:
 
     void execute(engine::ScanContext& ctx) noexcept override {
         image::Image& img = ctx.image;
-        const bool in = b_.en.read(img);
-        const bool edge = in && !prev_;
-        prev_ = in;
+        const bool edge = edge_(b_.en.read(img));
         long long k = b_.k;
         if (!b_.k_constant) {
             const std::uint32_t lo = img.read_word(b_.k_device);
@@ -70,7 +69,7 @@ public:
 
 private:
     Bound b_;
-    bool prev_ = false;
+    RisingEdge edge_;
 };
 
 }  // namespace

@@ -23,8 +23,9 @@ struct CounterDirection {
     std::uint32_t counters = 0;         ///< how many 32-bit counters have a direction relay
 };
 
-/// The services CNT needs, offered by the families that have it.
-struct CounterServices : Services {
+/// The services CNT needs, offered by the families that have it. The base is virtual so that a
+/// family offers these and other instructions' services (TimerServices) in one object.
+struct CounterServices : virtual Services {
     CounterDirection direction;  ///< direction relays of the 32-bit counters
 };
 

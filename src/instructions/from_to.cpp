@@ -86,7 +86,7 @@ constexpr long long kMaxWords = 512;
 std::unique_ptr<engine::Instruction> make(Direction dir, const Entry& ic, const BindContext& ctx) {
     Operands ops(ic, ctx);
     const BitSource en = ops.bit_source("en", true);
-    const bool pulse = ops.flag("p");
+    const bool pulse = ops.flag("p", false);
     const WordSource module = ops.word_source("m1");
     const WordSource word = ops.word_source("m2");
     const auto n = static_cast<std::uint32_t>(ops.has("n") ? ops.integer("n", 1, kMaxWords) : 1);

@@ -1,5 +1,6 @@
 #include "mov.hpp"
 
+#include "edge.hpp"
 #include "operands.hpp"
 
 namespace plcemu::instructions {
@@ -8,21 +9,27 @@ namespace {
 
 class Mov final : public engine::Instruction {
 public:
-    Mov(BitSource en, WordSource s, image::Device d)
+    Mov(BitSource en, bool pulse, WordSource s, image::Device d)
         : en_(en),
+          pulse_(pulse),
           s_(s),
           d_(d) {}
 
     void execute(engine::ScanContext& ctx) noexcept override {
-        if (en_.read(ctx.image)) ctx.image.write_word(d_, s_.read(ctx.image));
+        const bool on = en_.read(ctx.image);
+        // The edge is tracked in every scan, so a pulse form sees each OFF→ON once.
+        const bool edge = edge_(on);
+        if (pulse_ ? edge : on) ctx.image.write_word(d_, s_.read(ctx.image));
     }
 
-    std::string_view mnemonic() const noexcept override { return "MOV"; }
+    std::string_view mnemonic() const noexcept override { return pulse_ ? "MOVP" : "MOV"; }
 
 private:
     BitSource en_;
+    bool pulse_;
     WordSource s_;
     image::Device d_;
+    RisingEdge edge_;
 };
 
 }  // namespace
@@ -30,14 +37,11 @@ private:
 std::unique_ptr<engine::Instruction> make_mov(const Entry& ic, const BindContext& ctx) {
     Operands ops(ic, ctx);
     const BitSource en = ops.bit_source("en", true);
+    const bool pulse = ops.flag("p", false);
     const WordSource s = ops.word_source("s");
-    const image::Device d =
-        ops.word_device("d", 1,
-                        {image::Area::R, image::Area::D, image::Area::M, image::Area::Y,
-                         image::Area::S, image::Area::TV, image::Area::CV});
+    const image::Device d = ops.word_output("d");
     ops.finish();
-    if (d.word_of_bits) ops.refuse_reserved("d", {d.area, d.index, 16});
-    return std::make_unique<Mov>(en, s, d);
+    return std::make_unique<Mov>(en, pulse, s, d);
 }
 
 }  // namespace plcemu::instructions

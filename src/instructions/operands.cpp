@@ -91,20 +91,35 @@ WordSource Operands::word_source(const char* key) {
     auto d = naming_.parse_device(op.text);
     if (!d) {
         // The family's own register names: a VB has no R, and spells timer values TN.
-        std::string names;
-        for (auto a : {image::Area::R, image::Area::D, image::Area::TV, image::Area::CV}) {
-            if (naming_.area_name(a).empty()) continue;
-            names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
-        }
-        fail(key, "expected a register (" + names + "), WMn-style bits or a constant, got '" +
-                      image::excerpt(op.text) + "'");
+        fail(key, "expected a register (" +
+                      names({image::Area::R, image::Area::D, image::Area::TV, image::Area::CV}) +
+                      "), WMn-style bits or a constant, got '" + image::excerpt(op.text) + "'");
     }
     const std::uint32_t span = d->word_of_bits ? 16 : 1;
     if ((!d->word_of_bits && image::is_bit_area(d->area)) ||
         !layout_.contains({d->area, d->index, span})) {
-        fail(key, "'" + image::excerpt(op.text) + "' is not a word operand of this PLC");
+        std::string hint;
+        // The manuals write a timer's or counter's value with the contact's name ("< T200
+        // D102"); say how this family spells it.
+        if (!d->word_of_bits && (d->area == image::Area::T || d->area == image::Area::C)) {
+            const bool timer = d->area == image::Area::T;
+            const image::Area value = timer ? image::Area::TV : image::Area::CV;
+            const std::uint32_t word = timer ? d->index : naming_.counter_word(d->index);
+            if (!naming_.area_name(value).empty() && layout_.contains({value, word, 1})) {
+                hint = " (its value is " + naming_.format_device(value, word) + ")";
+            }
+        }
+        fail(key, "'" + image::excerpt(op.text) + "' is not a word operand of this PLC" + hint);
     }
     return {false, 0, *d};
+}
+
+image::Device Operands::word_output(const char* key) {
+    using image::Area;
+    const image::Device d =
+        word_device(key, 1, {Area::R, Area::D, Area::M, Area::Y, Area::S, Area::TV, Area::CV});
+    if (d.word_of_bits) refuse_reserved(key, {d.area, d.index, 16});
+    return d;
 }
 
 image::Device Operands::word_device(const char* key,
@@ -121,10 +136,7 @@ image::Device Operands::word_device(const char* key,
              layout_.contains({d->area, d->index, n});
     }
     if (!ok) {
-        std::string names;
-        for (auto a : areas)
-            names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
-        fail(key, "expected " + std::to_string(span) + " word(s) in " + names + ", got '" +
+        fail(key, "expected " + std::to_string(span) + " word(s) in " + names(areas) + ", got '" +
                       image::excerpt(op.text) + "'");
     }
     return *d;
@@ -142,10 +154,7 @@ image::Device Operands::device(const char* key,
         ok = in_areas && layout_.contains({d->area, d->index, span});
     }
     if (!ok) {
-        std::string names;
-        for (auto a : areas)
-            names += std::string(names.empty() ? "" : ", ") + std::string(naming_.area_name(a));
-        fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names +
+        fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names(areas) +
                       ", got '" + image::excerpt(op.text) + "'");
     }
     return *d;
@@ -163,14 +172,23 @@ long long Operands::integer(const char* key, long long lo, long long hi) {
     return v;
 }
 
-bool Operands::flag(const char* key) {
+bool Operands::flag(const char* key, bool fallback) {
     used_.insert(key);
     const Operand* op = find(key);
-    if (op == nullptr) return false;
-    const std::string& s = op->text;
-    if (s == "true" || s == "yes" || s == "on" || s == "1") return true;
-    if (s == "false" || s == "no" || s == "off" || s == "0") return false;
-    fail(key, "expected true or false, got '" + image::excerpt(s) + "'");
+    if (!op) return fallback;
+    const std::string& t = op->text;
+    if (t == "true" || t == "yes" || t == "on" || t == "1") return true;
+    if (t == "false" || t == "no" || t == "off" || t == "0") return false;
+    fail(key, "expected true or false, got '" + image::excerpt(t) + "'");
+}
+
+std::string Operands::names(std::initializer_list<image::Area> areas) const {
+    std::string out;
+    for (auto a : areas) {
+        if (naming_.area_name(a).empty()) continue;
+        out += std::string(out.empty() ? "" : ", ") + std::string(naming_.area_name(a));
+    }
+    return out;
 }
 
 void Operands::finish() const {

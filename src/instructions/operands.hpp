@@ -45,12 +45,17 @@ public:
     bool has(const char* key) const;
     /// The operand's value when it is present and a constant (K10, 0x1F), not a device.
     std::optional<long long> constant(const char* key) const;
+    /// A required operand's text as written (a keyword such as CMPOUT's `op`).
+    const std::string& text(const char* key) { return require(key).text; }
     /// A bit input; absent gives `fallback`.
     BitSource bit_source(const char* key, bool fallback);
     /// A bit output device (Y, M, S).
     image::Device bit_output(const char* key);
     /// A word input.
     WordSource word_source(const char* key);
+    /// A word output: a register or WMn-style bits (WM, WY, WS), not on an output the profile
+    /// reserves.
+    image::Device word_output(const char* key);
     /// A word device whose `span` consecutive words (or bits, for WMn: 16·span) must exist,
     /// in one of `areas`.
     image::Device word_device(const char* key,
@@ -60,10 +65,10 @@ public:
     image::Device device(const char* key,
                          std::uint32_t span,
                          std::initializer_list<image::Area> areas);
-    /// A yes/no option (`p: true`); absent gives false.
-    bool flag(const char* key);
     /// An integer constant in lo..hi.
     long long integer(const char* key, long long lo, long long hi);
+    /// A yes/no option (`p: true`) as YAML writes booleans; absent gives `fallback`.
+    bool flag(const char* key, bool fallback);
     /// Fails on operands nobody asked for (typos).
     void finish() const;
     /// Throws a BindError at the operand (or at the mnemonic when absent).
@@ -78,6 +83,8 @@ public:
 
 private:
     const Operand* find(const char* key) const;
+    /// "D, TN, CN": the family's names of `areas`, leaving out those it does not have.
+    std::string names(std::initializer_list<image::Area> areas) const;
     const Operand& require(const char* key);
 
     const Entry& ic_;

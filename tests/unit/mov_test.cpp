@@ -187,6 +187,44 @@ TEST(Mov, OperandErrorsNameTheirPosition) {
     expect_error("  - MOV: {s: R1, d: R2}\n  - MOV:\n      s: R1\n      d: Q2\n", 6, 10, "MOV.d");
 }
 
+// MOVP (`p: true`, the FX pulse form the VB manual's examples use: docs/profile-vb.md): D = S
+// only in the scan in which EN turns ON.
+TEST(Mov, PulseFormMovesOnlyOnTheRisingEdge) {
+    Rig rig("  - MOV: {en: M0, s: R100, d: R7, p: true}\n");
+    rig.img.set_word(Area::R, 100, 11);
+    rig.scan();
+    EXPECT_EQ(rig.img.word(Area::R, 7), 0);  // EN OFF
+    rig.img.set_bit(Area::M, 0, true);
+    rig.scan();
+    EXPECT_EQ(rig.img.word(Area::R, 7), 11);
+    rig.img.set_word(Area::R, 100, 22);
+    rig.scan(3);
+    EXPECT_EQ(rig.img.word(Area::R, 7), 11);  // EN held ON: no new edge
+    rig.img.set_bit(Area::M, 0, false);
+    rig.scan();
+    rig.img.set_bit(Area::M, 0, true);
+    rig.scan();
+    EXPECT_EQ(rig.img.word(Area::R, 7), 22);
+}
+
+// Decision (docs/profile-vb.md): an EN already ON in the first scan is an edge, as for an FX2N
+// switched to RUN; `p: false` is the plain MOV.
+TEST(Mov, PulseFormFiresInTheFirstScanWhenEnIsOn) {
+    Rig rig(
+        "  - MOV: {s: 5, d: R1, p: yes}\n"
+        "  - MOV: {en: 1, s: R9, d: R2, p: false}\n");
+    rig.img.set_word(Area::R, 9, 9);
+    rig.scan();
+    EXPECT_EQ(rig.img.word(Area::R, 1), 5);
+    rig.img.set_word(Area::R, 1, 0);
+    rig.img.set_word(Area::R, 9, 10);
+    rig.scan();
+    EXPECT_EQ(rig.img.word(Area::R, 1), 0);
+    EXPECT_EQ(rig.img.word(Area::R, 2), 10);
+    expect_error("  - MOV: {s: R1, d: R2, p: 2}\n", 3, 28,
+                 "MOV.p: expected true or false, got '2'");
+}
+
 TEST(Mov, UnknownInstructionNamesItsPosition) {
     expect_error("  - MOV: {s: R1, d: R2}\n  - FOO: {a: 1}\n", 4, 5, "unknown instruction 'FOO'");
 }

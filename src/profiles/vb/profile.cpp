@@ -1,17 +1,25 @@
 // The VIGOR VB profile: the FX2N-style device areas with X/Y in octal, the special devices moved
 // to M9000/D9000, a Modbus slave map after the FX3U default allocation, its temperature modules
-// and the instructions of the VB manual's examples, FNC88 PID among them
-// (docs/profile-vb.md describes it for users).
+// and the program entries of the VB manual's examples (docs/profile-vb.md describes it for users).
 
+#include <chrono>
+
+#include "instructions/cmpout.hpp"
 #include "instructions/cnt.hpp"
 #include "instructions/from_to.hpp"
 #include "instructions/mov.hpp"
+#include "instructions/pls.hpp"
+#include "instructions/rst.hpp"
+#include "instructions/tmr.hpp"
+#include "instructions/wor.hpp"
 #include "plcemu/profiles/profile.hpp"
+#include "profiles/vb/hour.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/model.hpp"
 #include "profiles/vb/modules_config.hpp"
 #include "profiles/vb/operation_error.hpp"
 #include "profiles/vb/pid.hpp"
+#include "profiles/vb/services.hpp"
 #include "profiles/vb/specials.hpp"
 #include "profiles/vb/temperature_modules.hpp"
 
@@ -89,20 +97,36 @@ public:
 
     const instructions::Table& instructions() const override {
         static const instructions::Table kTable{
-            {"CNT", &instructions::make_cnt}, {"FROM", &instructions::make_from},
-            {"MOV", &instructions::make_mov}, {"PID", &make_pid},
+            {"CMPOUT", &instructions::make_cmpout},
+            {"CNT", &instructions::make_cnt},
+            {"DHOUR", &make_dhour},
+            {"FROM", &instructions::make_from},
+            {"HOUR", &make_hour},
+            {"MOV", &instructions::make_mov},
+            {"PID", &make_pid},
+            {"PLS", &instructions::make_pls},
+            {"RST", &instructions::make_rst},
+            {"TMR", &instructions::make_tmr},
             {"TO", &instructions::make_to},
+            {"WOR", &instructions::make_wor},
         };
         return kTable;
     }
 
     std::unique_ptr<instructions::Services> services(
         const config::Config& /*config*/) const override {
-        auto s = std::make_unique<instructions::CounterServices>();
+        auto s = std::make_unique<Services>();
         // M9200–M9234: count direction of C200–C234 (FX M8200–M8234); C235–C255 have none here
         // (docs/profile-vb.md).
         s->direction = {Area::M, special::kCountDown, special::kCountDownRelays};
         s->operation_error = kOperationError;
+        // The FX2N timers (docs/profile-vb.md, "Device areas"): T0–T199 100 ms, T200–T245 10 ms,
+        // T246–T249 1 ms retentive, T250–T255 100 ms retentive.
+        using std::chrono::milliseconds;
+        s->timers = {{0, 200, milliseconds(100), false},
+                     {200, 46, milliseconds(10), false},
+                     {246, 4, milliseconds(1), true},
+                     {250, 6, milliseconds(100), true}};
         return s;
     }
 
