@@ -1,8 +1,10 @@
 """FNC88 PID (docs/profile-vb.md, "FNC88 PID") through Modbus TCP against the real daemon, in
-frozen time stepped through the simulator unit. A Modbus master plays the sensor: it writes PV
-into D101 itself. The operation errors (6730, 6732, 6735, 6740; none for Kp = 0 while
+frozen time stepped through the simulator unit. First with a Modbus master as the sensor (it
+writes PV into D101): the operation errors (6730, 6732, 6735, 6740; none for Kp = 0 while
 auto-tuning), the PV and MV change alarms in S3+24, relay auto-tuning on a scripted PV, and the
-load error for two PIDs sharing a block."""
+load errors of the block. Then on the plant, PV read by a VB-8T through FROM and D102 driving
+the heater: auto-tuning from cold, the tuned step with and without the MV limit, and the change
+alarms."""
 
 import pytest
 
@@ -212,3 +214,119 @@ program:
   - PID: {{en: M0, s1: D100, s2: D101, s3: {s3}, d: D102}}
 """
     expect_config_error(tmp_path, text, 3, col, "S3 needs 25 registers in D0-D7999")
+
+
+# --- the loop on the plant: a VB-8T reads channel 0 into D101 (FROM), D102 drives its heater
+# with 500 = full power (docs/profile-vb.md, "Auto-tuning", whose figures these are) ----------
+
+PLANT = """profile: vb
+modbus: {tcp: {bind: 127.0.0.1}}
+time_scale: 0.001   # nearly still until frozen: the steps below are the whole run
+modules: [VB-8T]
+plant:
+  channels:
+    0: {drive: D102, drive_full_scale: 500}
+program:
+  - FROM: {en: M9000, m1: 1, m2: 32, d: D101, n: 1}
+  - PID: {en: M0, s1: D100, s2: D101, s3: D200, d: D102}
+init:
+  D100: 1500
+  D200: [2000, CONTROL, 0, KP, TI, 0, TD]
+  D214: [500, 0]
+  D220: [20, 20, S3_22, 0]
+"""
+
+
+def start_plant(start_plcemud, control, kp=0, ti=0, td=0, s3_22=500):
+    text = PLANT.replace("CONTROL", str(control)).replace("KP", str(kp))
+    text = text.replace("TI", str(ti)).replace("TD", str(td)).replace("S3_22", str(s3_22))
+    c = start_plcemud(text).client()
+    freeze(c)
+    c.write_coil(M0, True, slave=1)
+    return c
+
+
+class Sample:
+    """The loop after a step: time, PV, MV, the block, M9067."""
+
+    def __init__(self, c, t):
+        self.t = t
+        self.pv, self.mv = (sint(v) for v in regs(c, PV, 2))
+        self.block = [sint(v) for v in regs(c, S3, 25)]
+        self.error = coils(c, M9067)[0]
+
+
+def samples(c, t0, seconds, every=1):
+    """Steps `seconds` of simulated time from `t0`, a sample every `every` s."""
+    for k in range(1, int(seconds / every) + 1):
+        step(c, int(every / SCAN_S))
+        yield Sample(c, t0 + k * every)
+
+
+def settled(run, low, high):
+    """The time of the last sample outside [low, high] (the run's start when none)."""
+    outside = [s.t for s in run if not low <= s.pv <= high]
+    return outside[-1] if outside else run[0].t
+
+
+def test_auto_tune_from_cold(start_plcemud):
+    """D201 = 0031h (Reverse, auto-tuning, limit 0-500), Kp = TI = TD = 0, PV 25 degrees: b4
+    clears at 100 s with Kp 223, TI 130, TD 325 and D102 = 154; PV peaks at 162.4 degrees
+    during the tuning, is within 148.0-152.0 from 27 s after it and 149.7-150.3 in minutes
+    20-30; M9067 stays OFF."""
+    c = start_plant(start_plcemud, 0x31)
+    tuning = []
+    for s in samples(c, 0, 200):
+        tuning.append(s)
+        if not s.block[1] & 0x10:
+            break
+    done = tuning[-1]
+    assert 90 <= done.t <= 110
+    kp, ti, td = done.block[3], done.block[4], done.block[6]
+    assert 223 * 0.85 <= kp <= 223 * 1.15
+    assert 130 * 0.8 <= ti <= 130 * 1.2
+    assert 325 * 0.8 <= td <= 325 * 1.2
+    assert 144 <= done.mv <= 164
+    assert 1609 <= max(s.pv for s in tuning) <= 1639
+    after = list(samples(c, done.t, 120))
+    assert settled(after, 1480, 1520) - done.t <= 60
+    run = list(samples(c, done.t + 120, 1800 - done.t - 120, every=5))
+    late = [s for s in run if s.t >= 1200]
+    assert all(1497 <= s.pv <= 1503 for s in late), [s.pv for s in late]
+    assert not any(s.error for s in tuning + after + run)
+
+
+def test_tuned_step(start_plcemud):
+    """D201 = 0021h with the tuned gains from 25 degrees: 149.0 reached at 54 +/- 5 s, peak at
+    most 156.0, within 148.0-152.0 from at most 100 s, 149.5-150.5 in minutes 20-30."""
+    c = start_plant(start_plcemud, 0x21, 223, 130, 325)
+    run = list(samples(c, 0, 300))
+    reached = next(s.t for s in run if s.pv >= 1490)
+    assert 49 <= reached <= 59
+    assert max(s.pv for s in run) <= 1560
+    assert settled(run, 1480, 1520) <= 100
+    late = [s for s in samples(c, 300, 1500, every=5) if s.t >= 1200]
+    assert all(1495 <= s.pv <= 1505 for s in late), [s.pv for s in late]
+
+
+def test_tuned_step_without_the_limit_winds_up(start_plcemud):
+    """D201 = 0001h: the velocity form winds D102 up far past 500 and PV peaks near 215
+    degrees: the limit is what makes the step behave."""
+    c = start_plant(start_plcemud, 0x01, 223, 130, 325)
+    run = list(samples(c, 0, 400))
+    assert max(s.mv for s in run) > 2000  # ref. 3306
+    assert 2121 <= max(s.pv for s in run) <= 2181  # ref. 215.1
+
+
+def test_change_alarms_on_the_plant(start_plcemud):
+    """D201 = 0023h, D220 = D221 = 20: D224 b0 during the rise, 0 at steady state. With b2 and
+    no b5 (D201 = 0005h, D222 = 50): D224 b2 at the first sampling."""
+    c = start_plant(start_plcemud, 0x23, 223, 130, 325)
+    rise = list(samples(c, 0, 120))
+    assert any(s.block[24] & 0b01 for s in rise)
+    step(c, int(1200 / SCAN_S))
+    assert regs(c, S3 + 24) == [0]
+
+    c = start_plant(start_plcemud, 0x05, 223, 130, 325, s3_22=50)
+    step(c, 1 + SAMPLING_SCANS)  # the first execution, then the first sampling
+    assert regs(c, S3 + 24)[0] & 0b0100
