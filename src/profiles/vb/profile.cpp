@@ -18,6 +18,7 @@
 #include "profiles/vb/model.hpp"
 #include "profiles/vb/modules_config.hpp"
 #include "profiles/vb/operation_error.hpp"
+#include "profiles/vb/pid.hpp"
 #include "profiles/vb/services.hpp"
 #include "profiles/vb/specials.hpp"
 #include "profiles/vb/temperature_modules.hpp"
@@ -102,6 +103,7 @@ public:
             {"FROM", &instructions::make_from},
             {"HOUR", &make_hour},
             {"MOV", &instructions::make_mov},
+            {"PID", &make_pid},
             {"PLS", &instructions::make_pls},
             {"RST", &instructions::make_rst},
             {"TMR", &instructions::make_tmr},
