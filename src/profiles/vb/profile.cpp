@@ -21,6 +21,7 @@
 #include "profiles/vb/services.hpp"
 #include "profiles/vb/specials.hpp"
 #include "profiles/vb/temperature_modules.hpp"
+#include "profiles/vb/tpid.hpp"
 
 namespace plcemu::profiles::vb {
 
@@ -106,6 +107,7 @@ public:
             {"RST", &instructions::make_rst},
             {"TMR", &instructions::make_tmr},
             {"TO", &instructions::make_to},
+            {"TPID", &make_tpid},
             {"WOR", &instructions::make_wor},
         };
         return kTable;
