@@ -8,6 +8,7 @@ import pytest
 
 from test_vb import (SIM, VB, check_config, coils, expect_config_error, freeze, regs, step,
                      write)
+from conftest import REPO
 from test_vb_entries import STILL, coil
 
 M0 = 0
@@ -185,3 +186,40 @@ def test_operand_errors_at_line_and_column(tmp_path, program, key, needle):
     line_no = len(text.splitlines())
     last = text.splitlines()[-1]
     expect_config_error(tmp_path, text, line_no, last.index(f" {key}: ") + len(key) + 4, needle)
+
+
+# --- config/vb-tpid.yaml: the manual's Example I -----------------------------------------------
+EXAMPLE = (REPO / "config" / "vb-tpid.yaml").read_text()
+
+
+def test_example_config_tunes_and_holds_245_c(start_plcemud):
+    """config/vb-tpid.yaml as its header tells a SCADA engineer to run it: coil 10 (M10) starts
+    auto-tuning; D104 returns to 0 after about 11 simulated minutes with gains in D7000-D7002,
+    and the PID then holds D10 at 245.0 °C within the 10 s contactor cycle's ripple; Y1 (alarm
+    above 280.0 °C) stays OFF."""
+    d = start_plcemud(EXAMPLE)
+    c = d.client()
+    freeze(c)
+    step(c, 3 * SECOND)  # past the example's 2 s module delay
+    assert regs(c, 0)[0] == 2450 and regs(c, 100)[0] == 1000
+    assert 240 <= regs(c, 10)[0] <= 260  # the oven at ambient, read through the VB-8T
+    coil(c, 10, True)
+    step(c, 1)
+    assert regs(c, 104)[0] == 1
+    t = 0
+    while regs(c, 104)[0] & 1:
+        step(c, 10 * SECOND)
+        t += 10
+        assert not coils(c, Y0 + 1)[0]
+        assert t <= 1200, "auto-tuning did not end"
+    assert 500 <= t <= 900, t
+    kp, ti, td = regs(c, 7000, 3)
+    assert kp > 1 and ti > 1 and td > 0, (kp, ti, td)
+    pv = []
+    for _ in range(1800):
+        step(c, SECOND)
+        pv.append(regs(c, 10)[0])
+        assert not coils(c, Y0 + 1)[0]
+    last = pv[-600:]
+    assert 2435 <= min(last) and max(last) <= 2465, (min(last), max(last))
+    assert abs(sum(last) / len(last) - 2450) <= 3
