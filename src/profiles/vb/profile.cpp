@@ -22,6 +22,7 @@
 #include "profiles/vb/services.hpp"
 #include "profiles/vb/specials.hpp"
 #include "profiles/vb/temperature_modules.hpp"
+#include "profiles/vb/tpid.hpp"
 
 namespace plcemu::profiles::vb {
 
@@ -108,6 +109,7 @@ public:
             {"RST", &instructions::make_rst},
             {"TMR", &instructions::make_tmr},
             {"TO", &instructions::make_to},
+            {"TPID", &make_tpid},
             {"WOR", &instructions::make_wor},
         };
         return kTable;
