@@ -440,7 +440,7 @@ struct TreeBuilder {
                 n.entries.reserve(y.size());
                 for (auto it = y.begin(); it != y.end(); ++it) {
                     Node key = (*this)(it->first, depth + 1);
-                    n.entries.emplace_back(std::move(key), (*this)(it->second, depth + 1));
+                    n.entries.push_back({std::move(key), (*this)(it->second, depth + 1)});
                 }
                 break;
             case YAML::NodeType::Undefined:

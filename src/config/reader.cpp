@@ -84,8 +84,12 @@ void Reader::check_keys(const Node& n,
             if (!list.empty()) list += ", ";
             list += name;
         }
-        fail(k,
-             "unknown key '" + excerpt(key) + "' in " + what + " (expected one of: " + list + ")");
+        std::string msg = "unknown key '" + excerpt(key) + "' in ";
+        msg += what;
+        msg += " (expected one of: ";
+        msg += list;
+        msg += ")";
+        fail(k, msg);
     }
 }
 

@@ -30,11 +30,13 @@ public:
         Map,        ///< a mapping
     };
 
-    Kind kind = Kind::Undefined;                 ///< what it is
-    std::string text;                            ///< the scalar, as written
-    Position pos;                                ///< where it stands
-    std::vector<Node> items;                     ///< a list's items
-    std::vector<std::pair<Node, Node>> entries;  ///< a mapping's keys and values, in file order
+    struct Entry;  ///< a mapping's key and value
+
+    Kind kind = Kind::Undefined;  ///< what it is
+    std::string text;             ///< the scalar, as written
+    Position pos;                 ///< where it stands
+    std::vector<Node> items;      ///< a list's items
+    std::vector<Entry> entries;   ///< a mapping's keys and values, in file order
 
     /// True unless the node is absent.
     explicit operator bool() const { return kind != Kind::Undefined; }
@@ -43,12 +45,20 @@ public:
     bool is_sequence() const { return kind == Kind::Sequence; }  ///< a list
     bool is_map() const { return kind == Kind::Map; }            ///< a mapping
     /// Items of a list, entries of a mapping.
-    std::size_t size() const { return is_map() ? entries.size() : items.size(); }
+    std::size_t size() const;
     /// The value of the first key `key` of a mapping; an Undefined node when there is none (or
     /// this is not a mapping).
     const Node& operator[](std::string_view key) const;
     /// True when both say the same, wherever they stand (a reload compares sections so).
     bool same(const Node& other) const;
 };
+
+/// One key of a mapping with its value.
+struct Node::Entry {
+    Node first;   ///< the key
+    Node second;  ///< its value
+};
+
+inline std::size_t Node::size() const { return is_map() ? entries.size() : items.size(); }
 
 }  // namespace plcemu::config

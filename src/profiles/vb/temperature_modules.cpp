@@ -26,7 +26,9 @@ TemperatureModules::TemperatureModules(const std::vector<ModuleConfig>& modules,
         Module m;
         m.config = c;
         m.first_channel = channel;
-        for (int i = 0; i < c.channels; ++i) m.buffer[cr::kMode + i] = c.mode;
+        for (std::size_t i = 0; i < static_cast<std::size_t>(c.channels); ++i) {
+            m.buffer[cr::kMode + i] = c.mode;
+        }
         channel += c.channels;
         modules_.push_back(m);
     }
@@ -46,7 +48,8 @@ void TemperatureModules::inputs(engine::ScanContext& /*ctx*/) noexcept {
         m.buffer[cr::kStatusAlt] = cr::kReady;
         for (int i = 0; i < m.config.channels; ++i) {
             // Mode 0 disables the channel (reads 0); any other code measures.
-            m.buffer[cr::kReadings + i] = m.buffer[cr::kMode + i] == 0 ? 0 : reading(m, i);
+            const auto at = static_cast<std::size_t>(i);
+            m.buffer[cr::kReadings + at] = m.buffer[cr::kMode + at] == 0 ? 0 : reading(m, i);
         }
     }
 }
