@@ -97,3 +97,11 @@ def test_fbs_tpctl_trace_columns(tmp_path):
     assert float(rows[-1]["c0_duty"]) > 50
     assert float(rows[-1]["c9_pv"]) > float(rows[30]["c9_pv"]) >= 24.0
 
+
+def test_plot_of_a_pid_trace(tmp_path):
+    pytest.importorskip("matplotlib")
+    trace(REPO / "config" / "vb-pid.yaml", tmp_path / "t.csv", 2)
+    r = subprocess.run([sys.executable, PLOT, tmp_path / "t.csv", tmp_path / "t.png"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "t.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
