@@ -9,10 +9,13 @@ for what in "${@:-run}"; do
     case "$what" in
         run) ;;
         # Debian's pymodbus only recommends serial-asyncio, yet its client package imports it.
-        # man-db and groff-base render the man pages (tests/system/test_docs.py).
+        # man-db and groff-base render the man pages (tests/system/test_docs.py); python3-yaml
+        # is scripts/trace.py's and python3-matplotlib scripts/plot_trace.py's
+        # (tests/system/test_trace.py).
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
-                     python3-serial mbpoll socat clang-14 libclang-rt-14-dev systemd iproute2
-                     util-linux man-db groff-base) ;;
+                     python3-serial python3-yaml python3-matplotlib mbpoll socat clang-14
+                     libclang-rt-14-dev systemd
+                     iproute2 util-linux man-db groff-base) ;;
         # CPack's DEB generator needs dpkg-shlibdeps (dpkg-dev) and file; lintian checks the result.
         package) want+=(dpkg-dev file lintian) ;;
         # scripts/style.sh: the versions CI checks style with.

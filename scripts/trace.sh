@@ -6,11 +6,13 @@
 #
 #   scripts/trace.sh CONFIG [MINUTES] [OUT.csv] [DEVICE=VALUE ...] [--no-start]
 #   scripts/trace.sh config/default.yaml 30 default.csv
+#   scripts/trace.sh config/vb-pid.yaml 30 vb-pid.csv      # FNC88 PID, auto-tuning from cold
 #   scripts/plot_trace.py default.csv default.png
 #
 # MINUTES of simulated time (default 30), sampled every simulated second. The DEVICE=VALUE writes
-# come first (e.g. R4005=0); then the trace turns on every TPCTL's EN and sets every WMn word the
-# program moves into R4012/R4013 (what a SCADA does to start the loops), unless --no-start.
+# come first (e.g. R4005=0, D201=0x21); then the trace turns on every TPCTL's and PID's EN and
+# sets every WMn word the program moves into R4012/R4013 (what a SCADA does to start the loops),
+# unless --no-start. The Modbus addresses come from the daemon's own --print-map.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
