@@ -483,7 +483,7 @@ def test_profile_vb_alone_is_a_valid_config(tmp_path, start_plcemud):
     assert coils(c, 7680) == [True]  # M9000
 
 
-@pytest.mark.parametrize("name", ["vb.yaml", "vb-tpid.yaml"])
+@pytest.mark.parametrize("name", ["vb.yaml", "vb-tpid.yaml", "vb-mbus.yaml", "vb-mbus-slave.yaml"])
 def test_config_vb_yaml_is_valid(name):
     r = run_plcemud("-c", REPO / "config" / name, "--check-config")
     assert r.returncode == 0, r.stderr
