@@ -516,6 +516,7 @@ TEST(MbusConfig, ErrorsAtTheirNode) {
         {"mbus: {routes: {300: \"127.0.0.1:5022\"}}\n", 2, 17, "mbus.routes station"},
         {"mbus: {transport: rtu}\n", 2, 7, "transport rtu needs rtu:"},
         {"mbus: {}\n", 2, 7, "transport tcp needs"},
+        {"mbus: {transport: rtu, rtu: {device: /dev/ttyS2}}\n", 2, 19, "rtu is not emulated yet"},
         {"mbus: {tcp: {host: 127.0.0.1}, colour: red}\n", 2, 32, "colour"},
         {"modbus: {rtu: {device: /dev/ttyS1}}\nmbus: {transport: rtu, rtu: {device: "
          "/dev/ttyS1}}\n",
