@@ -64,6 +64,29 @@ bool valid_cidr(const std::string& text) {
 
 }  // namespace
 
+void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what) {
+    r.check_keys(n, what, {"device", "baud", "parity", "data_bits", "stop_bits"});
+    if (!n["device"]) r.fail(n, what + ": 'device' is required");
+    rtu.device = r.scalar(n["device"], what + ".device");
+    if (n["baud"]) {
+        const long long b = r.integer(n["baud"], what + ".baud", 300, 921600);
+        static const std::set<long long> kBauds{300,   600,   1200,   2400,   4800,   9600,  19200,
+                                                38400, 57600, 115200, 230400, 460800, 921600};
+        if (!kBauds.count(b)) r.fail(n["baud"], what + ".baud: not a standard baud rate");
+        rtu.baud = static_cast<int>(b);
+    }
+    if (n["parity"]) {
+        const std::string p = r.scalar(n["parity"], what + ".parity");
+        if (p != "N" && p != "E" && p != "O")
+            r.fail(n["parity"], what + ".parity: expected N, E or O");
+        rtu.parity = p[0];
+    }
+    if (n["data_bits"])
+        rtu.data_bits = static_cast<int>(r.integer(n["data_bits"], what + ".data_bits", 7, 8));
+    if (n["stop_bits"])
+        rtu.stop_bits = static_cast<int>(r.integer(n["stop_bits"], what + ".stop_bits", 1, 2));
+}
+
 std::string outside(const image::Naming& naming,
                     const image::Layout& layout,
                     const image::Range& rg) {
@@ -220,35 +243,12 @@ void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp) {
     }
 }
 
-void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu) {
-    r.check_keys(n, "modbus.rtu", {"device", "baud", "parity", "data_bits", "stop_bits"});
-    if (!n["device"]) r.fail(n, "modbus.rtu: 'device' is required");
-    rtu.device = r.scalar(n["device"], "modbus.rtu.device");
-    if (n["baud"]) {
-        const long long b = r.integer(n["baud"], "modbus.rtu.baud", 300, 921600);
-        static const std::set<long long> kBauds{300,   600,   1200,   2400,   4800,   9600,  19200,
-                                                38400, 57600, 115200, 230400, 460800, 921600};
-        if (!kBauds.count(b)) r.fail(n["baud"], "modbus.rtu.baud: not a standard baud rate");
-        rtu.baud = static_cast<int>(b);
-    }
-    if (n["parity"]) {
-        const std::string p = r.scalar(n["parity"], "modbus.rtu.parity");
-        if (p != "N" && p != "E" && p != "O")
-            r.fail(n["parity"], "modbus.rtu.parity: expected N, E or O");
-        rtu.parity = p[0];
-    }
-    if (n["data_bits"])
-        rtu.data_bits = static_cast<int>(r.integer(n["data_bits"], "modbus.rtu.data_bits", 7, 8));
-    if (n["stop_bits"])
-        rtu.stop_bits = static_cast<int>(r.integer(n["stop_bits"], "modbus.rtu.stop_bits", 1, 2));
-}
-
 void read_modbus(const Reader& r, const Node& n, ModbusConfig& mb) {
     r.check_keys(n, "modbus", {"tcp", "rtu", "read_only", "write_protect", "map"});
     if (n["tcp"]) read_tcp(r, n["tcp"], mb.tcp);
     if (n["rtu"] && !n["rtu"].is_null()) {
         RtuConfig rtu;
-        read_rtu(r, n["rtu"], rtu);
+        read_rtu(r, n["rtu"], rtu, "modbus.rtu");
         mb.rtu = rtu;
     }
     if (n["read_only"]) mb.read_only = r.boolean(n["read_only"], "modbus.read_only");

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "daemon/fd_limit.hpp"
+#include "daemon/master_link.hpp"
 #include "daemon/notify.hpp"
 #include "daemon/retirer.hpp"
 #include "daemon/persistence.hpp"
@@ -17,6 +18,7 @@
 #include "daemon/scan_driver.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/image/state_file.hpp"
+#include "plcemu/profiles/profile.hpp"
 #include "simulator/simulator_unit.hpp"
 #include "modbus/rtu_server.hpp"
 #include "modbus/tcp_server.hpp"
@@ -99,6 +101,7 @@ public:
             tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(*cfg_));
         }
         open_rtu();
+        open_master();
         start_scanning();
 
         spdlog::info("plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
@@ -124,6 +127,7 @@ public:
         }
         tcp_.reset();
         rtu_.reset();
+        master_.reset();
         sim_.reset();
         driver_.reset();
         plc_.reset();
@@ -146,6 +150,16 @@ private:
             io_, plc_->dispatcher(),
             modbus::RtuOptions{r.device, r.baud, r.parity, r.data_bits, r.stop_bits});
         spdlog::info("listening on rtu {}", rtu_->description());
+    }
+
+    // The master port the program polls other devices through (VB MBUS), on the same loop:
+    // its completions wait for the next scan, which never waits for them.
+    void open_master() {
+        const auto master = profiles::of(*cfg_).master(*cfg_);
+        if (!master) return;
+        master_ = open_master_link(io_, *master);
+        plc_->engine().set_outbound(master_.get());
+        spdlog::info("mbus: master via {}", master_->description());
     }
 
     void start_scanning() {
@@ -191,6 +205,7 @@ private:
             if (driver_) driver_->stop();
             if (tcp_) tcp_->stop();
             if (rtu_) rtu_->stop();
+            master_.reset();
             io_.stop();
         });
     }
@@ -365,6 +380,13 @@ private:
         } catch (const std::exception& e) {
             spdlog::error("reload: rtu: {}; serving without the serial port", e.what());
         }
+        // The new program's MBUS starts afresh on a new port; the old one's request is dropped.
+        master_.reset();
+        try {
+            open_master();
+        } catch (const std::exception& e) {
+            spdlog::error("reload: mbus: {}; running without the master port", e.what());
+        }
         start_scanning();
         if (state_) state_->set_retentive(plc_layout(*cfg_).retentive);
         if (sync_) sync_->set_period(std::chrono::milliseconds(cfg_->persistence.sync_ms));
@@ -402,6 +424,7 @@ private:
     std::unique_ptr<Plc> plc_;
     std::unique_ptr<modbus::TcpServer> tcp_;
     std::unique_ptr<modbus::RtuServer> rtu_;
+    std::unique_ptr<MasterLink> master_;
     std::unique_ptr<ScanDriver> driver_;
     std::unique_ptr<simulator::SimulatorUnit> sim_;
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};

@@ -79,8 +79,11 @@ def test_plcemud_yaml_5_documents_every_key():
     assert {"profile", "modbus", "plant", "persistence", "log"} <= top
     missing = [k for k in sorted(top) if not re.search(rf"(?<![\w.]){k}(?![\w])", text)]
     assert not missing, missing
-    # Every key the loader accepts (its check_keys lists in src/config/config.cpp), by name.
-    source = (REPO / "src" / "config" / "config.cpp").read_text()
+    # Every key the loader accepts (its check_keys lists in src/config/config.cpp), by name,
+    # and the sections profiles read themselves (src/profiles/<name>/*_config.cpp).
+    sources = [REPO / "src" / "config" / "config.cpp",
+               *sorted((REPO / "src" / "profiles").glob("*/*_config.cpp"))]
+    source = "".join(p.read_text() for p in sources)
     accepted = set()
     for group in re.findall(r"check_keys\([^{]*\{([^}]*)\}", source):
         accepted |= set(re.findall(r'"([a-z_]+)"', group))

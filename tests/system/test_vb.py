@@ -483,10 +483,12 @@ def test_profile_vb_alone_is_a_valid_config(tmp_path, start_plcemud):
     assert coils(c, 7680) == [True]  # M9000
 
 
-@pytest.mark.parametrize("name", ["vb.yaml", "vb-pid.yaml", "vb-tpid.yaml"])
+@pytest.mark.parametrize(
+    "name", ["vb.yaml", "vb-pid.yaml", "vb-tpid.yaml", "vb-mbus.yaml", "vb-mbus-slave.yaml"])
 def test_config_vb_yaml_is_valid(name):
     """The vb example configs: config/vb-pid.yaml and config/vb-tpid.yaml are the VB manual's
-    FNC88 and FNC92 program examples."""
+    FNC88 and FNC92 program examples, config/vb-mbus.yaml an FNC149 master polling the slave of
+    config/vb-mbus-slave.yaml."""
     r = run_plcemud("-c", REPO / "config" / name, "--check-config")
     assert r.returncode == 0, r.stderr
     assert "ok" in r.stdout

@@ -163,6 +163,10 @@ struct Config {
     LogConfig log;                  ///< logging
 };
 
+/// Reads a serial line's settings (`modbus.rtu`, or a profile's own port) into `rtu`; `what`
+/// names the key in errors. Throws ConfigError.
+void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what);
+
 /// Why a device range is refused on a PLC: "D8000 does not exist on this PLC (…)" or "R9000 is
 /// outside this PLC's R area (8072 devices)".
 std::string outside(const image::Naming& naming,

@@ -9,6 +9,7 @@
 
 #include "plcemu/engine/declarations.hpp"
 #include "plcemu/engine/modules.hpp"
+#include "plcemu/engine/outbound.hpp"
 #include "plcemu/engine/specials.hpp"
 #include "plcemu/image/image.hpp"
 
@@ -30,12 +31,13 @@ struct Calendar {
 
 /// What an instruction sees during one scan.
 struct ScanContext {
-    image::Image& image;           ///< the register image
-    Duration now;                  ///< simulated time of this scan's start
-    Duration dt;                   ///< simulated time since the previous scan (the scan period)
-    std::uint64_t scan;            ///< scans completed before this one
-    bool first_scan;               ///< true during the first scan after power-up
-    ModuleBus* modules = nullptr;  ///< the special modules (null: the PLC has none)
+    image::Image& image;               ///< the register image
+    Duration now;                      ///< simulated time of this scan's start
+    Duration dt;                       ///< simulated time since the previous scan (the scan period)
+    std::uint64_t scan;                ///< scans completed before this one
+    bool first_scan;                   ///< true during the first scan after power-up
+    ModuleBus* modules = nullptr;      ///< the special modules (null: the PLC has none)
+    OutboundLink* outbound = nullptr;  ///< the Modbus master port (null: none attached)
 };
 
 /// One program instruction (one file per mnemonic in src/instructions).
@@ -86,6 +88,9 @@ public:
     void add_subsystem(std::unique_ptr<Subsystem> s);
     /// The special modules FROM/TO reach (owned elsewhere, e.g. by a subsystem; null: none).
     void set_module_bus(ModuleBus* bus) noexcept { modules_ = bus; }
+    /// The link master instructions send their requests through (owned elsewhere, e.g. by the
+    /// daemon's event loop; null: none).
+    void set_outbound(OutboundLink* link) noexcept { outbound_ = link; }
 
     /// Power-up: the family's special devices take their power-up values. Call once, after
     /// the image holds its retained values.
@@ -125,6 +130,7 @@ private:
     std::unique_ptr<Specials> specials_;
     std::vector<std::unique_ptr<Subsystem>> subsystems_;
     ModuleBus* modules_ = nullptr;
+    OutboundLink* outbound_ = nullptr;
     std::uint8_t station_ = 1;
     std::uint64_t scans_ = 0;
     Duration last_{0};

@@ -7,12 +7,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/config/master.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/sensors.hpp"
 #include "plcemu/image/layout.hpp"
@@ -83,6 +85,11 @@ public:
     virtual void attach(engine::Engine& engine,
                         const config::Config& config,
                         engine::SensorSource& sensors) const = 0;
+    /// The Modbus master port a PLC of this config polls other devices through (the daemon
+    /// opens it and hands it to the engine as its outbound link), or nothing.
+    virtual std::optional<config::MasterConfig> master(const config::Config& /*config*/) const {
+        return std::nullopt;
+    }
 };
 
 /// The profile named `name`, or null.

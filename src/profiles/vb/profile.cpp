@@ -15,6 +15,8 @@
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/vb/hour.hpp"
 #include "profiles/vb/map.hpp"
+#include "profiles/vb/mbus.hpp"
+#include "profiles/vb/mbus_config.hpp"
 #include "profiles/vb/model.hpp"
 #include "profiles/vb/modules_config.hpp"
 #include "profiles/vb/operation_error.hpp"
@@ -103,6 +105,7 @@ public:
             {"DHOUR", &make_dhour},
             {"FROM", &instructions::make_from},
             {"HOUR", &make_hour},
+            {"MBUS", &make_mbus},
             {"MOV", &instructions::make_mov},
             {"PID", &make_pid},
             {"PLS", &instructions::make_pls},
@@ -136,8 +139,11 @@ public:
         return make_specials();
     }
 
-    std::vector<std::string_view> sections() const override { return {"modules"}; }
-    void check(const config::Config& config) const override { modules_config(config); }
+    std::vector<std::string_view> sections() const override { return {"modules", "mbus"}; }
+    void check(const config::Config& config) const override {
+        modules_config(config);
+        mbus_config(config);
+    }
 
     // The TPID's analog outputs run 0–1000 (VB manual FNC92, S3+10m).
     int drive_full_scale() const override { return 1000; }
@@ -151,6 +157,11 @@ public:
         auto bus = std::make_unique<TemperatureModules>(modules, sensors);
         engine.set_module_bus(bus.get());
         engine.add_subsystem(std::move(bus));
+    }
+
+    // FNC149 MBUS polls its slaves through the CP2 port `mbus:` describes.
+    std::optional<config::MasterConfig> master(const config::Config& config) const override {
+        return mbus_config(config);
     }
 
 private:

@@ -22,6 +22,7 @@ inline constexpr std::uint32_t kClock100ms = 9012;      ///< M9012 100 ms clock
 inline constexpr std::uint32_t kClock1s = 9013;         ///< M9013 1 s clock
 inline constexpr std::uint32_t kClock1min = 9014;       ///< M9014 1 min clock
 inline constexpr std::uint32_t kOperationError = 9067;  ///< M9067 operation error
+inline constexpr std::uint32_t kMbusPass = 9199;        ///< M9199 MBUS pass complete, one scan
 inline constexpr std::uint32_t kCountDown = 9200;       ///< M9200–M9234 direction of C200–C234
 inline constexpr std::uint32_t kCountDownRelays = 35;   ///< M9200–M9234: 35 relays
 

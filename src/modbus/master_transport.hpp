@@ -1,0 +1,43 @@
+#pragma once
+// A Modbus master's wire, as the event loop drives it: one transaction at a time, sent to a
+// station, ended by a reply, by its deadline or by something that is no frame. TCP (MBAP) and
+// RTU (t3.5, CRC) each implement it; the PDU inside is master_pdu's business.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+
+namespace plcemu::modbus {
+
+/// How a transaction ended on the wire.
+enum class MasterOutcome : std::uint8_t {
+    Reply,     ///< a frame from the station answering this transaction
+    TimedOut,  ///< nothing by the deadline (no connection, a closed one, a silent station)
+    Garbled,   ///< bytes that are no frame (a bad MBAP header, a bad CRC, another unit)
+};
+
+/// Called once, on the loop, with the outcome and the reply PDU (Reply only; valid during the
+/// call).
+using MasterDone = std::function<void(MasterOutcome, std::span<const std::uint8_t>)>;
+
+/// One master port.
+class MasterTransport {
+public:
+    virtual ~MasterTransport() = default;
+    /// Sends `pdu` to `station`; `done` is called by `timeout` (real time) at the latest. A new
+    /// transaction abandons the one in flight.
+    virtual void transact(std::uint8_t station,
+                          std::span<const std::uint8_t> pdu,
+                          std::chrono::milliseconds timeout,
+                          MasterDone done) = 0;
+    /// Abandons the transaction in flight: its `done` is never called, a late reply is dropped.
+    virtual void cancel() noexcept = 0;
+    /// Closes everything; nothing is called after.
+    virtual void stop() noexcept = 0;
+    /// Where requests go, as logged.
+    virtual std::string description() const = 0;
+};
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,270 @@
+#include "tcp_master.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <cstring>
+
+#include "mbap.hpp"
+
+namespace plcemu::modbus {
+
+namespace {
+
+using asio::ip::tcp;
+
+std::string name_of(const tcp::endpoint& ep) {
+    const std::string host = ep.address().to_string();
+    return (ep.address().is_v6() ? "[" + host + "]" : host) + ":" + std::to_string(ep.port());
+}
+
+// One endpoint's connection. `epoch` tells the handlers of a closed socket from the current
+// one's, so that a late completion never touches a connection opened after it.
+struct Connection {
+    Connection(asio::io_context& io, tcp::endpoint ep)
+        : peer(ep),
+          socket(io) {}
+
+    tcp::endpoint peer;
+    tcp::socket socket;
+    unsigned epoch = 0;
+    bool open = false;
+    bool connecting = false;
+    bool writing = false;
+    // The frame of the transaction `queued_for` that waits for the connection or for the write
+    // before it; it is not sent once that transaction has ended.
+    std::shared_ptr<std::vector<std::uint8_t>> queued;
+    unsigned queued_for = 0;
+    // Room for one whole frame beside a partial one: frames are at most kMaxTcpAdu bytes.
+    std::array<std::uint8_t, 2 * kMaxTcpAdu> buf{};
+    std::size_t used = 0;
+};
+
+}  // namespace
+
+struct TcpMaster::State : std::enable_shared_from_this<TcpMaster::State> {
+    explicit State(asio::io_context& io)
+        : deadline(io) {}
+
+    void transact(std::uint8_t to,
+                  std::span<const std::uint8_t> pdu,
+                  std::chrono::milliseconds timeout,
+                  MasterDone d) {
+        if (stopped) return;
+        cancel();
+        active = true;
+        station = to;
+        done = std::move(d);
+        ++tid;
+        const auto length = static_cast<std::uint16_t>(pdu.size() + 1);
+        auto frame = std::make_shared<std::vector<std::uint8_t>>();
+        frame->reserve(kMbapPrefix + length);
+        frame->insert(
+            frame->end(),
+            {static_cast<std::uint8_t>(tid >> 8), static_cast<std::uint8_t>(tid & 0xFF), 0, 0,
+             static_cast<std::uint8_t>(length >> 8), static_cast<std::uint8_t>(length & 0xFF), to});
+        frame->insert(frame->end(), pdu.begin(), pdu.end());
+        // The deadline runs from the send, whatever the connection is doing (VB manual FNC149:
+        // D9129 is how long the slave may take to respond).
+        deadline.expires_after(timeout);
+        deadline.async_wait(
+            [self = shared_from_this(), g = generation](const asio::error_code& ec) {
+                if (ec || self->stopped || g != self->generation || !self->active) return;
+                self->finish(MasterOutcome::TimedOut, {});
+            });
+        conn = route[to];
+        // No endpoint for this station: it never answers.
+        if (conn < 0) return;
+        Connection& c = *conns[static_cast<std::size_t>(conn)];
+        c.queued = std::move(frame);
+        c.queued_for = generation;
+        if (c.open) {
+            send_queued(conn);
+        } else if (!c.connecting) {
+            connect(conn);
+        }
+    }
+
+    void cancel() noexcept {
+        active = false;
+        done = nullptr;
+        ++generation;
+        deadline.cancel();
+    }
+
+    void stop() noexcept {
+        stopped = true;
+        cancel();
+        for (std::size_t i = 0; i < conns.size(); ++i) close(static_cast<int>(i));
+    }
+
+    void connect(int index) {
+        Connection& c = *conns[static_cast<std::size_t>(index)];
+        c.connecting = true;
+        c.socket.async_connect(
+            c.peer, [self = shared_from_this(), index, e = c.epoch](const asio::error_code& ec) {
+                Connection& cc = *self->conns[static_cast<std::size_t>(index)];
+                if (self->stopped || cc.epoch != e) return;
+                cc.connecting = false;
+                if (ec) {
+                    // Refused or unreachable: the transaction times out; the next one tries again.
+                    self->lost(index, ec);
+                    return;
+                }
+                cc.open = true;
+                asio::error_code ignored;
+                cc.socket.set_option(tcp::no_delay(true), ignored);
+                spdlog::info("mbus: connected to {}", name_of(cc.peer));
+                self->read(index);
+                self->send_queued(index);
+            });
+    }
+
+    // Writes the queued frame unless a write is under way (a frame already begun goes out whole,
+    // so the stream stays framed) or its transaction has ended (an abandoned write never reaches
+    // the slave).
+    void send_queued(int index) {
+        Connection& c = *conns[static_cast<std::size_t>(index)];
+        if (c.writing || !c.queued) return;
+        auto frame = std::move(c.queued);
+        c.queued.reset();
+        if (!active || c.queued_for != generation || conn != index) return;
+        c.writing = true;
+        asio::async_write(c.socket, asio::buffer(*frame),
+                          [self = shared_from_this(), index, frame, e = c.epoch](
+                              const asio::error_code& ec, std::size_t) {
+                              Connection& cc = *self->conns[static_cast<std::size_t>(index)];
+                              if (self->stopped || cc.epoch != e) return;
+                              cc.writing = false;
+                              if (ec) {
+                                  self->lost(index, ec);
+                                  return;
+                              }
+                              self->send_queued(index);
+                          });
+    }
+
+    void read(int index) {
+        Connection& c = *conns[static_cast<std::size_t>(index)];
+        c.socket.async_read_some(asio::buffer(c.buf.data() + c.used, c.buf.size() - c.used),
+                                 [self = shared_from_this(), index, e = c.epoch](
+                                     const asio::error_code& ec, std::size_t n) {
+                                     Connection& cc = *self->conns[static_cast<std::size_t>(index)];
+                                     if (self->stopped || cc.epoch != e) return;
+                                     if (ec) {
+                                         self->lost(index, ec);
+                                         return;
+                                     }
+                                     cc.used += n;
+                                     if (self->frames(index)) self->read(index);
+                                 });
+    }
+
+    // Takes the whole frames received; false when the connection was closed for garbage.
+    bool frames(int index) {
+        Connection& c = *conns[static_cast<std::size_t>(index)];
+        for (;;) {
+            const MbapFrame f = next_mbap_frame({c.buf.data(), c.used});
+            if (f.status == MbapStatus::Incomplete) return true;
+            if (f.status == MbapStatus::Bad) {
+                // No frame boundary can be trusted after a bad header.
+                spdlog::warn("mbus: {}: bad MBAP header; closing", name_of(c.peer));
+                if (active && conn == index) finish(MasterOutcome::Garbled, {});
+                close(index);
+                return false;
+            }
+            const auto id = static_cast<std::uint16_t>(c.buf[0] << 8 | c.buf[1]);
+            // A reply to an abandoned or timed-out transaction is dropped.
+            if (active && conn == index && id == tid) {
+                const std::span<const std::uint8_t> pdu{c.buf.data() + kMbapPrefix + 1,
+                                                        f.size - kMbapPrefix - 1};
+                finish(
+                    c.buf[kMbapPrefix] == station ? MasterOutcome::Reply : MasterOutcome::Garbled,
+                    pdu);
+            }
+            std::memmove(c.buf.data(), c.buf.data() + f.size, c.used - f.size);
+            c.used -= f.size;
+        }
+    }
+
+    void finish(MasterOutcome outcome, std::span<const std::uint8_t> pdu) {
+        active = false;
+        ++generation;
+        deadline.cancel();
+        MasterDone d = std::move(done);
+        done = nullptr;
+        if (d) d(outcome, pdu);
+    }
+
+    // A connection that failed or closed: the transaction on it waits for its deadline (status
+    // 5), and the next transaction to the endpoint opens it again.
+    void lost(int index, const asio::error_code& ec) {
+        Connection& c = *conns[static_cast<std::size_t>(index)];
+        if (c.open)
+            spdlog::warn("mbus: {}: connection lost ({})", name_of(c.peer), ec.message());
+        else
+            spdlog::debug("mbus: {}: cannot connect ({})", name_of(c.peer), ec.message());
+        close(index);
+    }
+
+    void close(int index) noexcept {
+        Connection& c = *conns[static_cast<std::size_t>(index)];
+        ++c.epoch;
+        asio::error_code ignored;
+        c.socket.close(ignored);
+        c.open = false;
+        c.connecting = false;
+        c.writing = false;
+        c.queued.reset();
+        c.used = 0;
+    }
+
+    std::vector<std::unique_ptr<Connection>> conns;
+    std::array<int, 256> route{};  // station → connection, -1: none
+    asio::steady_timer deadline;
+    bool active = false;  // a transaction waits for its outcome
+    int conn = -1;        // its connection
+    std::uint8_t station = 0;
+    std::uint16_t tid = 0;
+    unsigned generation = 0;  // tells a deadline of an earlier transaction from this one's
+    MasterDone done;
+    bool stopped = false;
+};
+
+TcpMaster::TcpMaster(asio::io_context& io, TcpMasterOptions options)
+    : state_(std::make_shared<State>(io)) {
+    auto index_of = [&](const tcp::endpoint& ep) {
+        for (std::size_t i = 0; i < state_->conns.size(); ++i) {
+            if (state_->conns[i]->peer == ep) return static_cast<int>(i);
+        }
+        state_->conns.push_back(std::make_unique<Connection>(io, ep));
+        return static_cast<int>(state_->conns.size() - 1);
+    };
+    // One connection per endpoint, however many stations share it.
+    const int fallback = options.fallback ? index_of(*options.fallback) : -1;
+    state_->route.fill(fallback);
+    for (const auto& [station, ep] : options.routes) state_->route[station] = index_of(ep);
+}
+
+TcpMaster::~TcpMaster() { stop(); }
+
+void TcpMaster::transact(std::uint8_t station,
+                         std::span<const std::uint8_t> pdu,
+                         std::chrono::milliseconds timeout,
+                         MasterDone done) {
+    state_->transact(station, pdu, timeout, std::move(done));
+}
+
+void TcpMaster::cancel() noexcept { state_->cancel(); }
+
+void TcpMaster::stop() noexcept {
+    if (!state_->stopped) state_->stop();
+}
+
+std::string TcpMaster::description() const {
+    std::string s;
+    for (const auto& c : state_->conns) s += (s.empty() ? "tcp " : ", ") + name_of(c->peer);
+    return s.empty() ? "tcp (no endpoint)" : s;
+}
+
+}  // namespace plcemu::modbus

@@ -1,0 +1,47 @@
+#pragma once
+// Modbus TCP master on the event loop: one connection per endpoint, opened when a transaction
+// needs it and kept for the next; MBAP framing with the slave side's codec. Nothing blocks: a
+// slave that is down, silent, slow or sends garbage costs its own transaction's deadline and
+// never more than one small buffer per endpoint.
+
+#include <asio.hpp>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "master_transport.hpp"
+
+namespace plcemu::modbus {
+
+/// Where each station's requests go.
+struct TcpMasterOptions {
+    std::optional<asio::ip::tcp::endpoint> fallback;  ///< every station not routed
+    /// Stations with an endpoint of their own.
+    std::vector<std::pair<std::uint8_t, asio::ip::tcp::endpoint>> routes;
+};
+
+/// The TCP master.
+class TcpMaster final : public MasterTransport {
+public:
+    TcpMaster(asio::io_context& io, TcpMasterOptions options);
+    ~TcpMaster() override;
+    TcpMaster(const TcpMaster&) = delete;
+    TcpMaster& operator=(const TcpMaster&) = delete;
+
+    void transact(std::uint8_t station,
+                  std::span<const std::uint8_t> pdu,
+                  std::chrono::milliseconds timeout,
+                  MasterDone done) override;
+    void cancel() noexcept override;
+    void stop() noexcept override;
+    std::string description() const override;
+
+    struct State;
+
+private:
+    std::shared_ptr<State> state_;
+};
+
+}  // namespace plcemu::modbus
