@@ -142,7 +142,9 @@ Plc::Plc(std::shared_ptr<const config::Config> config,
     profile.attach(*engine_, *config_, *plant_);
 
     map_ = map_of(*config_);
+    // Program data (file registers) is as write-protected as what the config protects.
     modbus::WritePolicy policy{config_->modbus.read_only, config_->modbus.write_protect};
+    for (const auto& r : profile.program_data(*config_)) policy.write_protect.push_back(r);
     unit_ = std::make_unique<modbus::PlcUnit>(*image_, map_ ? *map_ : profile.map(), policy);
     const std::string model =
         config_->model.empty() ? std::string(profile.default_model()) : config_->model;
@@ -162,7 +164,12 @@ void Plc::apply_init() {
     const image::Layout& layout = image_->layout();
     const bool spare_retained =
         start_ != Start::Fresh && config_->persistence.init == config::InitPolicy::Fresh;
+    // Program data takes its presets at every start and reload, as part of the program.
+    const auto program_data = profiles::of(*config_).program_data(*config_);
     auto retentive = [&](image::Area a, std::uint32_t index) {
+        for (const auto& r : program_data) {
+            if (r.area == a && index >= r.start && index < r.end()) return false;
+        }
         for (const auto& r : layout.retentive) {
             if (r.area == a && index >= r.start && index < r.end()) return true;
         }

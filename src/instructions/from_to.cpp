@@ -93,12 +93,9 @@ std::unique_ptr<engine::Instruction> make(Direction dir, const Entry& ic, const 
     WordSource data;
     if (dir == Direction::From) {
         data.device =
-            ops.word_device("d", n,
-                            {image::Area::R, image::Area::D, image::Area::M, image::Area::Y,
-                             image::Area::S, image::Area::TV, image::Area::CV});
-        if (data.device.word_of_bits) {
-            ops.refuse_reserved("d", {data.device.area, data.device.index, 16 * n});
-        }
+            ops.output_words("d", n,
+                             {image::Area::R, image::Area::D, image::Area::M, image::Area::Y,
+                              image::Area::S, image::Area::TV, image::Area::CV});
     } else if (ops.constant("s")) {
         data = ops.word_source("s");
     } else {

@@ -116,9 +116,14 @@ WordSource Operands::word_source(const char* key) {
 
 image::Device Operands::word_output(const char* key) {
     using image::Area;
-    const image::Device d =
-        word_device(key, 1, {Area::R, Area::D, Area::M, Area::Y, Area::S, Area::TV, Area::CV});
-    if (d.word_of_bits) refuse_reserved(key, {d.area, d.index, 16});
+    return output_words(key, 1, {Area::R, Area::D, Area::M, Area::Y, Area::S, Area::TV, Area::CV});
+}
+
+image::Device Operands::output_words(const char* key,
+                                     std::uint32_t span,
+                                     std::initializer_list<image::Area> areas) {
+    const image::Device d = word_device(key, span, areas);
+    refuse_reserved(key, {d.area, d.index, d.word_of_bits ? 16 * span : span});
     return d;
 }
 

@@ -56,6 +56,11 @@ public:
     /// A word output: a register or WMn-style bits (WM, WY, WS), not on an output the profile
     /// reserves.
     image::Device word_output(const char* key);
+    /// A word device the instruction writes, `span` words from it on, in one of `areas`; the
+    /// words may not be ones the profile reserves (file registers, a module's outputs).
+    image::Device output_words(const char* key,
+                               std::uint32_t span,
+                               std::initializer_list<image::Area> areas);
     /// A word device whose `span` consecutive words (or bits, for WMn: 16·span) must exist,
     /// in one of `areas`.
     image::Device word_device(const char* key,

@@ -53,6 +53,7 @@ std::unique_ptr<engine::Instruction> make_rst(const Entry& ic, const BindContext
         ops.refuse_reserved("d", {d.area, d.index, 1});
     } else {
         words = {d.area, d.index, 1};
+        ops.refuse_reserved("d", words);
     }
     if (words.count > 0 && !ctx.layout.contains(words)) {
         ops.fail("d", ctx.naming.format_device(d.area, d.index) + " has no value in this PLC");

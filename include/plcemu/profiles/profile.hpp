@@ -69,6 +69,14 @@ public:
         return {};
     }
 
+    /// Devices that hold part of the program (the VB's file registers): their `init:` presets
+    /// are applied at every start and reload whatever `persistence` says, Modbus writes to them
+    /// are refused (exception 02), and no program operand may write them (the profile reserves
+    /// them in its services).
+    virtual std::vector<image::Range> program_data(const config::Config& /*config*/) const {
+        return {};
+    }
+
     /// A register's value that drives a plant channel at full power, when the config names
     /// none (the scale of the family's analog outputs).
     virtual int drive_full_scale() const { return 16383; }

@@ -97,7 +97,7 @@ std::unique_ptr<engine::Instruction> make(const instructions::Entry& ic,
         b.s_device = wide ? ops.word_device("s", 2, {Area::D}) : ops.word_source("s").device;
     }
     const std::uint32_t span = wide ? 3 : 2;
-    b.d1 = ops.word_device("d1", span, {Area::D}).index;
+    b.d1 = ops.output_words("d1", span, {Area::D}).index;
     b.d2 = ops.bit_output("d2");
     ops.finish();
     ops.refuse_reserved("d2", {b.d2.area, b.d2.index, 1});

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "instructions/operands.hpp"
+#include "profiles/vb/blocks.hpp"
 #include "profiles/vb/mbus_table.hpp"
 #include "profiles/vb/specials.hpp"
 
@@ -17,7 +18,6 @@ using instructions::Operands;
 using mbus::Status;
 
 // The table and the working area lie in D0–D7999 (VB manual FNC149 operand table).
-constexpr std::uint32_t kAreaEnd = 8000;
 constexpr std::uint32_t kWorkingWords = 4;
 constexpr std::uint16_t kMaxSets = 255;
 // S2 words.
@@ -153,7 +153,7 @@ private:
         for (;;) {
             // The table, S1+0 included, is read again at every set's turn.
             const std::uint16_t sets = img.word(Area::D, b_.s1);
-            if (sets < 1 || sets > kMaxSets || b_.s1 + 1 + mbus::kSetWords * sets > kAreaEnd) {
+            if (sets < 1 || sets > kMaxSets || b_.s1 + 1 + mbus::kSetWords * sets > kBlockAreaEnd) {
                 report(img, mbus::kNumberError, 0);
                 s_.set = 0;
                 return;
@@ -205,16 +205,6 @@ private:
     State s_;
 };
 
-std::uint32_t block(Operands& ops, const char* key, const char* name, std::uint32_t span) {
-    const image::Device d = ops.word_device(key, 1, {Area::D});
-    if (d.index + span > kAreaEnd) {
-        const image::Range r{Area::D, d.index, span};
-        ops.fail(key, std::string(name) + " needs " + std::to_string(span) + " registers, " +
-                          ops.format(r) + ", inside D0-D7999");
-    }
-    return d.index;
-}
-
 }  // namespace
 
 std::unique_ptr<engine::Instruction> make_mbus(const instructions::Entry& ic,
@@ -230,8 +220,8 @@ std::unique_ptr<engine::Instruction> make_mbus(const instructions::Entry& ic,
     Bound b;
     b.where = ic.where.text();
     b.en = ops.bit_source("en", true);
-    b.s1 = block(ops, "s1", "S1 (the table)", 1);
-    b.s2 = block(ops, "s2", "S2 (the working area)", kWorkingWords);
+    b.s1 = d_block(ops, "s1", "S1 (the table)", 1, Use::Read);
+    b.s2 = d_block(ops, "s2", "S2 (the working area)", kWorkingWords, Use::Written);
     ops.finish();
     return std::make_unique<Mbus>(std::move(b));
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "instructions/operands.hpp"
+#include "profiles/vb/blocks.hpp"
 #include "profiles/vb/operation_error.hpp"
 #include "profiles/vb/relay_tuning.hpp"
 
@@ -49,12 +50,14 @@ Bound bind(const instructions::Entry& entry, const instructions::BindContext& ct
     b.pv = d_register(ops, "s2");
     b.s3 = d_register(ops, "s3");
     b.mv = d_register(ops, "d");
+    ops.refuse_reserved("d", {Area::D, b.mv, 1});
     const Range block{Area::D, b.s3, kBlockWords};
     // Checked here rather than as 25 words of D: D9000–D9255 are D registers too, but not
     // ones a block may use.
     if (block.end() > kBlockAreaEnd) {
         ops.fail("s3", "S3 needs 25 registers in D0-D7999 (S3…S3+24), got " + ops.format(block));
     }
+    ops.refuse_reserved("s3", block);
     // The block holds the loop's parameters and the instruction writes into it: two PIDs on one
     // block would overwrite each other's tuning results and alarms.
     for (const auto& c : ctx.earlier.claims) {

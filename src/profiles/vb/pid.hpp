@@ -16,8 +16,6 @@ namespace pid {
 
 /// Words the loader reserves for S3 (VB manual FNC88: "S3 occupies 25 consecutive registers").
 inline constexpr std::uint32_t kBlockWords = 25;
-/// S3 must end below this D register (the general and latched D, not the special ones).
-inline constexpr std::uint32_t kBlockAreaEnd = 8000;
 
 /// Word offsets in S3.
 inline constexpr std::uint32_t kSampling = 0;      ///< Ts, 1–32767 ms

@@ -13,6 +13,7 @@
 #include "instructions/tmr.hpp"
 #include "instructions/wor.hpp"
 #include "plcemu/profiles/profile.hpp"
+#include "profiles/vb/file_registers.hpp"
 #include "profiles/vb/hour.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/mbus.hpp"
@@ -118,9 +119,12 @@ public:
         return kTable;
     }
 
-    std::unique_ptr<instructions::Services> services(
-        const config::Config& /*config*/) const override {
+    std::unique_ptr<instructions::Services> services(const config::Config& config) const override {
         auto s = std::make_unique<Services>();
+        for (const auto& r : program_data(config)) {
+            s->reserved_outputs.emplace_back(
+                r, "the file registers (file_registers:), program data the program only reads");
+        }
         // M9200–M9234: count direction of C200–C234 (FX M8200–M8234); C235–C255 have none here
         // (docs/profile-vb.md).
         s->direction = {Area::M, special::kCountDown, special::kCountDownRelays};
@@ -139,10 +143,18 @@ public:
         return make_specials();
     }
 
-    std::vector<std::string_view> sections() const override { return {"modules", "mbus"}; }
+    std::vector<std::string_view> sections() const override {
+        return {"modules", "mbus", "file_registers"};
+    }
     void check(const config::Config& config) const override {
         modules_config(config);
         mbus_config(config);
+        file_registers(config);
+    }
+
+    std::vector<image::Range> program_data(const config::Config& config) const override {
+        const auto r = file_registers(config);
+        return r ? std::vector<image::Range>{*r} : std::vector<image::Range>{};
     }
 
     // The TPID's analog outputs run 0–1000 (VB manual FNC92, S3+10m).

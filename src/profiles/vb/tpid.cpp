@@ -8,6 +8,7 @@
 #include <string>
 
 #include "instructions/operands.hpp"
+#include "profiles/vb/blocks.hpp"
 #include "profiles/vb/operation_error.hpp"
 #include "profiles/vb/tpid_loop.hpp"
 
@@ -22,8 +23,6 @@ using instructions::Operands;
 using tpid::kFullScale;
 
 constexpr int kMaxChannels = 16;
-// The blocks must lie in D0–D7999 (VB manual FNC92 operand table).
-constexpr std::uint32_t kBlockEnd = 8000;
 // S3: 10 system words, then 10 per channel; S4: 6 per channel.
 constexpr std::uint32_t kS3Words = 10;
 constexpr std::uint32_t kS4Words = 6;
@@ -67,17 +66,6 @@ struct Bound {
     int index = 0;          // the entry's 1-based position, for D9069
 };
 
-// A block of `span` D registers inside D0–D7999.
-std::uint32_t block(Operands& ops, const char* key, const char* name, std::uint32_t span) {
-    const image::Device d = ops.word_device(key, 1, {Area::D});
-    if (d.index + span > kBlockEnd) {
-        const Range r{Area::D, d.index, span};
-        ops.fail(key, std::string(name) + " needs " + std::to_string(span) + " registers, " +
-                          ops.format(r) + ", inside D0-D7999");
-    }
-    return d.index;
-}
-
 Bound bind(const instructions::Entry& ic, const instructions::BindContext& ctx) {
     Operands ops(ic, ctx);
     Bound b;
@@ -95,10 +83,10 @@ Bound bind(const instructions::Entry& ic, const instructions::BindContext& ctx) 
         b.blocks_n = kMaxChannels;
     }
     const auto n = static_cast<std::uint32_t>(b.blocks_n);
-    b.s1 = block(ops, "s1", "S1 (SV)", n);
-    b.s2 = block(ops, "s2", "S2 (PV)", n);
-    b.s3 = block(ops, "s3", "S3", s3_words(b.blocks_n));
-    b.s4 = block(ops, "s4", "S4", s4_words(b.blocks_n));
+    b.s1 = d_block(ops, "s1", "S1 (SV)", n, Use::Read);
+    b.s2 = d_block(ops, "s2", "S2 (PV)", n, Use::Read);
+    b.s3 = d_block(ops, "s3", "S3", s3_words(b.blocks_n), Use::Written);
+    b.s4 = d_block(ops, "s4", "S4", s4_words(b.blocks_n), Use::Written);
     ops.finish();
 
     // TPID writes S3 and (auto-tuning) S4: two instructions sharing them would fight, and S3
