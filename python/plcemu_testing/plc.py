@@ -257,7 +257,10 @@ class Plc:
         d = parse_device(device)
         if not d:
             raise DeviceError(device, "not a device name (e.g. D100, R4005, M0, X17, CN200)")
-        _, area, digits = d
+        packed, area, digits = d
+        if packed:  # only here when the map packs the area in registers (read() and write())
+            area = "W" + area
+        step = 16 if packed else 1
         name = f"{area}{digits}"
         if n < 1:
             raise ValueError(f"{name}: n must be at least 1")
@@ -273,8 +276,8 @@ class Plc:
             raise DeviceError(name, f"read-only over Modbus (only in {', '.join(sorted(has))})")
         out = []
         for k in range(n):
-            row, wire = self.map.locate(area, digits, k, tables)
-            index = int(digits, row.base) + k
+            row, wire = self.map.locate(area, digits, k * step, tables)
+            index = int(digits, row.base) + k * step
             out.append((row, wire, 1 if bits else width(row.table, row.area, index)))
         return out
 

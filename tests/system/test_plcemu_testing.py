@@ -219,3 +219,22 @@ def test_the_readme_example_runs_with_p_plcemu_testing(tmp_path):
                         "-p", "no:cacheprovider", str(tmp_path / "test_user.py")], cwd=REPO,
                        env=env, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0 and "1 passed" in r.stdout, r.stdout + r.stderr
+
+
+def test_names_follow_a_modbus_map(plcemud):
+    """Under a modbus.map the same names reach the devices at the map's addresses: D moved,
+    M packed 16 to a register (WM), a row of counter values across the 16/32-bit boundary."""
+    plc = plcemud({"profile": "vb", "modbus": {"map": [
+        {"table": "holding", "start": 0x4000, "device": "D0", "count": 8000},
+        {"table": "holding", "start": 0x2478, "device": "WM0", "count": 192},
+        {"table": "holding", "start": 0x100, "device": "CN198", "count": 6}]}})
+    plc.write("D7", 1234)
+    assert plc.client.read_holding_registers(0x4007, 1, slave=1).registers == [1234]
+    plc.write("WM32", 0x0005)  # M32 and M34: the third packed register
+    assert plc.client.read_holding_registers(0x2478 + 2, 1, slave=1).registers == [5]
+    assert plc.read("WM32") == [5]
+    plc.write("CN198", [1, 2, 70000, 4])  # 198, 199 one word each; 200, 201 two
+    assert plc.client.read_holding_registers(0x100, 6, slave=1).registers == [
+        1, 2, 70000 & 0xFFFF, 70000 >> 16, 4, 0]
+    with pytest.raises(DeviceError, match=r"M0: no M devices .*\(its areas: CN, D, WM\)"):
+        plc.read_bits("M0")  # only packed in registers here: no coils
