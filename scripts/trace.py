@@ -26,7 +26,6 @@ moves into R4012/R4013 is set to FFFFh (all points enabled), as a SCADA starts t
 import argparse
 import csv
 import os
-import re
 import signal
 import socket
 import subprocess
@@ -37,86 +36,16 @@ import time
 import yaml
 from pymodbus.client import ModbusTcpClient
 
+# The device -> wire address map is plcemu_testing's (python/ in the source tree).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+from plcemu_testing.errors import PlcemuError  # noqa: E402
+from plcemu_testing.plc import free_port  # noqa: E402
+from plcemu_testing.wire_map import WireMap, parse_device  # noqa: E402
+
 
 def fail(msg):
     print(f"trace: {msg}", file=sys.stderr)
     sys.exit(2)
-
-
-DEVICE = re.compile(r"^(W?)([A-Z]+)(\d+)$")
-
-
-def parse_device(text):
-    """(16 bits from a bit device?, area, digits as written) of a device name, or None."""
-    m = DEVICE.match(str(text).strip().upper())
-    if not m:
-        return None
-    return m.group(1) == "W", m.group(2), m.group(3)
-
-
-class WireMap:
-    """Device -> (table, wire address), and the simulator unit, from `plcemud --print-map
-    --format csv` on the config: the daemon's own map, whatever the profile or modbus.map."""
-
-    ROW = re.compile(r"^([A-Z]+)(\d+)-([A-Z]+)(\d+)\b")
-
-    def __init__(self, plcemud, config_path):
-        r = subprocess.run([plcemud, "-c", config_path, "--print-map", "--format", "csv"],
-                           capture_output=True, text=True, timeout=30)
-        if r.returncode != 0:
-            fail(f"plcemud --print-map failed:\n{r.stderr}")
-        rows = list(csv.reader(r.stdout.splitlines()))
-        self.rows = []  # (table, area, first, last, wire, base)
-        self.sim_unit = None
-        self.power = None  # (first wire, stride) of the channels' heater power
-        for row in rows[1:]:
-            table, wire_text, label = row[0], row[3], row[4]
-            m = re.match(r"holding registers \(unit (\d+)\)$", table)
-            if m:
-                self.sim_unit = int(m.group(1))
-                p = re.match(r"(\d+)\+(\d+)c$", wire_text)
-                if p and "heater power" in label:
-                    self.power = (int(p.group(1)), int(p.group(2)))
-                continue
-            if table not in ("coils", "holding registers"):
-                continue
-            m = self.ROW.match(label)
-            w = re.match(r"(\d+)-(\d+)$", wire_text)
-            if not m or not w or m.group(1) != m.group(3):
-                continue
-            first_w, last_w = int(w.group(1)), int(w.group(2))
-            count = last_w - first_w + 1
-            # A row numbered in octal (the VB's X and Y) spans fewer wires than its decimal
-            # reading of the names would.
-            base = 10
-            for b in (10, 8):
-                try:
-                    if int(m.group(4), b) - int(m.group(2), b) + 1 == count:
-                        base = b
-                        break
-                except ValueError:
-                    continue
-            self.rows.append((table, m.group(1), int(m.group(2), base), int(m.group(4), base),
-                              first_w, base))
-
-    def wire(self, area, digits, offset=0, table=None):
-        """(table, wire address) of device `area``digits` + offset."""
-        for t, a, first, last, w, base in self.rows:
-            if a != area or (table and t != table):
-                continue
-            try:
-                index = int(digits, base) + offset
-            except ValueError:
-                continue
-            if first <= index <= last:
-                return t, w + index - first
-        fail(f"{area}{digits}{f' + {offset}' if offset else ''} is not reachable over Modbus")
-
-    def reg(self, device, offset=0):
-        d = parse_device(device)
-        if not d or d[0]:
-            fail(f"'{device}' is not a register")
-        return self.wire(d[1], d[2], offset, "holding registers")[1]
 
 
 def number(text):
@@ -187,12 +116,6 @@ class Plc:
         # Steps run in slices after the reply; register 2 reads the scans still queued.
         while self.c.read_holding_registers(2, 1, slave=self.sim).registers[0] != 0:
             time.sleep(0.001)
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def signed(v):
@@ -381,4 +304,7 @@ def record(a, cfg, config_path, port, scan_ms, writes):
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except PlcemuError as e:  # a device the map does not serve, a config plcemud refuses
+        fail(e)

@@ -11,6 +11,7 @@ API (used by every tests/system/test_*.py):
   run_plcemud(*args)                 runs the binary to completion (--check-config, --print-map)
   raw_request(port, pdu, unit=1)     one raw Modbus TCP request -> reply PDU (None: no reply)
   raw_exchange(sock, pdu, unit=1)    the same on an open socket
+The plugin plcemu_testing (python/) is loaded too: its `plcemud` fixture.
 """
 
 import os
@@ -18,6 +19,7 @@ import signal
 import socket
 import struct
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -25,7 +27,13 @@ import pytest
 from pymodbus.client import ModbusTcpClient
 
 REPO = Path(__file__).resolve().parents[2]
+
+# The pytest plugin of python/ (docs/testing.md): its `plcemud` fixture is used by
+# test_plcemu_testing.py.
+sys.path.insert(0, str(REPO / "python"))
+pytest_plugins = ["plcemu_testing"]
 PLCEMUD = str(Path(os.environ.get("PLCEMUD", REPO / "build-test" / "plcemud")).resolve())
+os.environ["PLCEMUD"] = PLCEMUD  # the plugin's fixture runs the same binary
 
 BASE_CONFIG = "profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1}}\n"
 

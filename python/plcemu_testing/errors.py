@@ -1,0 +1,44 @@
+"""The exceptions of plcemu_testing: each names the device (or the daemon) and what went wrong."""
+
+# Modbus exception codes (Modbus Application Protocol v1.1b3, §7).
+EXCEPTION_NAMES = {
+    1: "illegal function",
+    2: "illegal data address",
+    3: "illegal data value",
+    4: "server device failure",
+    5: "acknowledge",
+    6: "server device busy",
+    8: "memory parity error",
+    10: "gateway path unavailable",
+    11: "gateway target device failed to respond",
+}
+
+
+class PlcemuError(Exception):
+    """Base of every error of plcemu_testing."""
+
+
+class DaemonError(PlcemuError):
+    """plcemud could not be found, started, stopped or reloaded (the message has its log)."""
+
+
+class DeviceError(PlcemuError, ValueError):
+    """A device name this PLC's Modbus map cannot serve (unknown, out of range, wrong kind)."""
+
+    def __init__(self, device, reason):
+        super().__init__(f"{device}: {reason}")
+        self.device = device
+        self.reason = reason
+
+
+class ModbusError(PlcemuError):
+    """The daemon answered a request with a Modbus exception, or did not answer."""
+
+    def __init__(self, operation, device, code=None, detail=None):
+        self.operation = operation
+        self.device = device
+        self.code = code
+        self.exception_name = EXCEPTION_NAMES.get(code, "unknown exception") if code else None
+        what = (f"Modbus exception {code:02X}h ({self.exception_name})" if code is not None
+                else str(detail))
+        super().__init__(f"{operation} {device}: {what}")

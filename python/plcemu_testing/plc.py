@@ -1,0 +1,491 @@
+"""One plcemud daemon under test: start, stop, restart, reload; devices by name; the simulator.
+
+Plc needs no pytest: the `plcemud` fixture (plugin.py) creates them and stops them at teardown.
+"""
+
+import json
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import time
+from collections.abc import Mapping
+from pathlib import Path
+
+from pymodbus.client import ModbusTcpClient
+from pymodbus.exceptions import ModbusException
+from pymodbus.pdu import ExceptionResponse
+
+from .errors import DaemonError, DeviceError, ModbusError
+from .wire_map import BIT_TABLES, WORD_TABLES, WireMap, parse_device, width
+
+START_TIMEOUT_S = 10.0
+STOP_TIMEOUT_S = 5.0
+RELOAD_TIMEOUT_S = 30.0
+# Largest quantities of one request (FC03/04 125, FC16 123, FC01/02 2000, FC15 1968 by the
+# protocol), rounded down.
+MAX_WORDS = 120
+MAX_BITS = 1960
+MAX_STEP = 60000  # scans per write of the step register
+FAULT_BITS = {"sensor_broken": 0, "heater_open": 1, "heater_shorted": 2, "reading_frozen": 3}
+# plant() keyword -> (simulator field, register counts per config unit, signed)
+PLANT_PARAMS = {"ambient": ("ambient", 10, True), "k": ("k", 10, False),
+                "tau": ("tau", 1, False), "dead_time": ("dead_time", 1, False),
+                "noise": ("noise", 100, False)}
+
+
+def free_port():
+    """A TCP port on 127.0.0.1 that nothing listens on at the moment of the call."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def find_plcemud(*roots):
+    """The plcemud binary: $PLCEMUD, else `plcemud` on PATH, else the newest build*/plcemud
+    under one of `roots` (a source tree)."""
+    env = os.environ.get("PLCEMUD")
+    if env:
+        if not os.access(env, os.X_OK):
+            raise DaemonError(f"PLCEMUD={env} is not an executable file")
+        return str(Path(env).resolve())
+    on_path = shutil.which("plcemud")
+    if on_path:
+        return on_path
+    built = [p for root in roots if root for p in Path(root).glob("build*/plcemud")
+             if os.access(p, os.X_OK)]
+    if built:
+        return str(max(built, key=lambda p: p.stat().st_mtime))
+    raise DaemonError("plcemud not found: set PLCEMUD to the binary, put it on PATH, or build it "
+                      "in the source tree (build*/plcemud)")
+
+
+def _to_signed(value, bits):
+    return value - (1 << bits) if value >> (bits - 1) & 1 else value
+
+
+def _settings(config):
+    """(scan_ms, station) of a config given as a dict or as YAML text."""
+    if not isinstance(config, Mapping):
+        try:
+            import yaml  # optional: the top-level keys are also found without it
+            loaded = yaml.safe_load(config)
+            config = loaded if isinstance(loaded, Mapping) else {}
+        except ImportError:
+            config = {k: v for k, v in re.findall(r"(?m)^(scan_ms|station)\s*:\s*(\d+)",
+                                                  config)}
+        except yaml.YAMLError:
+            config = {}  # plcemud says what is wrong
+    return float(config.get("scan_ms", 10)), int(config.get("station", 1))
+
+
+def config_text(config):
+    """YAML text of a config: a dict (as JSON, which YAML reads; TCP bound to 127.0.0.1 unless
+    it says otherwise), YAML text (a str with a newline), or the path of a YAML file."""
+    if isinstance(config, Mapping):
+        cfg = json.loads(json.dumps(config))  # a deep copy, with string keys
+        modbus = cfg.setdefault("modbus", {}) or {}
+        cfg["modbus"] = modbus
+        tcp = modbus.setdefault("tcp", {}) or {}
+        modbus["tcp"] = tcp
+        tcp.setdefault("bind", "127.0.0.1")
+        return json.dumps(cfg, indent=1) + "\n"
+    if isinstance(config, str) and "\n" in config:
+        return config
+    path = Path(config)
+    try:
+        return path.read_text()
+    except OSError as e:
+        raise DaemonError(f"cannot read the config {path}: {e}") from e
+
+
+class Plc:
+    """A running plcemud on 127.0.0.1:`port`, with its config, state file and log in `workdir`.
+
+    Device methods take names as the profile writes them (D100, R4005, M0, X17, TMR5, CN200,
+    WM800) and translate them through the daemon's own --print-map."""
+
+    def __init__(self, binary, workdir, config, name="plc"):
+        self.binary = str(binary)
+        self.workdir = Path(workdir)
+        self.workdir.mkdir(parents=True, exist_ok=True)
+        self.config_path = self.workdir / f"{name}.yaml"
+        self.log_path = self.workdir / f"{name}.log"
+        self.proc = None
+        self.client = None
+        self.exit_code = None
+        self.port = free_port()
+        self._set_config(config)
+        self.map = WireMap(self.binary, self.config_path)
+        self._start()
+
+    # --- the daemon -----------------------------------------------------------------------
+
+    def _set_config(self, config):
+        text = config_text(config)
+        self.config_path.write_text(text)
+        self.scan_ms, self.station = _settings(config if isinstance(config, Mapping) else text)
+
+    def _start(self):
+        env = {k: v for k, v in os.environ.items() if k != "STATE_DIRECTORY"}
+        args = [self.binary, "-c", str(self.config_path), "--port", str(self.port)]
+        with open(self.log_path, "ab") as log:  # appended across restarts
+            self.proc = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=log,
+                                         stderr=subprocess.STDOUT, cwd=self.workdir, env=env)
+        self.exit_code = None
+        deadline = time.monotonic() + START_TIMEOUT_S
+        while True:
+            if self.proc.poll() is not None:
+                raise DaemonError(f"plcemud exited with {self.proc.returncode} before listening "
+                                  f"on port {self.port}\nargs: {args}\n--- log ---\n{self.log}")
+            try:
+                socket.create_connection(("127.0.0.1", self.port), timeout=0.2).close()
+                break
+            except OSError:
+                pass
+            if time.monotonic() > deadline:
+                self.stop(kill=True)
+                raise DaemonError(f"plcemud did not listen on port {self.port} within "
+                                  f"{START_TIMEOUT_S} s\n--- log ---\n{self.log}")
+            time.sleep(0.05)
+        self.client = ModbusTcpClient("127.0.0.1", port=self.port, timeout=5, retries=1)
+        if not self.client.connect():
+            raise DaemonError(f"cannot connect to plcemud on port {self.port}\n{self.log}")
+
+    @property
+    def log(self):
+        """Everything the daemon wrote (stdout and stderr) so far, across restarts."""
+        try:
+            return self.log_path.read_text(errors="replace")
+        except FileNotFoundError:
+            return ""
+
+    @property
+    def running(self):
+        return self.proc is not None and self.proc.poll() is None
+
+    def stop(self, kill=False):
+        """SIGTERM (SIGKILL with kill=True), up to 5 s, then SIGKILL; returns the exit code."""
+        if self.client is not None:
+            self.client.close()
+            self.client = None
+        if self.proc is None:
+            return self.exit_code
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGKILL if kill else signal.SIGTERM)
+            try:
+                self.proc.wait(timeout=STOP_TIMEOUT_S)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        self.exit_code = self.proc.returncode
+        self.proc = None
+        return self.exit_code
+
+    def restart(self, kill=False):
+        """Stops the daemon (SIGTERM, or SIGKILL with kill=True) and starts it again with the
+        same config and state file, on the same port if it is still free. Returns the first
+        daemon's exit code; `client` is a new connected client."""
+        code = self.stop(kill=kill)
+        try:
+            self._start()
+        except DaemonError:
+            if self.proc is not None and self.proc.poll() is None:
+                raise
+            self.proc = None
+            self.port = free_port()  # someone took the port in between
+            self._start()
+        return code
+
+    def reload(self, config=None):
+        """Writes `config` (if given) over the daemon's config file, sends SIGHUP and waits for
+        "reload: done" in the log. A rejected config raises DaemonError with the daemon's
+        reasons (the daemon goes on with the previous one, and so does this object)."""
+        if not self.running:
+            raise DaemonError("reload: plcemud is not running")
+        previous = self.config_path.read_text(), self.scan_ms, self.station
+        if config is not None:
+            self._set_config(config)
+        try:
+            self._reload()
+        except DaemonError:
+            self.config_path.write_text(previous[0])
+            self.scan_ms, self.station = previous[1:]
+            raise
+        self.map = WireMap(self.binary, self.config_path)
+
+    def _reload(self):
+        start = self.log_path.stat().st_size
+        self.proc.send_signal(signal.SIGHUP)
+        deadline = time.monotonic() + RELOAD_TIMEOUT_S
+        while True:
+            with open(self.log_path, "rb") as f:
+                f.seek(start)
+                new = f.read().decode(errors="replace")
+            if "reload: done" in new:
+                break
+            if "still running the previous" in new or not self.running:
+                raise DaemonError(f"reload rejected:\n{new}")
+            if time.monotonic() > deadline:
+                raise DaemonError(f"no 'reload: done' within {RELOAD_TIMEOUT_S} s:\n{new}")
+            time.sleep(0.02)
+
+    def __repr__(self):
+        return f"<Plc {self.config_path} on 127.0.0.1:{self.port}, station {self.station}>"
+
+    # --- Modbus requests ------------------------------------------------------------------
+
+    def _call(self, operation, device, function, *args, unit=None):
+        if self.client is None:
+            raise DaemonError(f"{operation} {device}: plcemud is not running")
+        try:
+            r = function(*args, slave=self.station if unit is None else unit)
+        except ModbusException as e:
+            raise ModbusError(operation, device, detail=e) from e
+        if isinstance(r, ExceptionResponse):
+            raise ModbusError(operation, device, code=r.exception_code)
+        if r.isError():
+            raise ModbusError(operation, device, detail=r)
+        return r
+
+    # --- devices --------------------------------------------------------------------------
+
+    def _elements(self, device, n, bits, write):
+        """[(row, wire address, width)] of `n` devices from `device` on."""
+        d = parse_device(device)
+        if not d:
+            raise DeviceError(device, "not a device name (e.g. D100, R4005, M0, X17, CN200)")
+        packed, area, digits = d
+        if packed:  # only here when the map packs the area in registers (read() and write())
+            area = "W" + area
+        step = 16 if packed else 1
+        name = f"{area}{digits}"
+        if n < 1:
+            raise ValueError(f"{name}: n must be at least 1")
+        tables = BIT_TABLES if bits else WORD_TABLES
+        if write:
+            tables = tables[:1]
+        target = area if area in self.map.areas() else self.map.aliases.get(area, area)
+        has = {r.table for r in self.map.rows if r.area == target}
+        if has and not has & set(BIT_TABLES if bits else WORD_TABLES):
+            use = "read()/write()" if bits else "read_bits()/write_bits()"
+            raise DeviceError(name, f"a {'register' if bits else 'bit device'}: use {use}")
+        if has and write and not has & set(tables):
+            raise DeviceError(name, f"read-only over Modbus (only in {', '.join(sorted(has))})")
+        out = []
+        for k in range(n):
+            row, wire = self.map.locate(area, digits, k * step, tables)
+            index = int(digits, row.base) + k * step
+            out.append((row, wire, 1 if bits else width(row.table, row.area, index)))
+        return out
+
+    @staticmethod
+    def _runs(elements, limit):
+        """Elements grouped into requests: one table, contiguous wires, at most `limit` wires."""
+        runs = []
+        for e in elements:
+            row, wire, w = e
+            last = runs[-1] if runs else None
+            if (last and last[0] == row.table and last[1] + last[2] == wire
+                    and last[2] + w <= limit):
+                last[2] += w
+                last[3].append(e)
+            else:
+                runs.append([row.table, wire, w, [e]])
+        return runs
+
+    def _label(self, device, n):
+        return device.upper() if n == 1 else f"{device.upper()} (x{n})"
+
+    def read(self, device, n=1, signed=False):
+        """Values of `n` registers from `device` on (a 32-bit counter is one value, low word
+        first on the wire); `signed`: as two's complement."""
+        d = parse_device(device)
+        if d and d[0] and not any(r.area == "W" + d[1] for r in self.map.rows):
+            words = self._pack(self.read_bits(f"{d[1]}{d[2]}", 16 * n))
+            return [_to_signed(v, 16) if signed else v for v in words]
+        values = []
+        for table, wire, count, elements in self._runs(self._elements(device, n, False, False),
+                                                       MAX_WORDS):
+            fn = (self.client.read_holding_registers if table == "holding registers"
+                  else self.client.read_input_registers)
+            regs = self._call("read", self._label(device, n), fn, wire, count).registers
+            i = 0
+            for _, _, w in elements:
+                v = regs[i] | (regs[i + 1] << 16 if w == 2 else 0)
+                values.append(_to_signed(v, 16 * w) if signed else v)
+                i += w
+        return values
+
+    def write(self, device, values):
+        """Writes one value or a list to registers from `device` on (a 32-bit counter takes one
+        value); a Modbus exception raises ModbusError naming the device."""
+        values = list(values) if isinstance(values, (list, tuple)) else [values]
+        d = parse_device(device)
+        if d and d[0] and not any(r.area == "W" + d[1] for r in self.map.rows):
+            self.write_bits(f"{d[1]}{d[2]}", [(self._word(device, v, 1) >> b) & 1
+                                              for v in values for b in range(16)])
+            return
+        elements = self._elements(device, len(values), False, True)
+        words = []
+        for (_, _, w), v in zip(elements, values):
+            v = self._word(device, v, w)
+            words += [v & 0xFFFF, v >> 16] if w == 2 else [v]
+        i = 0
+        for _, wire, count, _ in self._runs(elements, MAX_WORDS):
+            self._call("write", self._label(device, len(values)), self.client.write_registers,
+                       wire, words[i:i + count])
+            i += count
+
+    @staticmethod
+    def _word(device, value, w):
+        bits = 16 * w
+        if not isinstance(value, int) or not -(1 << (bits - 1)) <= value < (1 << bits):
+            raise ValueError(f"{device}: {value!r} does not fit {bits} bits")
+        return value & ((1 << bits) - 1)
+
+    @staticmethod
+    def _pack(bits):
+        return [sum(b << i for i, b in enumerate(bits[k:k + 16])) for k in range(0, len(bits), 16)]
+
+    def read_bits(self, device, n=1):
+        """States (0/1) of `n` bit devices from `device` on (coils, else discrete inputs)."""
+        values = []
+        for table, wire, count, _ in self._runs(self._elements(device, n, True, False), MAX_BITS):
+            fn = self.client.read_coils if table == "coils" else self.client.read_discrete_inputs
+            values += [int(b) for b in self._call("read", self._label(device, n), fn, wire,
+                                                  count).bits[:count]]
+        return values
+
+    def write_bits(self, device, values):
+        """Sets bit devices from `device` on to one value or a list of 0/1 (coils)."""
+        values = list(values) if isinstance(values, (list, tuple)) else [values]
+        i = 0
+        for _, wire, count, _ in self._runs(self._elements(device, len(values), True, True),
+                                            MAX_BITS):
+            self._call("write", self._label(device, len(values)), self.client.write_coils, wire,
+                       [bool(v) for v in values[i:i + count]])
+            i += count
+
+    # --- the simulator unit ---------------------------------------------------------------
+
+    def _sim_wire(self, field, channel=None):
+        if self.map.sim_unit is None:
+            raise DaemonError("the config turns the simulator unit off (simulator.unit: 0)")
+        if field not in self.map.sim:
+            raise DaemonError(f"the simulator unit's map has no '{field}' register")
+        first, stride = self.map.sim[field]
+        if channel is None:
+            return first
+        if not 0 <= channel < self.map.channels:
+            raise ValueError(f"channel {channel}: the plant has channels 0-{self.map.channels - 1}")
+        return first + stride * channel
+
+    def _sim_read(self, field, channel=None, n=1):
+        wire = self._sim_wire(field, channel)
+        what = f"simulator {field}" + ("" if channel is None else f" of channel {channel}")
+        return self._call("read", what, self.client.read_holding_registers, wire, n,
+                          unit=self.map.sim_unit).registers
+
+    def _sim_write(self, field, value, channel=None):
+        wire = self._sim_wire(field, channel)
+        what = f"simulator {field}" + ("" if channel is None else f" of channel {channel}")
+        self._call("write", what, self.client.write_register, wire, value & 0xFFFF,
+                   unit=self.map.sim_unit)
+
+    def freeze(self):
+        """Stops the scans (requests are still served); run() steps them."""
+        self._sim_write("freeze", 1)
+
+    def resume(self):
+        """Lets the scans run in (scaled) real time again."""
+        self._sim_write("freeze", 0)
+
+    @property
+    def frozen(self):
+        return bool(self._sim_read("freeze")[0])
+
+    @property
+    def time_scale(self):
+        return self._sim_read("time_scale")[0]
+
+    @time_scale.setter
+    def time_scale(self, value):
+        self._sim_write("time_scale", int(value))
+
+    @property
+    def sim_time(self):
+        """Simulated seconds since the program started (a reload restarts it)."""
+        lo, hi = self._sim_read("time_low", n=2)
+        return lo | hi << 16
+
+    def run(self, seconds=None, scans=None):
+        """Runs `scans` scans, or `seconds` of simulated time in scans of the config's scan_ms,
+        back to back, and returns when they are done (frozen or not). Returns sim_time."""
+        if (seconds is None) == (scans is None):
+            raise TypeError("run() takes seconds= or scans=")
+        if scans is None:
+            scans = round(seconds * 1000 / self.scan_ms)
+        while scans > 0:
+            chunk = min(scans, MAX_STEP)
+            self._sim_write("step", chunk)
+            scans -= chunk
+            self._wait_steps()
+        return self.sim_time
+
+    def _wait_steps(self):
+        last, since = None, time.monotonic()
+        while True:
+            queued = self._sim_read("step")[0]
+            if queued == 0:
+                return
+            if queued != last:
+                last, since = queued, time.monotonic()
+            elif time.monotonic() - since > 10:
+                raise DaemonError(f"the simulator's step queue stays at {queued} scans\n{self.log}")
+            time.sleep(0.001)
+
+    def fault(self, channel, **faults):
+        """Sets (True) or clears (False) faults of a plant channel: sensor_broken, heater_open,
+        heater_shorted, reading_frozen; the others stay. Returns the channel's faults."""
+        unknown = set(faults) - set(FAULT_BITS)
+        if unknown:
+            raise TypeError(f"unknown faults {sorted(unknown)}; known: {sorted(FAULT_BITS)}")
+        bits = self._sim_read("faults", channel)[0]
+        for name, on in faults.items():
+            bits = bits | 1 << FAULT_BITS[name] if on else bits & ~(1 << FAULT_BITS[name])
+        self._sim_write("faults", bits, channel)
+        return self.faults(channel)
+
+    def faults(self, channel):
+        bits = self._sim_read("faults", channel)[0]
+        return {name: bool(bits >> b & 1) for name, b in FAULT_BITS.items()}
+
+    def clear_faults(self, channel):
+        self._sim_write("faults", 0, channel)
+
+    def plant(self, channel, **params):
+        """Sets plant parameters of a channel in the config's units (ambient and k in °C, tau and
+        dead_time in s, noise in °C); returns them all as the daemon holds them (clamped)."""
+        unknown = set(params) - set(PLANT_PARAMS)
+        if unknown:
+            raise TypeError(f"unknown plant parameters {sorted(unknown)}; known: "
+                            f"{sorted(PLANT_PARAMS)}")
+        for name, value in params.items():
+            field, scale, _ = PLANT_PARAMS[name]
+            self._sim_write(field, round(value * scale), channel)
+        out = {}
+        for name, (field, scale, is_signed) in PLANT_PARAMS.items():
+            v = self._sim_read(field, channel)[0]
+            out[name] = (_to_signed(v, 16) if is_signed else v) / scale
+        return out
+
+    def true_temperature(self, channel):
+        """The process temperature of a plant channel, °C (what the sensor would read)."""
+        return _to_signed(self._sim_read("true_temperature", channel)[0], 16) / 10
+
+    def heater_power(self, channel):
+        """The power the plant received on a channel, %, mean of the last 8 s."""
+        return self._sim_read("heater_power", channel)[0] / 10

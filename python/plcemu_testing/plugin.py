@@ -1,0 +1,50 @@
+"""The pytest side: the `plcemud` fixture and the daemons' logs in the report of a failed test."""
+
+from pathlib import Path
+
+import pytest
+
+from .errors import DaemonError
+from .plc import Plc, find_plcemud
+
+_PLCS = pytest.StashKey[list]()
+LOG_TAIL = 20000  # characters of each daemon's log shown with a failure
+
+
+@pytest.fixture
+def plcemud(request, tmp_path):
+    """A factory: plcemud(config) -> Plc, a daemon on a free port of 127.0.0.1 with its own
+    state file in tmp_path; `config` is a dict, a path or YAML text. Every daemon still running
+    at teardown is stopped with SIGTERM, and one that did not exit with 0 fails the test."""
+    plcs = request.node.stash.setdefault(_PLCS, [])
+    try:
+        binary = find_plcemud(request.config.rootpath, Path(__file__).resolve().parents[2])
+    except DaemonError as e:
+        pytest.fail(str(e), pytrace=False)
+
+    def start(config, name=None):
+        plc = Plc(binary, tmp_path / (name or f"plcemud-{len(plcs)}"), config)
+        plcs.append(plc)
+        return plc
+
+    yield start
+    bad = []
+    for plc in plcs:
+        running = plc.proc is not None  # not stopped by the test itself
+        died = running and plc.proc.poll() is not None
+        code = plc.stop()
+        if running and (died or code != 0):
+            how = "exited by itself" if died else "stopped (SIGTERM)"
+            bad.append(f"plcemud {plc.config_path} {how} with {code}\n--- log ---\n"
+                       f"{plc.log[-LOG_TAIL:]}")
+    if bad:
+        pytest.fail("\n".join(bad), pytrace=False)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    report = outcome.get_result()
+    if report.failed:
+        for i, plc in enumerate(item.stash.get(_PLCS, [])):
+            report.sections.append((f"plcemud {i} log ({plc.workdir})", plc.log[-LOG_TAIL:]))
