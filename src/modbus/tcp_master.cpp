@@ -21,7 +21,7 @@ std::string name_of(const tcp::endpoint& ep) {
 // One endpoint's connection. `epoch` tells the handlers of a closed socket from the current
 // one's, so that a late completion never touches a connection opened after it.
 struct Connection {
-    Connection(asio::io_context& io, tcp::endpoint ep)
+    Connection(asio::io_context& io, const tcp::endpoint& ep)
         : peer(ep),
           socket(io) {}
 

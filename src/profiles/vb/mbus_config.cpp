@@ -23,7 +23,7 @@ bool ip_address(const std::string& text) {
 }
 
 std::string host_of(const Reader& r, const Node& n, const std::string& what) {
-    const std::string host = r.scalar(n, what);
+    std::string host = r.scalar(n, what);
     // An address, not a name: resolving a name could block the event loop.
     if (!ip_address(host)) {
         r.fail(n, what + ": expected an IP address such as 127.0.0.1, got '" + excerpt(host) + "'");
