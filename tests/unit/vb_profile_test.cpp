@@ -48,8 +48,9 @@ TEST(VbProfile, Identity) {
     EXPECT_EQ(vb().vendor(), "VIGOR");
     EXPECT_EQ(vb().default_model(), "VB2-32M");
     EXPECT_EQ(vb().max_station(), 247);
-    // modules: (docs/profile-vb.md, "Temperature modules"), no FBs temperature: section.
-    EXPECT_EQ(vb().sections(), (std::vector<std::string_view>{"modules", "mbus"}));
+    // modules:, mbus: and file_registers: (docs/profile-vb.md), no FBs temperature: section.
+    EXPECT_EQ(vb().sections(),
+              (std::vector<std::string_view>{"modules", "mbus", "file_registers"}));
     EXPECT_EQ(vb().drive_full_scale(), 1000);
 }
 
