@@ -8,10 +8,6 @@ namespace plcemu::instructions {
 
 namespace {
 
-// A module or buffer word that does not exist: the FX operand-error code (docs/profile-vb.md,
-// "FROM and TO").
-constexpr std::uint16_t kNoSuchWord = 6705;
-
 enum class Direction : std::uint8_t { From, To };
 
 class Transfer final : public engine::Instruction {
@@ -57,7 +53,9 @@ public:
             }
             if (!ok) {
                 // The words before the missing one have moved, as on the PLC.
-                if (error_) error_->raise(img, kNoSuchWord, index_);
+                // A module or buffer word that does not exist: the family's operand error
+                // (docs/profile-vb.md, "Temperature modules").
+                if (error_) error_->raise(img, error_->operand_error, index_);
                 return;
             }
         }

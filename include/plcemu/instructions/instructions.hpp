@@ -57,9 +57,10 @@ private:
 /// Where a family reports an instruction's operation error: a code register, a flag relay and a
 /// register naming the program entry (the VB's D9067, M9067, D9069).
 struct OperationError {
-    image::Device code;   ///< takes the error code
-    image::Device flag;   ///< comes ON
-    image::Device entry;  ///< takes the entry's 1-based position
+    image::Device code;               ///< takes the error code
+    image::Device flag;               ///< comes ON
+    image::Device entry;              ///< takes the entry's 1-based position
+    std::uint16_t operand_error = 0;  ///< the family's code for an operand out of its range
 
     /// Reports `code` for the program entry `index`.
     void raise(image::Image& img, std::uint16_t error, int index) const noexcept;

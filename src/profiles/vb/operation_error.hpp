@@ -12,11 +12,22 @@
 
 namespace plcemu::profiles::vb {
 
+/// Codes more than one instruction stores.
+enum ErrorCode : std::uint16_t {
+    /// An operand outside its range (FX's 670x operand-error class; the VB manual lists no code
+    /// for FROM/TO or TPID: docs/profile-vb.md).
+    kOperandError = 6705,
+    /// Auto-tuning could not start or measured no PV swing (FX3U's code; VB manual FNC88 and
+    /// FNC92 auto-tuning, which list none).
+    kTuningFault = 6750,
+};
+
 /// D9067, M9067, D9069.
 inline const instructions::OperationError kOperationError{
     {image::Area::D, special::kErrorCode, false},
     {image::Area::M, special::kOperationError, false},
-    {image::Area::D, special::kErrorEntry, false}};
+    {image::Area::D, special::kErrorEntry, false},
+    kOperandError};
 
 /// Stores `code` for the program entry `entry` (1-based).
 inline void raise_operation_error(image::Image& img, std::uint16_t code, int entry) noexcept {

@@ -202,7 +202,9 @@ private:
         return p;
     }
 
-    void raise(image::Image& img, Code code) const { raise_operation_error(img, code, b_.entry); }
+    void raise(image::Image& img, std::uint16_t code) const {
+        raise_operation_error(img, code, b_.entry);
+    }
 
     // Stores MV in D and remembers it, so that a value someone else writes is recognised.
     void store(image::Image& img, double mv) {

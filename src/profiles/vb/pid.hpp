@@ -8,6 +8,7 @@
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/instructions/instructions.hpp"
+#include "profiles/vb/operation_error.hpp"
 
 namespace plcemu::profiles::vb {
 
@@ -46,7 +47,8 @@ inline constexpr std::uint16_t kPvFell = 1u << 1;  ///< PV fell more than S3+21
 inline constexpr std::uint16_t kMvRose = 1u << 2;  ///< MV rose more than S3+22
 inline constexpr std::uint16_t kMvFell = 1u << 3;  ///< MV fell more than S3+23
 
-/// Operation error codes in D9067 (VB manual FNC88, error table).
+/// Operation error codes in D9067 (VB manual FNC88, error table); 6750, the auto-tuning fault,
+/// is vb::kTuningFault (TPID stores it too).
 enum Code : std::uint16_t {
     kBadSampling = 6730,           ///< Ts < 1 (stops)
     kBadFilter = 6732,             ///< α outside 0–99 (stops)
@@ -61,7 +63,6 @@ enum Code : std::uint16_t {
     kProportionalOverflow = 6745,  ///< proportional term outside 16 bits ("Kp too large")
     kDerivativeOverflow = 6746,    ///< derivative term outside 16 bits
     kMvOverflow = 6747,            ///< MV outside 16 bits (no limit)
-    kTuningFault = 6750,           ///< auto-tuning could not start or measured no PV swing
 };
 
 }  // namespace pid

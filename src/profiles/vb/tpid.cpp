@@ -43,8 +43,6 @@ constexpr std::uint32_t kRepression = 3;
 constexpr std::uint32_t kLimit = 4;
 constexpr std::uint32_t kDeviation = 5;
 
-constexpr std::uint16_t kOperandError = 6705;
-constexpr std::uint16_t kTuningFault = 6750;
 // S3+0 counts 10 ms and may not be below 10 (100 ms).
 constexpr int kMinCycle = 10;
 constexpr auto kCycleUnit = std::chrono::milliseconds(10);
