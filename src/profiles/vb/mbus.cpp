@@ -31,9 +31,10 @@ constexpr auto kDefaultTimeout = std::chrono::milliseconds(100);
 
 struct Bound {
     BitSource en;
-    std::uint32_t s1 = 0;  // the table
-    std::uint32_t s2 = 0;  // the working area
-    std::string where;     // the entry's "file:line:col"
+    std::uint32_t s1 = 0;                   // the table
+    std::uint32_t s2 = 0;                   // the working area
+    std::string where;                      // the entry's "file:line:col"
+    const image::Naming* naming = nullptr;  // the profile's: octal areas, 32-bit counters
 };
 
 class Mbus final : public engine::Instruction {
@@ -168,7 +169,7 @@ private:
             for (std::uint32_t w = 0; w < mbus::kSetWords; ++w) {
                 words[w] = img.word(Area::D, base + w);
             }
-            const mbus::Checked checked = mbus::check_set(words, img.layout());
+            const mbus::Checked checked = mbus::check_set(words, img.layout(), *b_.naming);
             if (checked.status == mbus::kNormal) {
                 // A link still busy with an abandoned request: the set waits for the next scan.
                 submit(img, link, checked.transfer);
@@ -219,6 +220,7 @@ std::unique_ptr<engine::Instruction> make_mbus(const instructions::Entry& ic,
     Operands ops(ic, ctx);
     Bound b;
     b.where = ic.where.text();
+    b.naming = &ctx.naming;
     b.en = ops.bit_source("en", true);
     b.s1 = d_block(ops, "s1", "S1 (the table)", 1, Use::Read);
     b.s2 = d_block(ops, "s2", "S2 (the working area)", kWorkingWords, Use::Written);

@@ -20,8 +20,6 @@ constexpr std::size_t kSlaveNumber = 6;
 constexpr int kMaxStation = 247;
 constexpr int kMaxLength = 64;
 constexpr std::uint32_t kMaxSlaveNumber = 32767;
-// C0–C199 have 16-bit current values (type 11); C200 and up are 32-bit.
-constexpr std::uint32_t kFirst32BitCounter = 200;
 
 enum Command : std::uint16_t { kRead = 1, kWriteSeries = 2, kWriteOne = 3 };
 
@@ -31,20 +29,19 @@ enum SlaveType : std::uint16_t { kCoil = 0, kInput = 1, kInputRegister = 3, kHol
 struct MasterType {
     std::uint16_t code;
     Area area;
-    bool octal;  // X and Y: the number is written as its octal digits
 };
 
 // VB manual FNC149, S1+4: 1 X, 2 Y, 3 M, 4 S, 5 T contact, 6 C contact, 10 T value,
 // 11 16-bit C value, 13 D.
-constexpr std::array<MasterType, 9> kMasterTypes{{{1, Area::X, true},
-                                                  {2, Area::Y, true},
-                                                  {3, Area::M, false},
-                                                  {4, Area::S, false},
-                                                  {5, Area::T, false},
-                                                  {6, Area::C, false},
-                                                  {10, Area::TV, false},
-                                                  {11, Area::CV, false},
-                                                  {13, Area::D, false}}};
+constexpr std::array<MasterType, 9> kMasterTypes{{{1, Area::X},
+                                                  {2, Area::Y},
+                                                  {3, Area::M},
+                                                  {4, Area::S},
+                                                  {5, Area::T},
+                                                  {6, Area::C},
+                                                  {10, Area::TV},
+                                                  {11, Area::CV},
+                                                  {13, Area::D}}};
 
 const MasterType* master_type(std::uint16_t code) {
     for (const auto& t : kMasterTypes) {
@@ -58,7 +55,7 @@ bool known_slave(std::uint16_t type) {
     return slave_bits(type) || type == kInputRegister || type == kHolding;
 }
 
-// X20 is written 20: the decimal digits are octal ones; 8 or 9 make it no device.
+// X20 is written 20 (an octal area's number as its digits); 8 or 9 make it no device.
 std::optional<std::uint32_t> octal(std::uint16_t written) {
     std::uint32_t value = 0;
     std::uint32_t place = 1;
@@ -88,7 +85,9 @@ std::uint8_t function_of(std::uint16_t command, std::uint16_t slave) {
 
 }  // namespace
 
-Checked check_set(const std::array<std::uint16_t, kSetWords>& set, const image::Layout& layout) {
+Checked check_set(const std::array<std::uint16_t, kSetWords>& set,
+                  const image::Layout& layout,
+                  const image::Naming& naming) {
     Checked out;
     auto fail = [&out](Status s) {
         out.status = s;
@@ -108,12 +107,16 @@ Checked check_set(const std::array<std::uint16_t, kSetWords>& set, const image::
     if (image::is_bit_area(master->area) != slave_bits(slave)) return fail(kKindMismatch);
 
     const std::uint32_t count = command == kWriteOne ? 1 : std::uint32_t{length};
-    const auto first = master->octal ? octal(set[kMasterNumber])
-                                     : std::optional<std::uint32_t>(set[kMasterNumber]);
+    const bool octal_area = naming.radix[static_cast<std::size_t>(master->area)] == 8;
+    const auto first =
+        octal_area ? octal(set[kMasterNumber]) : std::optional<std::uint32_t>(set[kMasterNumber]);
     if (!first) return fail(kNumberError);
     const image::Range range{master->area, *first, count};
     if (!layout.contains(range)) return fail(kNumberError);
-    if (master->area == Area::CV && range.end() > kFirst32BitCounter) return fail(kNumberError);
+    // Type 11 is the 16-bit counters' values; a 32-bit counter's is not one word.
+    if (master->area == Area::CV && range.end() > naming.first_32bit_counter) {
+        return fail(kNumberError);
+    }
     const std::uint32_t address = set[kSlaveNumber];
     if (address + count - 1 > kMaxSlaveNumber) return fail(kNumberError);
 

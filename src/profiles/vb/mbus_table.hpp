@@ -7,6 +7,7 @@
 
 #include "plcemu/image/area.hpp"
 #include "plcemu/image/layout.hpp"
+#include "plcemu/image/naming.hpp"
 
 namespace plcemu::profiles::vb::mbus {
 
@@ -42,7 +43,10 @@ struct Checked {
 };
 
 /// Checks `set` in the manual's order (station, command, length, types, writes to read-only
-/// slave types, bit/word kinds, numbers); `layout` says which master devices exist.
-Checked check_set(const std::array<std::uint16_t, kSetWords>& set, const image::Layout& layout);
+/// slave types, bit/word kinds, numbers); `layout` says which master devices exist, `naming`
+/// which areas are numbered in octal and which counters have 32-bit values.
+Checked check_set(const std::array<std::uint16_t, kSetWords>& set,
+                  const image::Layout& layout,
+                  const image::Naming& naming);
 
 }  // namespace plcemu::profiles::vb::mbus
