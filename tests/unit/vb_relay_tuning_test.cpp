@@ -39,6 +39,13 @@ TEST(RelayExperiment, MeasuresTheSecondFullCycle) {
     EXPECT_DOUBLE_EQ(r.cycle().tau_on, 6.0);
     // 152 at 20 s … 175 at 23 s and 120 at 29 s: the 170 of cycle 1 does not count.
     EXPECT_DOUBLE_EQ(r.cycle().a, 55.0);
+    EXPECT_DOUBLE_EQ(r.cycle().duty(), 0.5);
+}
+
+// The mean relay output both instructions start from after tuning; an empty cycle has none.
+TEST(RelayCycle, DutyIsTheHighPartOfThePeriod) {
+    EXPECT_DOUBLE_EQ((RelayCycle{20.0, 5.0, 1.0}).duty(), 0.25);
+    EXPECT_DOUBLE_EQ((RelayCycle{0.0, 0.0, 1.0}).duty(), 0.0);
 }
 
 // Starting with PV above SV (relay lo): the first lo→hi change opens nothing.

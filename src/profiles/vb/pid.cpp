@@ -306,7 +306,7 @@ private:
         set_word(img, kIntegral, static_cast<std::uint16_t>(g.ti));
         set_word(img, kDerivative, static_cast<std::uint16_t>(g.td));
         // The relay's mean output, so that the PID takes over without a bump.
-        mv = std::round(s_.tune_lo + span * c.tau_on / c.tau);
+        mv = std::round(s_.tune_lo + span * c.duty());
         return mv;
     }
 

@@ -15,6 +15,10 @@ struct RelayCycle {
     double tau = 0;     ///< period Pu: time between the cycle's two hi→lo changes [s]
     double tau_on = 0;  ///< the part of tau during which the relay was hi [s]
     double a = 0;       ///< peak-to-peak PV over the cycle's observations [PV counts]
+
+    /// The relay's duty over the cycle, tau_on / tau (0 for an empty cycle): the mean output
+    /// from which control takes over without a bump.
+    double duty() const noexcept { return tau > 0 ? tau_on / tau : 0.0; }
 };
 
 /// The PID parameters the Ziegler–Nichols ultimate-cycle rule gives, in the VB's units.

@@ -92,7 +92,7 @@ Cycle Loop::boundary(
                 }
                 // Normal control starts from the relay's mean output, and its first cycle has
                 // no derivative kick from the oscillation.
-                integral_ = c.tau > 0 ? held(kFullScale * c.tau_on / c.tau) : 0.0;
+                integral_ = held(kFullScale * c.duty());
                 have_pv_ = false;
                 output_ = solve(tuned, e, pv, cycle_s);
             }
