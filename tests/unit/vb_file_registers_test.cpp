@@ -41,9 +41,10 @@ TEST(VbFileRegisters, PresetsWinOverRetainedValues) {
 }
 
 TEST(VbFileRegisters, NoOperandWritesThem) {
-    auto refused = [](const std::string& program) {
+    // What loading `program` says, with `more` config after the file registers.
+    auto refused = [](const std::string& program, const std::string& more = "") {
         try {
-            VbPlc p(program, kHead);
+            VbPlc p(program, std::string(kHead) + more);
         } catch (const config::ConfigError& e) {
             return std::string(e.what());
         }
@@ -61,6 +62,11 @@ TEST(VbFileRegisters, NoOperandWritesThem) {
               std::string::npos);
     EXPECT_EQ(refused("  - TPID: {en: M0, s1: D1000, s2: D1001, s3: D100, s4: D2000, n: 1}\n"),
               "accepted");
+    // MBUS writes its working area S2; its table S1 is only read.
+    const std::string mbus = "mbus: {tcp: {host: 127.0.0.1, port: 5021}}\n";
+    EXPECT_NE(refused("  - MBUS: {en: M0, s1: D0, s2: D998}\n", mbus).find("file registers"),
+              std::string::npos);
+    EXPECT_EQ(refused("  - MBUS: {en: M0, s1: D1000, s2: D100}\n", mbus), "accepted");
 }
 
 }  // namespace

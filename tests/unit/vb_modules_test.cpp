@@ -80,6 +80,12 @@ TEST(VbModules, ModesFromConfigAndModeZeroReadsZero) {
     r.scan();
     EXPECT_EQ(word(r.m, 1, 32), 1000);
     EXPECT_EQ(word(r.m, 1, 33), 0);
+    // Any non-zero code measures: the manual names only 7, the K type at 0.1 °C.
+    ASSERT_TRUE(r.m.write(1, 1, 3));
+    ASSERT_TRUE(r.m.write(2, 0, 0xFFFF));
+    r.scan();
+    EXPECT_EQ(word(r.m, 1, 33), 1000);
+    EXPECT_EQ(word(r.m, 2, 32), 1000);
 }
 
 // Broken, or outside −50.0…+500.0 °C (K type) / −200.0…+600.0 °C (Pt100): 32767.
