@@ -19,6 +19,7 @@ from pymodbus.exceptions import ModbusException
 from pymodbus.pdu import ExceptionResponse
 
 from .errors import DaemonError, DeviceError, ModbusError
+from .tags import FUNCTIONS, WIDTH, from_registers, read_tags, to_registers
 from .wire_map import BIT_TABLES, WORD_TABLES, WireMap, parse_device, width
 
 START_TIMEOUT_S = 10.0
@@ -115,6 +116,7 @@ class Plc:
         self.log_path = self.workdir / f"{name}.log"
         self.proc = None
         self.client = None
+        self._tags = None
         self.exit_code = None
         self.port = free_port()
         self._set_config(config)
@@ -215,6 +217,7 @@ class Plc:
             self.scan_ms, self.station = previous[1:]
             raise
         self.map = WireMap(self.binary, self.config_path)
+        self._tags = None
 
     def _reload(self):
         start = self.log_path.stat().st_size
@@ -368,6 +371,45 @@ class Plc:
             self._call("write", self._label(device, len(values)), self.client.write_coils, wire,
                        [bool(v) for v in values[i:i + count]])
             i += count
+
+    # --- the tag export -------------------------------------------------------------------
+
+    @property
+    def tags(self):
+        """The config's tag export (`--export-tags json`): a list of dicts, one per device the
+        configuration gives meaning to, and the simulator unit's registers."""
+        if self._tags is None:
+            self._tags = read_tags(self.binary, self.config_path)
+        return self._tags
+
+    def tag(self, name):
+        """The exported tag named `name` ("R100", "CN200", "sim.ch0.ambient")."""
+        for t in self.tags:
+            if t["name"] == name:
+                return t
+        raise KeyError(f"{name}: no such tag in the export of {self.config_path}")
+
+    def read_tag(self, tag):
+        """A tag's value read at its exported unit, table and address with the function its
+        table implies: 0/1 for a bool, a signed value for int16/int32 (one value for int32)."""
+        tag = self.tag(tag) if isinstance(tag, str) else tag
+        fn = getattr(self.client, FUNCTIONS[tag["table"]][0])
+        n = WIDTH[tag["type"]]
+        r = self._call("read", tag["name"], fn, tag["address"], n, unit=tag["unit"])
+        if tag["type"] == "bool":
+            return int(r.bits[0])
+        return from_registers(tag, r.registers)
+
+    def write_tag(self, tag, value):
+        """Writes a tag's value at its exported address (coils with FC15, registers with FC16);
+        a Modbus exception raises ModbusError naming the tag."""
+        tag = self.tag(tag) if isinstance(tag, str) else tag
+        name = FUNCTIONS[tag["table"]][1]
+        if name is None:
+            raise DaemonError(f"{tag['name']}: a {tag['table']} cannot be written")
+        words = [bool(value)] if tag["type"] == "bool" else to_registers(tag, value)
+        self._call("write", tag["name"], getattr(self.client, name), tag["address"], words,
+                   unit=tag["unit"])
 
     # --- the simulator unit ---------------------------------------------------------------
 

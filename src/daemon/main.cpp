@@ -11,6 +11,7 @@
 #include "daemon.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/profiles/profile.hpp"
+#include "export_tags.hpp"
 #include "print_map.hpp"
 
 namespace {
@@ -24,6 +25,8 @@ const char* kUsage =
     "      --check-config   validate the configuration and exit (0 valid, 2 invalid)\n"
     "      --print-map      print the Modbus address map and exit\n"
     "      --format FMT     with --print-map: text (default) or csv\n"
+    "      --export-tags FMT  write one tag per device the configuration gives meaning to, as\n"
+    "                       csv or json, and exit (needs -c)\n"
     "      --port N         override modbus.tcp.port\n"
     "      --time-scale X   override time_scale (simulated seconds per real second)\n"
     "      --version        print the version and exit\n"
@@ -59,6 +62,7 @@ int main(int argc, char** argv) {
     bool check = false;
     bool print = false;
     bool csv = false;
+    std::string tags;  // --export-tags: "csv" or "json"
     plcemu::daemon::Overrides overrides;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -80,6 +84,9 @@ int main(int argc, char** argv) {
             check = true;
         } else if (a == "--print-map") {
             print = true;
+        } else if (a == "--export-tags") {
+            if (!value(tags) || (tags != "csv" && tags != "json"))
+                return usage_error("--export-tags takes csv or json");
         } else if (a == "--format") {
             if (!value(v) || (v != "csv" && v != "text"))
                 return usage_error("--format takes text or csv");
@@ -113,7 +120,19 @@ int main(int argc, char** argv) {
             plcemu::daemon::print_map(std::cout, cfg, csv);
             return 0;
         }
-        if (config_path.empty()) return usage_error("no configuration file (-c FILE)");
+        if (config_path.empty()) {
+            return usage_error(tags.empty() ? "no configuration file (-c FILE)"
+                                            : "--export-tags needs a configuration file (-c FILE)");
+        }
+        if (!tags.empty()) {
+            const auto e = plcemu::daemon::export_tags(plcemu::config::load_config(config_path));
+            plcemu::daemon::write_tags(std::cout, e.rows, tags == "json");
+            // Devices the configuration names that no Modbus address serves (a modbus.map that
+            // leaves them out) are said on stderr: an import cannot reach them.
+            for (const auto& u : e.unreachable)
+                spdlog::warn("export-tags: no Modbus address for {}", u);
+            return 0;
+        }
         if (check) {
             plcemu::config::Config cfg = plcemu::config::load_config(config_path);
             plcemu::daemon::apply_overrides(cfg, overrides);

@@ -23,7 +23,7 @@ image::Layout plc_layout(const config::Config& config) {
     return layout;
 }
 
-engine::Program build_program(const config::Config& config) {
+engine::Program build_program(const config::Config& config, engine::Tags* operands) {
     const profiles::Profile& profile = profiles::of(config);
     const auto services = profile.services(config);
     auto where = [](const config::Position& p) {
@@ -41,7 +41,7 @@ engine::Program build_program(const config::Config& config) {
     }
     try {
         return instructions::make_program(entries, profile.instructions(), plc_layout(config),
-                                          profile.naming(), *services);
+                                          profile.naming(), *services, operands);
     } catch (const instructions::BindError& e) {
         const auto& w = e.where();
         throw config::ConfigError({w.file, w.line, w.column}, e.what());

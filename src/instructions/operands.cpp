@@ -10,6 +10,15 @@ Operands::Operands(const Entry& ic, const BindContext& ctx)
       layout_(ctx.layout),
       naming_(ctx.naming) {}
 
+void Operands::note(const char* key, const image::Range& devices, const std::string& what) const {
+    if (ctx_.operands == nullptr) return;
+    const Operand* op = find(key);
+    const std::string named = what.empty() ? std::string(key) : std::string(key) + " " + what;
+    ctx_.operands->push_back({devices, ic_.mnemonic + " " + named + ", program entry " +
+                                           std::to_string(ic_.index) + " (" +
+                                           (op ? op->where : ic_.where).text() + ")"});
+}
+
 void Operands::refuse_reserved(const char* key, const image::Range& written) const {
     for (const auto& [range, why] : ctx_.services.reserved_outputs) {
         if (written.overlaps(range)) {
@@ -68,6 +77,7 @@ BitSource Operands::bit_source(const char* key, bool fallback) {
     }
     if (!image::is_bit_area(d->area))
         fail(key, "expected a bit device, got '" + image::excerpt(op->text) + "'");
+    note(key, {d->area, d->index, 1});
     return {false, false, *d};
 }
 
@@ -79,6 +89,7 @@ image::Device Operands::bit_output(const char* key) {
         !layout_.contains({d->area, d->index, 1})) {
         fail(key, "expected a Y, M or S output, got '" + image::excerpt(op.text) + "'");
     }
+    note(key, {d->area, d->index, 1});
     return *d;
 }
 
@@ -111,6 +122,7 @@ WordSource Operands::word_source(const char* key) {
         }
         fail(key, "'" + image::excerpt(op.text) + "' is not a word operand of this PLC" + hint);
     }
+    note(key, {d->area, d->index, span});
     return {false, 0, *d};
 }
 
@@ -144,6 +156,7 @@ image::Device Operands::word_device(const char* key,
         fail(key, "expected " + std::to_string(span) + " word(s) in " + names(areas) + ", got '" +
                       image::excerpt(op.text) + "'");
     }
+    note(key, {d->area, d->index, d->word_of_bits ? 16 * span : span});
     return *d;
 }
 
@@ -162,6 +175,7 @@ image::Device Operands::device(const char* key,
         fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names(areas) +
                       ", got '" + image::excerpt(op.text) + "'");
     }
+    note(key, {d->area, d->index, span});
     return *d;
 }
 

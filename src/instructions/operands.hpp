@@ -83,6 +83,10 @@ public:
     void refuse_reserved(const char* key, const image::Range& written) const;
     /// A range in the family's notation.
     std::string format(const image::Range& r) const { return ctx_.naming.format_range(r); }
+    /// Describes `devices` as what operand `key` names (BindContext::operands), with `what`
+    /// after the key when they are not the operand itself ("value" for a timer's register).
+    /// The device getters above describe their operands themselves.
+    void note(const char* key, const image::Range& devices, const std::string& what = "") const;
     /// The context the instruction binds in.
     const BindContext& context() const { return ctx_; }
 

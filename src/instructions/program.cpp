@@ -25,7 +25,8 @@ engine::Program make_program(const std::vector<Entry>& program,
                              const Table& table,
                              const image::Layout& layout,
                              const image::Naming& naming,
-                             const Services& services) {
+                             const Services& services,
+                             engine::Tags* operands) {
     engine::Program p;
     p.reserve(program.size());
     // What the entries bound so far declared, kept as the program grows: each entry checks its
@@ -39,7 +40,7 @@ engine::Program make_program(const std::vector<Entry>& program,
             throw BindError(e.where, "unknown instruction '" + image::excerpt(e.mnemonic) +
                                          "' (this profile knows: " + names + ")");
         }
-        const BindContext ctx{layout, naming, services, earlier};
+        const BindContext ctx{layout, naming, services, earlier, operands};
         p.push_back(it->second(e, ctx));
         p.back()->declare(earlier);
     }

@@ -78,6 +78,7 @@ std::unique_ptr<engine::Instruction> make_tmr(const Entry& ic, const BindContext
                           " has no time base in this PLC");
     }
     b.group = *group;
+    ops.note("t", {Area::TV, b.timer, 1}, "value");
     if (ops.constant("k")) {
         b.k = {true, static_cast<std::uint16_t>(ops.integer("k", 0, 32767)), {}};
     } else {

@@ -38,6 +38,44 @@ SimulatorUnit::SimulatorUnit(ThermalPlant& plant, engine::TimeControl& time, boo
     refresh();
 }
 
+std::vector<RegisterTag> register_tags() {
+    std::vector<RegisterTag> t{
+        {sim::kTimeScale, "sim.time_scale",
+         "simulator: time scale, 1-10000 simulated s per real s"},
+        {sim::kFreeze, "sim.freeze", "simulator: freeze, 1 = scans stopped"},
+        {sim::kStep, "sim.step", "simulator: step, write N to run N scans; reads the scans queued"},
+        {sim::kSimSecondsLo, "sim.time_low", "simulator: simulated time, s, low word"},
+        {sim::kSimSecondsHi, "sim.time_high", "simulator: simulated time, s, high word"},
+    };
+    struct Field {
+        sim::Offset offset;
+        const char* name;
+        const char* what;
+        bool is_signed;
+    };
+    static constexpr Field kFields[] = {
+        {sim::kFaults, "faults",
+         "faults: b0 sensor broken, b1 heater open, b2 heater shorted, b3 reading frozen", false},
+        {sim::kAmbient, "ambient", "ambient, 0.1 C", true},
+        {sim::kGain, "k", "K full-power rise, 0.1 C", false},
+        {sim::kTau, "tau", "tau, s", false},
+        {sim::kDeadTime, "dead_time", "dead time, s", false},
+        {sim::kNoise, "noise", "noise sigma, 0.01 C", false},
+        {sim::kTrueTemp, "true_temperature", "true temperature, 0.1 C", true},
+        {sim::kHeaterPower, "heater_power", "heater power, 0.1 % (mean of the last 8 s)", false},
+    };
+    for (int c = 0; c < kChannels; ++c) {
+        const std::string ch = "ch" + std::to_string(c);
+        for (const auto& f : kFields) {
+            t.push_back(
+                {static_cast<std::uint16_t>(sim::kChannelBase + sim::kChannelStride * c + f.offset),
+                 "sim." + ch + "." + f.name,
+                 "simulator: channel " + std::to_string(c) + " " + f.what, f.is_signed});
+        }
+    }
+    return t;
+}
+
 bool SimulatorUnit::mapped(std::uint16_t addr) {
     return addr <= sim::kSimSecondsHi || (addr >= sim::kChannelBase && addr < sim::kEnd);
 }

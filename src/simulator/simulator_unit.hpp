@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/modbus/unit.hpp"
@@ -38,6 +40,18 @@ enum Offset : std::uint16_t {
 };
 inline constexpr std::uint16_t kEnd = kChannelBase + kChannelStride * kChannels;  ///< 420
 }  // namespace sim
+
+/// One register of the unit as the tag export lists it.
+struct RegisterTag {
+    std::uint16_t wire = 0;   ///< holding register address
+    std::string name;         ///< "sim.time_scale", "sim.ch3.ambient"
+    std::string description;  ///< what it holds, with its unit
+    bool is_signed = false;   ///< a signed value (ambient, true temperature)
+};
+
+/// Every register of the unit (the channel words of all kChannels channels, not the reserved
+/// ones); SimulatorUnit::writable says which a master may write.
+std::vector<RegisterTag> register_tags();
 
 /// The unit. Reads show the live state; writes are applied after they land, clamped to the
 /// ranges of the table (the reply is already on the wire, so no exception 03 is possible).

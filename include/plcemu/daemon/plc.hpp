@@ -31,7 +31,8 @@ enum class Start : std::uint8_t {
 image::Layout plc_layout(const config::Config& config);
 
 /// The config's program built with its profile's instruction table (throws config::ConfigError).
-engine::Program build_program(const config::Config& config);
+/// With `operands`, its device operands are described there (the tag export).
+engine::Program build_program(const config::Config& config, engine::Tags* operands = nullptr);
 
 /// How the plant of a config starts: `plant:` with its per-channel overrides, each channel driven
 /// by its `drive` or else by the output the program declares for it.

@@ -11,6 +11,7 @@
 #include "plcemu/engine/modules.hpp"
 #include "plcemu/engine/outbound.hpp"
 #include "plcemu/engine/specials.hpp"
+#include "plcemu/engine/tags.hpp"
 #include "plcemu/image/image.hpp"
 
 namespace plcemu::engine {
@@ -50,6 +51,10 @@ public:
     virtual std::string_view mnemonic() const noexcept = 0;
     /// Adds what the instruction drives and owns to the program's declarations.
     virtual void declare(Declarations& /*out*/) const {}
+    /// Adds what the devices the instruction uses beyond its operands mean (the words of its
+    /// working blocks, a timer's value) as `image` holds them, for the tag export; the operands
+    /// themselves are described as they bind (instructions::BindContext::operands).
+    virtual void describe(const image::Image& /*image*/, Tags& /*out*/) const {}
 };
 
 /// Something that runs around the program each scan: the plant and the temperature modules.

@@ -45,6 +45,10 @@ bool square_wave(const ScanContext& ctx, std::chrono::nanoseconds period) noexce
 /// (docs/profile-fbs.md, docs/profile-vb.md).
 void write_calendar(std::uint16_t* seven_words, const Calendar& calendar) noexcept;
 
+/// What write_calendar puts in each of its seven words, for the tag export.
+inline constexpr const char* kCalendarWords[7] = {
+    "second", "minute", "hour", "day", "month", "year (two digits)", "weekday (0 Sunday)"};
+
 /// The current, minimum and maximum scan time: the simulated interval between scan starts
 /// (deterministic, whatever the host's load), counted in whole `unit`s and held to 0–65535.
 /// A family decides where the three words go.

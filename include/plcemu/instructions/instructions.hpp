@@ -82,6 +82,9 @@ struct BindContext {
     const image::Naming& naming;          ///< how devices and constants are written
     const Services& services;             ///< the profile's services
     const engine::Declarations& earlier;  ///< what the entries bound before this one declared
+    /// When set, every device operand that binds is added here with the entry's mnemonic, the
+    /// operand's key and its position (the tag export); null while a PLC is built to run.
+    engine::Tags* operands = nullptr;
 };
 
 /// Builds one instruction; throws BindError (at the operand's position).
@@ -90,11 +93,13 @@ using Builder = std::unique_ptr<engine::Instruction> (*)(const Entry&, const Bin
 using Table = std::map<std::string, Builder, std::less<>>;
 
 /// Builds the whole program with `table`; an unknown mnemonic is an error naming the ones the
-/// table knows.
+/// table knows. With `operands`, the device operands are described there
+/// (BindContext::operands).
 engine::Program make_program(const std::vector<Entry>& program,
                              const Table& table,
                              const image::Layout& layout,
                              const image::Naming& naming,
-                             const Services& services);
+                             const Services& services,
+                             engine::Tags* operands = nullptr);
 
 }  // namespace plcemu::instructions

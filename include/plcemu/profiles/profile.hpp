@@ -93,6 +93,13 @@ public:
     virtual void attach(engine::Engine& engine,
                         const config::Config& config,
                         engine::SensorSource& sensors) const = 0;
+    /// What the family's own devices mean in a PLC of this config whose image is `image` (presets
+    /// applied): its special relays and registers and the areas its subsystems read and write
+    /// (a measurement table and where it puts its readings), for the tag export.
+    virtual engine::Tags tags(const config::Config& /*config*/,
+                              const image::Image& /*image*/) const {
+        return {};
+    }
     /// The Modbus master port a PLC of this config polls other devices through (the daemon
     /// opens it and hands it to the engine as its outbound link), or nothing.
     virtual std::optional<config::MasterConfig> master(const config::Config& /*config*/) const {

@@ -1,6 +1,8 @@
 // The FBs Modbus slave map (FBs manual 13-50/51; docs/profile-fbs.md, "Modbus map").
 
 #include <algorithm>
+#include <string>
+#include <utility>
 
 #include "profiles/fbs/map.hpp"
 
@@ -143,6 +145,26 @@ private:
 };
 
 }  // namespace
+
+engine::Tags map_tags() {
+    engine::Tags t{{{Area::R, kRemapKey, 1},
+                    "Modbus map: A55Ah switches coils and holding registers to the user maps",
+                    engine::Number::Unsigned}};
+    const std::pair<std::uint32_t, const char*> maps[] = {
+        {kCoilRemap, "coil user map (M)"},
+        {kDiscreteMap, "discrete input map (M)"},
+        {kInputRegMap, "input register map (R)"},
+        {kHoldingRemap, "holding register user map (R)"}};
+    const char* const kWords[] = {"wire start", "device start", "count"};
+    for (const auto& [reg, what] : maps) {
+        for (std::uint32_t w = 0; w < 3; ++w) {
+            t.push_back({{Area::R, reg + w, 1},
+                         std::string("Modbus map: ") + what + " " + kWords[w],
+                         engine::Number::Unsigned});
+        }
+    }
+    return t;
+}
 
 const AddressMap& map() {
     static const FbsMap map;

@@ -111,6 +111,13 @@ public:
         return make_specials(model_code(config.model).value_or(0));
     }
 
+    engine::Tags tags(const config::Config& config, const image::Image& image) const override {
+        engine::Tags t = special_tags();
+        for (auto& m : map_tags()) t.push_back(std::move(m));
+        for (auto& m : temperature_tags(config, image)) t.push_back(std::move(m));
+        return t;
+    }
+
     void attach(engine::Engine& engine,
                 const config::Config& config,
                 engine::SensorSource& sensors) const override {

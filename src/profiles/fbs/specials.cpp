@@ -1,6 +1,7 @@
 #include "profiles/fbs/specials.hpp"
 
 #include <chrono>
+#include <string>
 
 #include "plcemu/engine/engine.hpp"
 #include "profiles/fbs/special_registers.hpp"
@@ -77,6 +78,64 @@ private:
 };
 
 }  // namespace
+
+engine::Tags special_tags() {
+    using engine::Number;
+    engine::Tags t{
+        {{Area::M, sp::kClock10ms, 1}, "special relay: 0.01 s clock"},
+        {{Area::M, sp::kClock100ms, 1}, "special relay: 0.1 s clock"},
+        {{Area::M, sp::kClock1s, 1}, "special relay: 1 s clock"},
+        {{Area::M, sp::kClock60s, 1}, "special relay: 60 s clock"},
+        {{Area::M, sp::kFirstScan, 1}, "special relay: first-scan pulse"},
+        {{Area::M, sp::kRun, 1}, "special relay: RUN"},
+        {{Area::R, sp::kTempMeasureRemap, 1},
+         "special register: A55Ah takes the TPCTL PVs from the block R4004 names",
+         Number::Unsigned},
+        {{Area::R, sp::kTempPvSource, 1},
+         "special register: TPCTL PV start (encoded: 10000+n = Rn, 20000+n = Dn)",
+         Number::Unsigned},
+        {{Area::R, sp::kPidTiming, 1},
+         "special register: TPCTL PWM cycle (high byte) and solution interval (low byte) codes",
+         Number::Unsigned},
+        {{Area::R, sp::kHeaterOpenPercent, 1}, "special register: heater-open detection output, %"},
+        {{Area::R, sp::kHeaterOpenSeconds, 1}, "special register: heater-open detection time, s"},
+        {{Area::R, sp::kOverTemperature, 1},
+         "special register: over-temperature limit, 0.1 degree"},
+        {{Area::R, sp::kTempUnit, 1},
+         "special register: temperature unit, low byte 0 C, 1 F",
+         Number::Unsigned},
+        {{Area::R, sp::kSensorInstalled, 2},
+         "special register: sensor-installed bits, points 0-15 and 16-31",
+         Number::Unsigned},
+        {{Area::R, sp::kPidEnable, 2},
+         "special register: PID enable bits, points 0-15 and 16-31",
+         Number::Unsigned},
+        {{Area::R, sp::kTempAverage, 1},
+         "special register: temperature moving average, 0-4 = 1, 2, 4, 8, 16 samples",
+         Number::Unsigned},
+        {{Area::R, sp::kCpuStatus, 1},
+         "special register: CPU status (0 running normally)",
+         Number::Unsigned},
+        {{Area::R, sp::kStation, 1},
+         "special register: station (write 55h in the high byte to set it)",
+         Number::Unsigned},
+        {{Area::R, sp::kPowerUps, 1}, "special register: power-up count", Number::Unsigned},
+        {{Area::R, sp::kScanTime, 1}, "special register: scan time, ms", Number::Unsigned},
+        {{Area::R, sp::kScanTime + 1, 1},
+         "special register: longest scan time, ms",
+         Number::Unsigned},
+        {{Area::R, sp::kScanTime + 2, 1},
+         "special register: shortest scan time, ms",
+         Number::Unsigned},
+        {{Area::R, sp::kModelCode, 1}, "special register: model code", Number::Unsigned},
+    };
+    for (std::uint32_t i = 0; i < 7; ++i) {
+        t.push_back({{Area::R, sp::kCalendar + i, 1},
+                     std::string("special register: calendar ") + engine::kCalendarWords[i],
+                     Number::Unsigned});
+    }
+    return t;
+}
 
 std::unique_ptr<engine::Specials> make_specials(std::uint16_t model_code) {
     return std::make_unique<FbsSpecials>(model_code);

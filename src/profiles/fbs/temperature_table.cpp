@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "profiles/fbs/model.hpp"
 #include "profiles/fbs/special_registers.hpp"
@@ -339,6 +340,65 @@ void TemperatureTable::inputs(engine::ScanContext& ctx) noexcept {
         put(img, wr, base + 2, start);
         put(img, wr, base + 3, static_cast<std::uint16_t>(m.current));
     }
+}
+
+engine::Tags temperature_tags(const config::Config& config, const image::Image& image) {
+    using engine::Number;
+    engine::Tags t;
+    const auto table = temperature_config(config).table;
+    if (!table) return t;
+    const image::Layout& layout = image.layout();
+    auto word = [&](std::uint32_t offset) -> std::uint16_t {
+        const image::Range r{table->area, table->index + offset, 1};
+        return layout.contains(r) ? image.word(r.area, r.start) : 0;
+    };
+    auto add = [&](const image::Device& base, std::uint32_t offset, const std::string& what,
+                   Number number) {
+        const image::Range r{base.area, base.index + offset, 1};
+        if (layout.contains(r)) t.push_back({r, what, number});
+    };
+    const std::string sr = "temperature table SR+";
+    add(*table, 0, sr + "0: A556h marks a valid table", Number::Unsigned);
+    add(*table, 1, sr + "1: module count N, 1-8", Number::Unsigned);
+    add(*table, 2, sr + "2: reading start (encoded: 10000+n = Rn, 20000+n = Dn)", Number::Unsigned);
+    add(*table, 3, sr + "3: working register start (encoded)", Number::Unsigned);
+    const std::uint32_t n = std::min<std::uint32_t>(word(1), kMaxModules);
+    int total = 0;
+    for (std::uint32_t k = 0; k < n; ++k) {
+        std::string what = sr + std::to_string(4 + k);
+        what += ": module " + std::to_string(k + 1);
+        what += ", name code (low byte) and sensor type (high byte)";
+        add(*table, 4 + k, what, Number::Unsigned);
+        total += channels_of(static_cast<std::uint8_t>(word(4 + k) & 0xFF));
+    }
+    if (const auto readings = decode_register(word(2))) {
+        for (int g = 0; g < std::min(total, kMaxChannels); ++g) {
+            add(*readings, static_cast<std::uint32_t>(g),
+                "temperature reading, channel " + std::to_string(g) + ", 0.1 degree",
+                Number::Signed);
+        }
+    }
+    if (const auto wr = decode_register(word(3))) {
+        const std::string w = "temperature working register WR+";
+        add(*wr, 0, w + "0: execute code (high byte), module mismatch bits (low byte)",
+            Number::Unsigned);
+        add(*wr, 1, w + "1: sensor-abnormal bits, channels 0-15", Number::Unsigned);
+        add(*wr, 2, w + "2: sensor-abnormal bits, channels 16-31", Number::Unsigned);
+        add(*wr, 3, w + "3: total channels (high byte), module count (low byte)", Number::Unsigned);
+        const char* const kModule[] = {"sensor type (high byte), first Y (low byte)",
+                                       "channel count (high byte), input register index (low byte)",
+                                       "reading start (encoded)", "channel being converted"};
+        for (std::uint32_t k = 0; k < n; ++k) {
+            for (std::uint32_t i = 0; i < 4; ++i) {
+                const std::uint32_t offset = 4 + 4 * k + i;
+                add(*wr, offset,
+                    w + std::to_string(offset) + ": module " + std::to_string(k + 1) + " " +
+                        kModule[i],
+                    Number::Unsigned);
+            }
+        }
+    }
+    return t;
 }
 
 std::unique_ptr<TemperatureTable> make_temperature_table(const config::Config& config,

@@ -13,6 +13,7 @@
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/image/area.hpp"
 #include "plcemu/engine/sensors.hpp"
+#include "plcemu/engine/tags.hpp"
 #include "profiles/fbs/temperature_config.hpp"
 
 namespace plcemu::profiles::fbs {
@@ -119,6 +120,10 @@ private:
     std::int64_t start_ns_ = 0;
     std::uint8_t code_ = temperature::kIdle;
 };
+
+/// What the configuration table at `temperature.table` holds, and the readings and working
+/// registers it names as `image` holds it (nothing without a table), for the tag export.
+engine::Tags temperature_tags(const config::Config& config, const image::Image& image);
 
 /// A TemperatureTable for a config with `temperature.table`, reading from `sensors`.
 std::unique_ptr<TemperatureTable> make_temperature_table(const config::Config& config,

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "instructions/operands.hpp"
@@ -202,6 +203,43 @@ public:
             Device y = b_.yn;
             y.index += static_cast<std::uint32_t>(i);
             out.actuators.push_back({static_cast<int>(b_.sn) + i, y});
+        }
+    }
+
+    // The per-point blocks and WR as docs/profile-fbs.md, "FUN86 TPCTL", lists them.
+    void describe(const image::Image& /*image*/, engine::Tags& out) const override {
+        static const char* const kWords[kWorkingWords] = {
+            "in-zone bits, points 0-15",
+            "in-zone bits, points 16-31",
+            "warning bits, points 0-15",
+            "warning bits, points 16-31",
+            "PWM cycle (high byte) and solution interval (low byte), s",
+            "over-temperature bits, points 0-15",
+            "over-temperature bits, points 16-31",
+            "heater-open bits, points 0-15",
+            "heater-open bits, points 16-31"};
+        const std::string at = ", TPCTL at " + b_.pos.text();
+        // Point i of each per-point block, on temperature channel Sn+i.
+        const std::pair<const Device*, const char*> points[] = {
+            {&b_.sv, "setpoint, 0.1 degree"}, {&b_.os, "in-zone offset, 0.1 degree"},
+            {&b_.pr, "Kc, 1-9999"},           {&b_.ir, "Ki, 0.01 repeats/min"},
+            {&b_.dr, "Td, 0.01 min"},         {&b_.out, "PID output, 0-16383"}};
+        for (int i = 0; i < b_.points; ++i) {
+            const std::string point = "TPCTL point " + std::to_string(i) + " (channel " +
+                                      std::to_string(b_.sn + i) + ") ";
+            for (const auto& [block, what] : points) {
+                out.push_back({{block->area, block->index + static_cast<std::uint32_t>(i), 1},
+                               (point + what).append(at)});
+            }
+            out.push_back({{b_.yn.area, b_.yn.index + static_cast<std::uint32_t>(i), 1},
+                           (point + "PWM output").append(at)});
+        }
+        for (std::uint32_t w = 0; w < kWorkingWords; ++w) {
+            Device d = b_.wr;
+            d.index += w;
+            out.push_back({{d.area, d.index, 1},
+                           "TPCTL WR+" + std::to_string(w) + " " + kWords[w] + at,
+                           engine::Number::Unsigned});
         }
     }
 

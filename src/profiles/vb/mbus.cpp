@@ -47,6 +47,49 @@ public:
             {{Area::D, b_.s2, kWorkingWords}, engine::ClaimKind::Working, "MBUS", b_.where});
     }
 
+    // S1's count and the sets it holds now, the master devices of each set that passes its
+    // checks, and S2 (docs/profile-vb.md, "FNC149 MBUS").
+    void describe(const image::Image& image, engine::Tags& out) const override {
+        using engine::Number;
+        const std::string at = ", MBUS at " + b_.where;
+        out.push_back(
+            {{Area::D, b_.s1, 1}, "MBUS S1+0 number of transfer sets" + at, Number::Unsigned});
+        static const char* const kSet[mbus::kSetWords] = {
+            "slave station",
+            "command: 1 read, 2 write series, 3 write one",
+            "length",
+            "master device type",
+            "master device number",
+            "slave device type",
+            "slave device number"};
+        const std::uint16_t sets = sets_in(image);
+        for (std::uint32_t k = 0; k < sets; ++k) {
+            const std::string set = "MBUS set " + std::to_string(k + 1) + " ";
+            for (std::uint32_t w = 0; w < mbus::kSetWords; ++w) {
+                const std::uint32_t offset = 1 + mbus::kSetWords * k + w;
+                std::string what = set + "S1+" + std::to_string(offset);
+                what += ' ';
+                what += kSet[w];
+                out.push_back({{Area::D, b_.s1 + offset, 1}, what + at, Number::Unsigned});
+            }
+            const auto words = set_words(image, k);
+            const mbus::Checked c = mbus::check_set(words, image.layout(), *b_.naming);
+            if (c.status != mbus::kNormal) continue;
+            std::string what = set;
+            what += c.transfer.read ? "data read from station " : "data written to station ";
+            what += std::to_string(c.transfer.station);
+            out.push_back({c.transfer.master, what + at});
+        }
+        static const char* const kWorking[kWorkingWords] = {
+            "status (high byte) and station of the last failed transfer (low byte)",
+            "set in progress", "completed passes", "last exception code"};
+        for (std::uint32_t w = 0; w < kWorkingWords; ++w) {
+            out.push_back({{Area::D, b_.s2 + w, 1},
+                           "MBUS S2+" + std::to_string(w) + " " + kWorking[w] + at,
+                           Number::Unsigned});
+        }
+    }
+
     void execute(engine::ScanContext& ctx) noexcept override {
         // A power-up or reload starts the table afresh; its link has nothing in flight.
         if (ctx.first_scan) s_ = State{};
@@ -147,14 +190,32 @@ private:
         s_.pass_clean = true;
     }
 
+    // The table's sets as S1+0 counts them, or 0 when the count is out of 1-255 or the sets
+    // would run past D7999.
+    std::uint16_t sets_in(const image::Image& img) const noexcept {
+        const std::uint16_t sets = img.word(Area::D, b_.s1);
+        if (sets < 1 || sets > kMaxSets || b_.s1 + 1 + mbus::kSetWords * sets > kBlockAreaEnd)
+            return 0;
+        return sets;
+    }
+
+    // The words of set `k` (0-based).
+    std::array<std::uint16_t, mbus::kSetWords> set_words(const image::Image& img,
+                                                         std::uint32_t k) const noexcept {
+        std::array<std::uint16_t, mbus::kSetWords> words{};
+        const std::uint32_t base = b_.s1 + 1 + mbus::kSetWords * k;
+        for (std::uint32_t w = 0; w < mbus::kSetWords; ++w) words[w] = img.word(Area::D, base + w);
+        return words;
+    }
+
     // Sends the first set from the current one on that passes its checks; those that fail are
     // skipped with their status. A pass ends at most once per scan, and not in the scan that
     // turned the previous pulse OFF, so that M9199 is seen OFF between two passes.
     void send_next(image::Image& img, engine::OutboundLink& link, bool pulsed) noexcept {
         for (;;) {
             // The table, S1+0 included, is read again at every set's turn.
-            const std::uint16_t sets = img.word(Area::D, b_.s1);
-            if (sets < 1 || sets > kMaxSets || b_.s1 + 1 + mbus::kSetWords * sets > kBlockAreaEnd) {
+            const std::uint16_t sets = sets_in(img);
+            if (sets == 0) {
                 report(img, mbus::kNumberError, 0);
                 s_.set = 0;
                 return;
@@ -164,11 +225,7 @@ private:
                 return;
             }
             set_working(img, kSetInProgress, static_cast<std::uint16_t>(s_.set + 1));
-            std::array<std::uint16_t, mbus::kSetWords> words{};
-            const std::uint32_t base = b_.s1 + 1 + mbus::kSetWords * s_.set;
-            for (std::uint32_t w = 0; w < mbus::kSetWords; ++w) {
-                words[w] = img.word(Area::D, base + w);
-            }
+            const auto words = set_words(img, s_.set);
             const mbus::Checked checked = mbus::check_set(words, img.layout(), *b_.naming);
             if (checked.status == mbus::kNormal) {
                 // A link still busy with an abandoned request: the set waits for the next scan.

@@ -119,6 +119,54 @@ public:
             {{Area::D, b_.s3, kBlockWords}, engine::ClaimKind::Working, "PID", b_.where});
     }
 
+    // S3's words as docs/profile-vb.md, "FNC88 PID", lists them.
+    void describe(const image::Image& /*image*/, engine::Tags& out) const override {
+        struct Word {
+            std::uint32_t offset;
+            const char* what;
+            engine::Number number;
+        };
+        using engine::Number;
+        static constexpr Word kWords[] = {
+            {kSampling, "sampling time Ts, ms", Number::Signed},
+            {kControl,
+             "control bits: b0 reverse (heating), b1 PV alarm, b2 MV alarm, b4 auto-tuning, b5 MV "
+             "limit",
+             Number::Unsigned},
+            {kFilter, "input filter, %", Number::Signed},
+            {kGain, "proportional gain Kp, %", Number::Signed},
+            {kIntegral, "integral time TI, 100 ms", Number::Signed},
+            {kDerivGain, "derivative filter KD, %", Number::Signed},
+            {kDerivative, "derivative time TD, 10 ms", Number::Signed},
+            {kTuneHigh, "auto-tuning output at 100 %", Number::Signed},
+            {kTuneLow, "auto-tuning output at 0 %", Number::Signed},
+            {kPvRiseAlarm, "PV change alarm (+)", Number::Signed},
+            {kPvFallAlarm, "PV change alarm (-)", Number::Signed},
+            {kMvUpper, "MV change alarm (+) with b2, MV upper limit with b5", Number::Signed},
+            {kMvLower, "MV change alarm (-) with b2, MV lower limit with b5", Number::Signed},
+            {kAlarms, "alarm bits: b0 PV rose, b1 PV fell, b2 MV rose, b3 MV fell",
+             Number::Unsigned},
+        };
+        const std::string at =
+            ", program entry " + std::to_string(b_.entry) + " (" + b_.where + ")";
+        out.push_back({{Area::D, b_.sv, 1}, "PID S1 set value SV" + at});
+        out.push_back({{Area::D, b_.pv, 1}, "PID S2 present value PV" + at});
+        out.push_back({{Area::D, b_.mv, 1}, "PID D output MV" + at});
+        for (std::uint32_t w = 0; w < kBlockWords; ++w) {
+            std::string what = "working space (not written by the emulator)";
+            Number number = Number::Unsigned;
+            for (const auto& k : kWords) {
+                if (k.offset != w) continue;
+                what = k.what;
+                number = k.number;
+            }
+            std::string text = "PID S3+" + std::to_string(w);
+            text += ' ';
+            text += what;
+            out.push_back({{Area::D, b_.s3 + w, 1}, text + at, number});
+        }
+    }
+
     void execute(engine::ScanContext& ctx) noexcept override {
         // A power-up runs the program as loaded, whatever an earlier run of the engine left.
         if (ctx.first_scan) s_ = State{};

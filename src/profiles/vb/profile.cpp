@@ -157,6 +157,14 @@ public:
         return r ? std::vector<image::Range>{*r} : std::vector<image::Range>{};
     }
 
+    engine::Tags tags(const config::Config& config, const image::Image& /*image*/) const override {
+        engine::Tags t = special_tags();
+        for (const auto& r : program_data(config)) {
+            t.push_back({r, "file register: program data from file_registers:, read-only"});
+        }
+        return t;
+    }
+
     // The TPID's analog outputs run 0–1000 (VB manual FNC92, S3+10m).
     int drive_full_scale() const override { return 1000; }
 

@@ -1,6 +1,7 @@
 #include "profiles/vb/specials.hpp"
 
 #include <chrono>
+#include <string>
 
 #include "plcemu/engine/engine.hpp"
 
@@ -63,6 +64,47 @@ private:
 };
 
 }  // namespace
+
+engine::Tags special_tags() {
+    using engine::Number;
+    engine::Tags t{
+        {{Area::M, sp::kRun, 1}, "special relay: RUN monitor, always ON"},
+        {{Area::M, sp::kAlwaysOff, 1}, "special relay: always OFF"},
+        {{Area::M, sp::kFirstScan, 1}, "special relay: initial pulse, ON in the first scan"},
+        {{Area::M, sp::kAfterFirst, 1}, "special relay: OFF in the first scan, then ON"},
+        {{Area::M, sp::kClock10ms, 1}, "special relay: 10 ms clock"},
+        {{Area::M, sp::kClock100ms, 1}, "special relay: 100 ms clock"},
+        {{Area::M, sp::kClock1s, 1}, "special relay: 1 s clock"},
+        {{Area::M, sp::kClock1min, 1}, "special relay: 1 min clock"},
+        {{Area::M, sp::kOperationError, 1}, "special relay: operation error"},
+        {{Area::M, sp::kMbusPass, 1}, "special relay: MBUS pass complete, ON for one scan"},
+        {{Area::D, sp::kScanTime, 1}, "special register: scan time, 0.1 ms", Number::Unsigned},
+        {{Area::D, sp::kScanTime + 1, 1},
+         "special register: shortest scan time, 0.1 ms",
+         Number::Unsigned},
+        {{Area::D, sp::kScanTime + 2, 1},
+         "special register: longest scan time, 0.1 ms",
+         Number::Unsigned},
+        {{Area::D, sp::kErrorCode, 1}, "special register: operation error code", Number::Unsigned},
+        {{Area::D, sp::kErrorEntry, 1},
+         "special register: program entry (1-based) of the operation error",
+         Number::Unsigned},
+        {{Area::D, sp::kMbusTimeout, 1},
+         "special register: MBUS slave time-out, 10 ms (0: 100 ms)",
+         Number::Unsigned},
+    };
+    for (std::uint32_t i = 0; i < 7; ++i) {
+        t.push_back({{Area::D, sp::kCalendar + i, 1},
+                     std::string("special register: calendar ") + engine::kCalendarWords[i],
+                     Number::Unsigned});
+    }
+    // M9200-M9234: the direction of C200-C234 (docs/profile-vb.md).
+    for (std::uint32_t i = 0; i < sp::kCountDownRelays; ++i) {
+        t.push_back({{Area::M, sp::kCountDown + i, 1},
+                     "special relay: C" + std::to_string(200 + i) + " counts down when ON"});
+    }
+    return t;
+}
 
 std::unique_ptr<engine::Specials> make_specials() { return std::make_unique<VbSpecials>(); }
 

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "plcemu/engine/specials.hpp"
+#include "plcemu/engine/tags.hpp"
 
 namespace plcemu::profiles::vb {
 
@@ -39,5 +40,8 @@ inline constexpr std::uint32_t kMbusTimeout = 9129;  ///< D9129 MBUS slave time-
 /// M9000–M9003, M9011–M9014, D9010–D9019, and the power-up values of M9067, D9067, D9069,
 /// D9129.
 std::unique_ptr<engine::Specials> make_specials();
+
+/// What the special relays and registers hold, for the tag export.
+engine::Tags special_tags();
 
 }  // namespace plcemu::profiles::vb

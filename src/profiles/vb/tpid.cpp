@@ -133,6 +133,53 @@ public:
                               b_.where});
     }
 
+    // S3 and S4 as docs/profile-vb.md, "FNC92 TPID", lists them, for the n the blocks were
+    // checked for.
+    void describe(const image::Image& /*image*/, engine::Tags& out) const override {
+        using engine::Number;
+        const std::string at =
+            ", program entry " + std::to_string(b_.index) + " (" + b_.where + ")";
+        auto add = [&](std::uint32_t base, const char* block, std::uint32_t w,
+                       const std::string& what, Number number) {
+            std::string text = std::string("TPID ") + block + "+" + std::to_string(w);
+            text += ' ';
+            text += what;
+            out.push_back({{Area::D, base + w, 1}, text + at, number});
+        };
+        const char* const kSystem[kS3Words] = {"control cycle Tc, 10 ms",
+                                               "sensitivity: 0 fast, 1 medium, 2 slow",
+                                               "direction bits (1 = forward), bit m channel m",
+                                               "auto/manual bits (1 = manual)",
+                                               "auto-tuning bits",
+                                               "output bits (time-proportioned)",
+                                               "limitation alarm bits",
+                                               "deviation alarm bits",
+                                               "system working area",
+                                               "system working area"};
+        for (std::uint32_t w = 0; w < kS3Words; ++w) {
+            add(b_.s3, "S3", w, kSystem[w], w < kDirection ? Number::Signed : Number::Unsigned);
+        }
+        const char* const kGains[kS4Words] = {"Kp, 0.01",
+                                              "TI, 100 ms",
+                                              "TD, 10 ms",
+                                              "overshoot repression R",
+                                              "limitation alarm setting L",
+                                              "deviation alarm setting Dv"};
+        for (int m = 0; m < b_.blocks_n; ++m) {
+            const std::string ch = "channel " + std::to_string(m) + " ";
+            const auto mw = static_cast<std::uint32_t>(m);
+            add(b_.s1, "S1", mw, ch + "set value SV", Number::Signed);
+            add(b_.s2, "S2", mw, ch + "present value PV", Number::Signed);
+            for (std::uint32_t w = 0; w < kS3Words; ++w) {
+                add(b_.s3, "S3", kS3Words * (mw + 1) + w,
+                    ch + (w == 0 ? "analog output, 0.1 %" : "working area"),
+                    w == 0 ? Number::Signed : Number::Unsigned);
+            }
+            for (std::uint32_t w = 0; w < kS4Words; ++w)
+                add(b_.s4, "S4", kS4Words * mw + w, ch + kGains[w], Number::Signed);
+        }
+    }
+
     void execute(engine::ScanContext& ctx) noexcept override {
         // A power-up runs the program as loaded, whatever an earlier run of the engine left.
         if (ctx.first_scan) s_ = State{};

@@ -1,0 +1,45 @@
+#pragma once
+// `plcemud --export-tags csv|json`: one row per device the configuration gives meaning to, with
+// the Modbus unit, table and address that serve it, for an HMI/SCADA tag import
+// (docs/configuration.md, "Tag export").
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "plcemu/config/config.hpp"
+#include "plcemu/modbus/unit.hpp"
+
+namespace plcemu::daemon {
+
+/// One exported tag.
+struct TagRow {
+    std::string name;    ///< unique in the export: the device ("R100"), or "sim.ch0.ambient"
+    std::string device;  ///< the PLC's device, as the profile writes it; empty for the simulator
+    int unit = 0;        ///< the Modbus unit ID that serves it
+    modbus::Table table = modbus::Table::HoldingRegisters;  ///< the table
+    std::uint16_t address = 0;                              ///< wire address (0-based)
+    std::string type;         ///< bool, int16, uint16, int32 (two registers, low word first)
+    bool writable = false;    ///< a Modbus write reaches it
+    std::string description;  ///< what the configuration makes of it
+};
+
+/// The rows of a config, and what it describes that no Modbus address serves.
+struct TagExport {
+    std::vector<TagRow> rows;              ///< by unit, table and address
+    std::vector<std::string> unreachable;  ///< "R4170: …", devices without an address
+};
+
+/// Builds the config's PLC (presets applied, program bound) and lists what its program, its
+/// profile and its simulator unit give meaning to. Throws config::ConfigError.
+TagExport export_tags(const config::Config& config);
+
+/// The table as the export writes it: coil, discrete_input, holding_register, input_register.
+const char* table_key(modbus::Table table);
+
+/// Writes `rows` as CSV (a header, then one line a row) or as a JSON array of objects with the
+/// same keys.
+void write_tags(std::ostream& out, const std::vector<TagRow>& rows, bool json);
+
+}  // namespace plcemu::daemon
