@@ -1,0 +1,82 @@
+#include "profiles/fatek/specials.hpp"
+
+#include <chrono>
+#include <utility>
+
+#include "plcemu/engine/engine.hpp"
+#include "profiles/fatek/special_registers.hpp"
+
+namespace plcemu::profiles::fatek {
+
+namespace {
+
+using image::Area;
+namespace sp = special;
+
+class FatekSpecials final : public engine::Specials {
+public:
+    FatekSpecials(std::uint16_t model_code, std::vector<PowerUpValue> power_up)
+        : model_code_(model_code),
+          power_up_(std::move(power_up)) {}
+
+    void power_up(image::Image& image, std::uint8_t station) noexcept override {
+        auto* r = image.words(Area::R);
+        r[sp::kPowerUps] = static_cast<std::uint16_t>(r[sp::kPowerUps] + 1);
+        // The family's temperature registers take their defaults at every start.
+        for (const auto& [reg, value] : power_up_) r[reg] = value;
+        r[sp::kCpuStatus] = 0;
+        r[sp::kStation] = station;
+        r[sp::kModelCode] = model_code_;
+        scan_times_.reset();
+    }
+
+    void scan_start(const engine::ScanContext& ctx) noexcept override {
+        using std::chrono::milliseconds;
+        using std::chrono::seconds;
+        image::Image& img = ctx.image;
+        img.set_bit(Area::M, sp::kClock10ms, engine::square_wave(ctx, milliseconds(10)));
+        img.set_bit(Area::M, sp::kClock100ms, engine::square_wave(ctx, milliseconds(100)));
+        img.set_bit(Area::M, sp::kClock1s, engine::square_wave(ctx, seconds(1)));
+        img.set_bit(Area::M, sp::kClock60s, engine::square_wave(ctx, seconds(60)));
+        img.set_bit(Area::M, sp::kFirstScan, ctx.first_scan);
+        img.set_bit(Area::M, sp::kRun, true);
+    }
+
+    void scan_end(const engine::ScanContext& ctx,
+                  const engine::Calendar& c,
+                  std::uint8_t& station) noexcept override {
+        auto* r = ctx.image.words(Area::R);
+        // R4055: a master sets the station by writing 55h in the high byte (FBs manual,
+        // R4055; docs/profile-fbs.md, "Modbus map").
+        const std::uint16_t st = r[sp::kStation];
+        if ((st >> 8) == 0x55 && (st & 0xFF) >= 1 && (st & 0xFF) <= 254) {
+            station = static_cast<std::uint8_t>(st & 0xFF);
+        }
+        r[sp::kStation] = station;
+        r[sp::kCpuStatus] = 0;
+        r[sp::kModelCode] = model_code_;
+
+        engine::write_calendar(r + sp::kCalendar, c);
+
+        // Scan time in ms (equal to scan_ms while the engine keeps its period): R4136 current,
+        // R4137 maximum, R4138 minimum (docs/profile-fbs.md).
+        scan_times_.update(ctx);
+        r[sp::kScanTime] = scan_times_.current;
+        r[sp::kScanTime + 1] = scan_times_.max;
+        r[sp::kScanTime + 2] = scan_times_.min;
+    }
+
+private:
+    std::uint16_t model_code_;
+    std::vector<PowerUpValue> power_up_;
+    engine::ScanTimes scan_times_{std::chrono::milliseconds(1)};
+};
+
+}  // namespace
+
+std::unique_ptr<engine::Specials> make_specials(std::uint16_t model_code,
+                                                std::vector<PowerUpValue> power_up) {
+    return std::make_unique<FatekSpecials>(model_code, std::move(power_up));
+}
+
+}  // namespace plcemu::profiles::fatek
