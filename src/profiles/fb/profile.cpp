@@ -10,9 +10,12 @@
 #include "profiles/fatek/naming.hpp"
 #include "profiles/fb/map.hpp"
 #include "profiles/fb/model.hpp"
+#include "profiles/fb/services.hpp"
 #include "profiles/fb/special_registers.hpp"
 #include "profiles/fb/specials.hpp"
 #include "profiles/fb/temperature_config.hpp"
+#include "profiles/fb/temperature_modules.hpp"
+#include "profiles/fb/tp4.hpp"
 
 namespace plcemu::profiles::fb {
 
@@ -54,17 +57,33 @@ public:
     const instructions::Table& instructions() const override {
         static const instructions::Table kTable{
             {"MOV", &instructions::make_mov},
+            {"TP4", &make_tp4},
         };
         return kTable;
     }
+
+    std::unique_ptr<instructions::Services> services(const config::Config& config) const override {
+        auto s = std::make_unique<Services>();
+        s->modules = temperature_config(config).modules;
+        return s;
+    }
+
+    // The FB's PID outputs run 0–4095 (FB manual FUN73, OR: "值为 0~4095").
+    int drive_full_scale() const override { return 4095; }
 
     std::unique_ptr<engine::Specials> specials(const config::Config& config) const override {
         return make_specials(model_code(config.model).value_or(0));
     }
 
-    void attach(engine::Engine& /*engine*/,
+    // The modules sample the plant when a measuring instruction reads a point; point p is
+    // plant channel p.
+    void attach(engine::Engine& engine,
                 const config::Config& /*config*/,
-                engine::SensorSource& /*sensors*/) const override {}
+                engine::SensorSource& sensors) const override {
+        auto modules = std::make_unique<TemperatureModules>(sensors);
+        engine.set_module_bus(modules.get());
+        engine.add_subsystem(std::move(modules));
+    }
 
 private:
     image::Naming naming_ = fatek::make_naming();
