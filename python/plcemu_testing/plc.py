@@ -34,7 +34,7 @@ FAULT_BITS = {"sensor_broken": 0, "heater_open": 1, "heater_shorted": 2, "readin
 # plant() keyword -> (simulator field, register counts per config unit, signed)
 PLANT_PARAMS = {"ambient": ("ambient", 10, True), "k": ("k", 10, False),
                 "tau": ("tau", 1, False), "dead_time": ("dead_time", 1, False),
-                "noise": ("noise", 100, False)}
+                "noise": ("noise", 100, False), "lead_resistance": ("lead_resistance", 100, False)}
 
 
 def free_port():
@@ -510,7 +510,8 @@ class Plc:
 
     def plant(self, channel, **params):
         """Sets plant parameters of a channel in the config's units (ambient and k in °C, tau and
-        dead_time in s, noise in °C); returns them all as the daemon holds them (clamped)."""
+        dead_time in s, noise in °C, lead_resistance in ohm); returns them all as the daemon
+        holds them (clamped)."""
         unknown = set(params) - set(PLANT_PARAMS)
         if unknown:
             raise TypeError(f"unknown plant parameters {sorted(unknown)}; known: "

@@ -30,7 +30,8 @@ SIM_FIELDS = (("time scale", "time_scale"), ("freeze", "freeze"), ("step", "step
               ("simulated time, s, low", "time_low"), ("simulated time, s, high", "time_high"),
               ("faults", "faults"), ("ambient", "ambient"), ("K full-power", "k"), ("tau", "tau"),
               ("dead time", "dead_time"), ("noise", "noise"),
-              ("true temperature", "true_temperature"), ("heater power", "heater_power"))
+              ("true temperature", "true_temperature"), ("heater power", "heater_power"),
+              ("RTD lead resistance", "lead_resistance"))
 
 
 def parse_device(text):

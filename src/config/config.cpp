@@ -330,14 +330,17 @@ void read_faults(const Reader& r, const Node& n, Faults& f) {
 
 void read_channel(const Reader& r, const Node& n, ChannelConfig& c, const std::string& what) {
     r.check_keys(n, what,
-                 {"ambient", "k", "tau", "dead_time", "noise", "cooling", "drive",
-                  "drive_full_scale", "faults"});
+                 {"ambient", "k", "tau", "dead_time", "noise", "cooling", "lead_resistance",
+                  "drive", "drive_full_scale", "faults"});
     if (n["ambient"]) c.ambient_c = r.number(n["ambient"], what + ".ambient", -200, 1000);
     if (n["k"]) c.k_c = r.number(n["k"], what + ".k", 0, 3000);
     if (n["tau"]) c.tau_s = r.number(n["tau"], what + ".tau", 0.1, 100000);
     if (n["dead_time"]) c.dead_time_s = r.number(n["dead_time"], what + ".dead_time", 0, 3600);
     if (n["noise"]) c.noise_c = r.number(n["noise"], what + ".noise", 0, 100);
     if (n["cooling"]) c.cooling = r.boolean(n["cooling"], what + ".cooling");
+    if (n["lead_resistance"]) {
+        c.lead_resistance_ohm = r.number(n["lead_resistance"], what + ".lead_resistance", 0, 100);
+    }
     if (n["drive"]) {
         c.drive = r.device(n["drive"], what + ".drive");
         const auto a = c.drive->area;

@@ -3,6 +3,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
@@ -41,6 +42,15 @@ std::string profile_list() {
              ")";
     }
     return s + "\n";
+}
+
+// The map --print-map shows without a config: the first family's (number 0), whatever the
+// profiles' names sort as.
+const plcemu::profiles::Profile& default_profile() {
+    const auto all = plcemu::profiles::all();
+    return **std::min_element(all.begin(), all.end(), [](const auto* a, const auto* b) {
+        return a->family() < b->family();
+    });
 }
 
 int usage_error(const std::string& msg) {
@@ -114,8 +124,7 @@ int main(int argc, char** argv) {
             plcemu::config::Config cfg =
                 config_path.empty()
                     ? plcemu::config::parse_config(
-                          "profile: " + std::string(plcemu::profiles::all().front()->name()) + "\n",
-                          "<built-in>")
+                          "profile: " + std::string(default_profile().name()) + "\n", "<built-in>")
                     : plcemu::config::load_config(config_path);
             plcemu::daemon::print_map(std::cout, cfg, csv);
             return 0;

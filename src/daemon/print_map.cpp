@@ -122,7 +122,7 @@ std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap&
             {5, "channel c: noise sigma, 0.01 C", true},
             {6, "channel c: true temperature, 0.1 C, signed", false},
             {7, "channel c: heater power, 0.1 % (mean of the last 8 s)", false},
-            {8, "channel c: reserved (reads 0)", false},
+            {8, "channel c: RTD lead resistance, 0.01 ohm, 0-10000", true},
             {9, "channel c: reserved (reads 0)", false},
         };
         for (const auto& f : channel) {

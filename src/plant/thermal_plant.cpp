@@ -25,6 +25,7 @@ ChannelParams clamp_params(ChannelParams p) {
     p.tau_s = std::clamp(p.tau_s, 0.1, 100000.0);
     p.dead_time_s = std::clamp(p.dead_time_s, 0.0, 3600.0);
     p.noise_c = std::clamp(p.noise_c, 0.0, 100.0);
+    p.lead_ohm = std::clamp(p.lead_ohm, 0.0, 100.0);
     return p;
 }
 
@@ -200,16 +201,16 @@ double ThermalPlant::noise(int channel, std::uint64_t n) const noexcept {
 engine::SensorSample ThermalPlant::sense(int channel) noexcept {
     if (!valid(channel)) return {true, 0.0};
     Channel& c = ch_[static_cast<std::size_t>(channel)];
-    if (c.faults.sensor_broken) return {true, 0.0};
+    if (c.faults.sensor_broken) return {true, 0.0, c.p.lead_ohm};
     if (c.faults.reading_frozen) {
         if (!c.held) c.held = c.last;
-        return {false, *c.held};
+        return {false, *c.held, c.p.lead_ohm};
     }
     c.held.reset();
     double v = c.t;
     if (c.p.noise_c > 0.0) v += c.p.noise_c * noise(channel, c.samples++);
     c.last = v;
-    return {false, v};
+    return {false, v, c.p.lead_ohm};
 }
 
 double ThermalPlant::true_temperature(int channel) const noexcept {

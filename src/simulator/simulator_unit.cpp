@@ -83,7 +83,8 @@ bool SimulatorUnit::mapped(std::uint16_t addr) {
 bool SimulatorUnit::writable(std::uint16_t addr) {
     if (addr <= sim::kStep) return true;
     if (addr < sim::kChannelBase || addr >= sim::kEnd) return false;
-    return (addr - sim::kChannelBase) % sim::kChannelStride <= sim::kNoise;
+    const int off = (addr - sim::kChannelBase) % sim::kChannelStride;
+    return off <= sim::kNoise || off == sim::kLeadResistance;
 }
 
 void SimulatorUnit::refresh() noexcept {
@@ -109,8 +110,8 @@ void SimulatorUnit::refresh() noexcept {
         w[sim::kNoise] = unsigned_word(p.noise_c * 100.0);
         w[sim::kTrueTemp] = signed_word(plant_.true_temperature(c) * 10.0);
         w[sim::kHeaterPower] = unsigned_word(plant_.heater_power(c) * 1000.0);
-        w[8] = 0;  // reserved
-        w[9] = 0;
+        w[sim::kLeadResistance] = unsigned_word(p.lead_ohm * 100.0);
+        w[9] = 0;  // reserved
     }
 }
 
@@ -181,6 +182,9 @@ void SimulatorUnit::apply(std::uint16_t addr, std::uint16_t v) noexcept {
             break;
         case sim::kNoise:
             p.noise_c = v / 100.0;
+            break;
+        case sim::kLeadResistance:
+            p.lead_ohm = v / 100.0;
             break;
         default:
             return;

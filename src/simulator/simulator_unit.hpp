@@ -37,6 +37,7 @@ enum Offset : std::uint16_t {
     kNoise = 5,        ///< σ, 0.01 °C
     kTrueTemp = 6,     ///< 0.1 °C, signed, read-only
     kHeaterPower = 7,  ///< 0.1 %, read-only
+    kLeadResistance = 8,  ///< an RTD's lead resistance, 0.01 Ω, 0–10000
 };
 inline constexpr std::uint16_t kEnd = kChannelBase + kChannelStride * kChannels;  ///< 420
 }  // namespace sim

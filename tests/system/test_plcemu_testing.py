@@ -93,6 +93,7 @@ def test_plant_parameters_in_config_units(plcemud):
     assert abs(plc.true_temperature(0) - expected) < 0.2, (plc.true_temperature(0), expected)
     assert plc.heater_power(0) == 0
     assert plc.plant(0, tau=0)["tau"] == 1  # clamped by the daemon, read back
+    assert plc.plant(0, lead_resistance=1.25)["lead_resistance"] == 1.25  # unit 247, 108+10c
 
 
 def test_vb_pid_config_as_a_dict(plcemud):

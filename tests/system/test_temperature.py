@@ -279,7 +279,7 @@ def test_time_scale_register_and_option(start_plcemud):
 
 def test_read_only_and_unmapped_words_of_unit_247(start_plcemud):
     _, c = frozen(start_plcemud)
-    for addr in (3, 4, 106, 107, 108):
+    for addr in (3, 4, 106, 107, 109):  # 108+10c is the RTD lead resistance, writable
         r = c.write_register(addr, 1, slave=SIM)
         assert r.isError() and r.exception_code == 2, addr
     r = c.read_holding_registers(5, 1, slave=SIM)

@@ -117,8 +117,8 @@ TEST(Config, ModelCodes) {
 
 TEST(Config, ErrorsInTheRootNameTheirPosition) {
     expect_error("model: FBs-24MC\n", 1, 1, "'profile' is required");
-    expect_error("profile: nope\n", 1, 10, "profile: expected one of fbs");
-    expect_error("profile: fb\n", 1, 10, "got 'fb'");
+    expect_error("profile: nope\n", 1, 10, "profile: expected one of fb, fbs, vb");
+    expect_error("profile: fbx\n", 1, 10, "got 'fbx'");
     expect_error("profile: [fbs]\n", 1, 10, "profile: expected a scalar");
     expect_error("profile: fbs\nmodle: FBs-24MC\n", 2, 1, "unknown key 'modle' in config");
     expect_error("profile: fbs\nmodel: FBs-25MC\n", 2, 8, "model: expected an FBs model");

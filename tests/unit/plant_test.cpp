@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "plcemu/daemon/plc.hpp"
+#include "support/config_errors.hpp"
 #include "support/profiles.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
@@ -293,6 +294,36 @@ plant:
     EXPECT_TRUE(p->faults(3).heater_open);
     EXPECT_FALSE(p->faults(2).heater_open);
     EXPECT_EQ(p->true_temperature(3), 20.0);
+}
+
+// docs/simulator-and-plant.md, "Lead resistance": plant.channels.N.lead_resistance (Ω, 0–100)
+// comes with every sample of the channel, broken or frozen too.
+TEST(Plant, LeadResistanceComesWithEachSample) {
+    const auto cfg = config::parse_config(R"(
+profile: fbs
+plant:
+  channels:
+    2: {lead_resistance: 1.5, faults: {sensor_broken: true}}
+    4: {lead_resistance: 0.25}
+)",
+                                          "lead.yaml");
+    const auto p = plant_of(cfg);
+    EXPECT_EQ(p->params(2).lead_ohm, 1.5);
+    EXPECT_EQ(p->sense(2).lead_ohm, 1.5);
+    EXPECT_TRUE(p->sense(2).broken);
+    EXPECT_EQ(p->sense(4).lead_ohm, 0.25);
+    EXPECT_EQ(p->sense(0).lead_ohm, 0.0);
+    ChannelParams c = p->params(4);
+    c.lead_ohm = 500.0;  // at most 100 Ω
+    p->set_params(4, c);
+    EXPECT_EQ(p->sense(4).lead_ohm, 100.0);
+    testing::expect_config_error(testing::config_failure([] {
+                                     config::parse_config(
+                                         "profile: fbs\nplant:\n  channels:\n"
+                                         "    1: {lead_resistance: 101}\n",
+                                         "lead.yaml");
+                                 }),
+                                 "lead.yaml", 4, 26, "lead_resistance");
 }
 
 TEST(Plant, ChangingDeadTimeAtRunTimeKeepsThePowerInFlight) {

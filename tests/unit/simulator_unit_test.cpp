@@ -158,13 +158,12 @@ TEST(SimulatorUnit, SimulatedSecondsAre32BitLowWordFirst) {
 }
 
 TEST(SimulatorUnit, ReadOnlyWordsRefuseWritesWithException02) {
-    // Simulated time, true temperature and heater power are read-only; +8/+9 are reserved.
+    // Simulated time, true temperature and heater power are read-only; +9 is reserved.
     Rig rig;
     EXPECT_EQ(rig.write(3, 1), 0x02);
     EXPECT_EQ(rig.write(4, 1), 0x02);
     EXPECT_EQ(rig.write(ch(0, 6), 1), 0x02);
     EXPECT_EQ(rig.write(ch(31, 7), 1), 0x02);
-    EXPECT_EQ(rig.write(ch(2, 8), 1), 0x02);
     EXPECT_EQ(rig.write(ch(2, 9), 1), 0x02);
     // A multiple write that touches one read-only word changes nothing.
     EXPECT_EQ(rig.write_many(0, {50, 0, 0, 9}), 0x02);
@@ -211,6 +210,19 @@ TEST(SimulatorUnit, ChannelParametersAreClampedToTheirRanges) {
     rig.write(ch(0, 1), static_cast<std::uint16_t>(-3000));  // ambient at least -200.0 °C
     EXPECT_EQ(rig.read(ch(0, 1), 5), (std::vector<std::uint16_t>{static_cast<std::uint16_t>(-2000),
                                                                  30000, 1, 3600, 10000}));
+}
+
+// docs/simulator-and-plant.md: +8 is an RTD's lead resistance in 0.01 Ω, 0–10000.
+TEST(SimulatorUnit, LeadResistanceAt108Plus10c) {
+    Rig rig;
+    EXPECT_EQ(rig.read(ch(5, 8), 1), std::vector<std::uint16_t>{0});
+    EXPECT_EQ(rig.write(ch(5, 8), 150), 0);
+    EXPECT_EQ(rig.plant->params(5).lead_ohm, 1.5);
+    EXPECT_EQ(rig.plant->sense(5).lead_ohm, 1.5);
+    EXPECT_EQ(rig.read(ch(5, 8), 1), std::vector<std::uint16_t>{150});
+    EXPECT_EQ(rig.write(ch(5, 8), 65535), 0);  // at most 100.00 Ω
+    EXPECT_EQ(rig.read(ch(5, 8), 1), std::vector<std::uint16_t>{10000});
+    EXPECT_EQ(rig.write(ch(5, 9), 1), 0x02);  // +9 stays reserved
 }
 
 TEST(SimulatorUnit, FaultBitsSensorBrokenHeaterOpenShortedReadingFrozen) {

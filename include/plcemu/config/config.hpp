@@ -103,6 +103,7 @@ struct ChannelConfig {
     double dead_time_s = 5.0;             ///< θ, s
     double noise_c = 0.0;                 ///< sensor noise σ, °C
     bool cooling = false;                 ///< the actuator pulls T down
+    double lead_resistance_ohm = 0.0;     ///< an RTD sensor's lead resistance, Ω
     std::optional<image::Device> drive;   ///< Y (PWM duty) or a register; default: the output
                                           ///< the program declares for this channel
     std::optional<int> drive_full_scale;  ///< a register drive's value for full power (default:

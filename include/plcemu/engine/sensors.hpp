@@ -8,6 +8,9 @@ namespace plcemu::engine {
 struct SensorSample {
     bool broken = false;   ///< open circuit: no temperature
     double celsius = 0.0;  ///< sensed temperature, °C
+    /// Resistance of the sensor's leads, Ω: a module that measures an RTD's resistance sees it
+    /// added to the sensor's.
+    double lead_ohm = 0.0;
 };
 
 /// A source of sensor samples.

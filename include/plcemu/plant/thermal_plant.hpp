@@ -41,6 +41,7 @@ struct ChannelParams {
     double dead_time_s = 5.0;  ///< dead time θ, s (≥ 0)
     double noise_c = 0.0;      ///< standard deviation of the sensor noise, °C
     bool cooling = false;      ///< the actuator pulls T down instead of up
+    double lead_ohm = 0.0;     ///< resistance of an RTD sensor's leads, Ω (0–100)
 
     bool operator==(const ChannelParams&) const = default;
 };

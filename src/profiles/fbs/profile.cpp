@@ -4,6 +4,8 @@
 
 #include "instructions/mov.hpp"
 #include "plcemu/profiles/profile.hpp"
+#include "profiles/fatek/layout.hpp"
+#include "profiles/fatek/naming.hpp"
 #include "profiles/fbs/map.hpp"
 #include "profiles/fbs/model.hpp"
 #include "profiles/fbs/services.hpp"
@@ -19,19 +21,6 @@ namespace {
 
 using image::Area;
 
-image::Naming make_naming() {
-    image::Naming n;
-    // Longest prefixes first so that "TMR" wins over "T" and "CTR" over "C".
-    n.prefixes = {{"TMR", Area::TV}, {"CTR", Area::CV}, {"X", Area::X}, {"Y", Area::Y},
-                  {"M", Area::M},    {"S", Area::S},    {"T", Area::T}, {"C", Area::C},
-                  {"R", Area::R},    {"D", Area::D}};
-    n.names = {"X", "Y", "M", "S", "T", "C", "R", "D", "TMR", "CTR"};
-    n.radix.fill(10);
-    // C0–C199 take one word each, C200–C255 two (low word first).
-    n.first_32bit_counter = 200;
-    return n;
-}
-
 class Fbs final : public Profile {
 public:
     std::string_view name() const override { return "fbs"; }
@@ -46,36 +35,7 @@ public:
     int max_station() const override { return 254; }
     const image::Naming& naming() const override { return naming_; }
 
-    image::Layout layout() const override {
-        image::Layout l;
-        l.family = family();
-        l.family_name = name();
-        l.set_size(Area::X, 256);
-        l.set_size(Area::Y, 256);
-        l.set_size(Area::M, 2002);
-        l.set_size(Area::S, 1000);
-        l.set_size(Area::T, 256);
-        l.set_size(Area::C, 256);
-        // R0–R8071 as one array: R4168–R4999 exist on no FBs and are never mapped, but one
-        // array keeps the R numbers equal to indices.
-        l.set_size(Area::R, 8072);
-        l.set_size(Area::D, 4000);
-        l.set_size(Area::TV, 256);
-        // C0–C199 one word each, C200–C255 two words each (low word first).
-        l.set_size(Area::CV, 200 + 56 * 2);
-        // The FBs manual's default retentive ranges (docs/profile-fbs.md).
-        l.retentive = {
-            {Area::M, 800, 600},
-            {Area::S, 500, 500},
-            {Area::R, 0, 3000},
-            {Area::D, 0, 4000},
-            {Area::R, 5000, 3072},
-            {Area::CV, 100, 40},
-            {Area::CV, 200, 80},  // C200–C239, two words each
-            {Area::R, special::kPowerUps, 1},
-        };
-        return l;
-    }
+    image::Layout layout() const override { return fatek::make_layout(family(), name(), 4000); }
 
     std::vector<image::Range> always_retentive() const override {
         // R4057 counts starts, whatever the config makes retentive.
@@ -127,7 +87,7 @@ public:
     }
 
 private:
-    image::Naming naming_ = make_naming();
+    image::Naming naming_ = fatek::make_naming();
 };
 
 const Fbs kProfile;

@@ -1,35 +1,18 @@
 #pragma once
 // FBs special relays and registers (FBs manual §21.3, §21.7; docs/profile-fbs.md, "Scan cycle and
-// special registers").
+// special registers"): the ones every FATEK family has, and the FBs' own.
 
 #include <cstdint>
 
+#include "profiles/fatek/special_registers.hpp"
+
 namespace plcemu::profiles::fbs::special {
 
-/// Special relays.
-inline constexpr std::uint32_t kClock10ms = 1920;   ///< M1920 0.01 s square wave
-inline constexpr std::uint32_t kClock100ms = 1921;  ///< M1921 0.1 s square wave
-inline constexpr std::uint32_t kClock1s = 1922;     ///< M1922 1 s square wave
-inline constexpr std::uint32_t kClock60s = 1923;    ///< M1923 60 s square wave
-inline constexpr std::uint32_t kFirstScan = 1924;   ///< M1924 first-scan pulse
-inline constexpr std::uint32_t kRun = 1926;         ///< M1926 RUN
+// The FATEK relays and registers (clocks, R4005–R4015, R4049…R4167), by the same names.
+using namespace fatek::special;  // NOLINT(google-build-using-namespace)
 
-/// Special registers.
-inline constexpr std::uint32_t kTempMeasureRemap = 4003;   ///< R4003 = A55Ah: PV from R4004
-inline constexpr std::uint32_t kTempPvSource = 4004;       ///< R4004 encoded PV start
-inline constexpr std::uint32_t kPidTiming = 4005;          ///< R4005 solution interval / PWM cycle
-inline constexpr std::uint32_t kHeaterOpenPercent = 4006;  ///< R4006
-inline constexpr std::uint32_t kHeaterOpenSeconds = 4007;  ///< R4007
-inline constexpr std::uint32_t kOverTemperature = 4008;    ///< R4008
-inline constexpr std::uint32_t kTempUnit = 4009;           ///< R4009 0 °C, 1 °F
-inline constexpr std::uint32_t kSensorInstalled = 4010;    ///< R4010/R4011
-inline constexpr std::uint32_t kPidEnable = 4012;          ///< R4012/R4013
-inline constexpr std::uint32_t kTempAverage = 4015;        ///< R4015
-inline constexpr std::uint32_t kCpuStatus = 4049;          ///< R4049
-inline constexpr std::uint32_t kStation = 4055;            ///< R4055
-inline constexpr std::uint32_t kPowerUps = 4057;           ///< R4057
-inline constexpr std::uint32_t kCalendar = 4128;           ///< R4128–R4134
-inline constexpr std::uint32_t kScanTime = 4136;           ///< R4136 current, R4137 max, R4138 min
-inline constexpr std::uint32_t kModelCode = 4167;          ///< R4167
+/// R4003/R4004 of the FBs temperature measurement (FBs manual §21.3).
+inline constexpr std::uint32_t kTempMeasureRemap = 4003;  ///< R4003 = A55Ah: PV from R4004
+inline constexpr std::uint32_t kTempPvSource = 4004;      ///< R4004 encoded PV start
 
 }  // namespace plcemu::profiles::fbs::special

@@ -10,8 +10,7 @@
 
 namespace plcemu::profiles::fbs {
 
-/// M1920–M1926, R4005–R4013 power-up values, R4049, R4055 (station), R4057 (power-ups),
-/// R4128–R4134 (calendar), R4136–R4138 (scan time), R4167 (model code).
+/// The FATEK specials (profiles/fatek/specials.hpp) with the FBs power-up values of R4005–R4013.
 std::unique_ptr<engine::Specials> make_specials(std::uint16_t model_code);
 
 /// What the special relays and registers hold, for the tag export.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "instructions/operands.hpp"
+#include "profiles/fatek/operands.hpp"
 #include "profiles/fbs/services.hpp"
 #include "profiles/fbs/special_registers.hpp"
 #include "profiles/fbs/temperature_table.hpp"
@@ -27,9 +28,6 @@ using instructions::BitSource;
 using instructions::Operands;
 using namespace tpctl;
 
-// The manual's operand ranges for Sv…WR: HR R0–R3839, ROR R5000–R8071, DR D0–D3999.
-constexpr std::uint32_t kHrEnd = 3840;
-constexpr std::uint32_t kRorStart = 5000;
 // R4005 codes 0…5 → 1, 2, 4, 8, 16, 32 s.
 constexpr int kMaxTimingCode = 5;
 
@@ -53,19 +51,6 @@ bool sn_zn_valid(long long sn, long long zn) {
     return sn >= 0 && sn <= 31 && zn >= 1 && zn <= kMaxPoints && sn + zn <= kMaxPoints;
 }
 
-// A block of `span` registers in R0–R3839, R5000–R8071 or D0–D3999 (never across the SR/IR/OR
-// gap, which the manual does not allow for these operands).
-Device register_block(Operands& ops, const char* key, std::uint32_t span) {
-    const Device d = ops.word_device(key, span, {Area::R, Area::D});
-    const bool ok = d.area == Area::D || d.index + span <= kHrEnd || d.index >= kRorStart;
-    if (!ok) {
-        ops.fail(key, "expected " + std::to_string(span) +
-                          " register(s) in R0-R3839, R5000-R8071 or D0-D3999, got " +
-                          ops.format({d.area, d.index, span}));
-    }
-    return d;
-}
-
 Bound bind(const instructions::Entry& ic, const BindContext& ctx) {
     Operands ops(ic, ctx);
     Bound b;
@@ -81,13 +66,13 @@ Bound bind(const instructions::Entry& ic, const BindContext& ctx) {
     b.points = b.valid ? static_cast<int>(b.zn) : 0;
     const auto span = static_cast<std::uint32_t>(std::max(b.points, 1));
     b.yn = ops.device("yn", span, {Area::Y});
-    b.sv = register_block(ops, "sv", span);
-    b.os = register_block(ops, "os", span);
-    b.pr = register_block(ops, "pr", span);
-    b.ir = register_block(ops, "ir", span);
-    b.dr = register_block(ops, "dr", span);
-    b.out = register_block(ops, "or", span);
-    b.wr = register_block(ops, "wr", kWorkingWords);
+    b.sv = fatek::register_block(ops, "sv", span);
+    b.os = fatek::register_block(ops, "os", span);
+    b.pr = fatek::register_block(ops, "pr", span);
+    b.ir = fatek::register_block(ops, "ir", span);
+    b.dr = fatek::register_block(ops, "dr", span);
+    b.out = fatek::register_block(ops, "or", span);
+    b.wr = fatek::register_block(ops, "wr", kWorkingWords);
     if (ops.has("err")) b.err = ops.bit_output("err");
     if (ops.has("alm")) b.alm = ops.bit_output("alm");
     ops.finish();

@@ -1,0 +1,16 @@
+#pragma once
+// Operands of FATEK's temperature instructions (FBs FUN86, FB FUN72/FUN73/FUN85/FUN86): their
+// register blocks may lie in HR R0–R3839, ROR R5000–R8071 or D, never across the IR/OR/SR words
+// between them.
+
+#include <cstdint>
+
+#include "instructions/operands.hpp"
+
+namespace plcemu::profiles::fatek {
+
+/// A block of `span` registers in R0–R3839, R5000–R8071 or the PLC's D area; fails at `key`
+/// otherwise.
+image::Device register_block(instructions::Operands& ops, const char* key, std::uint32_t span);
+
+}  // namespace plcemu::profiles::fatek

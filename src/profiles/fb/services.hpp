@@ -1,0 +1,21 @@
+#pragma once
+// What the FB profile offers its instructions while they bind: the temperature points they
+// share, and the modules `temperature.modules` declares.
+
+#include <memory>
+#include <vector>
+
+#include "plcemu/instructions/instructions.hpp"
+#include "profiles/fb/points.hpp"
+#include "profiles/fb/temperature_config.hpp"
+
+namespace plcemu::profiles::fb {
+
+/// The FB services: the generic ones, the points 0–31 every measuring and controlling
+/// instruction of the program shares, and the chain of modules (empty: what the program says).
+struct Services : instructions::Services {
+    std::shared_ptr<Points> points = std::make_shared<Points>();  ///< shared by the program
+    std::vector<TemperatureModule> modules;                       ///< `temperature.modules`
+};
+
+}  // namespace plcemu::profiles::fb

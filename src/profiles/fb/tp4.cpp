@@ -1,0 +1,90 @@
+#include "profiles/fb/tp4.hpp"
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "instructions/operands.hpp"
+#include "profiles/fb/module_cycle.hpp"
+#include "profiles/fb/services.hpp"
+
+namespace plcemu::profiles::fb {
+
+namespace {
+
+using image::Area;
+using image::Device;
+using instructions::BitSource;
+using instructions::Operands;
+
+class Tp4 final : public engine::Instruction {
+public:
+    Tp4(BitSource en,
+        ModuleCycle cycle,
+        std::optional<Device> err,
+        std::optional<Device> alm,
+        std::vector<engine::Claim> claims)
+        : en_(en),
+          cycle_(std::move(cycle)),
+          err_(err),
+          alm_(alm),
+          claims_(std::move(claims)) {}
+
+    void declare(engine::Declarations& out) const override {
+        for (const auto& c : claims_) out.claims.push_back(c);
+    }
+
+    void execute(engine::ScanContext& ctx) noexcept override {
+        image::Image& img = ctx.image;
+        if (ctx.first_scan) cycle_.reset();
+        if (!cycle_.operands().valid) {
+            // Tp, Pl or Sm out of range: not executed, ERR ON (FB manual FUN73).
+            write_bit(img, err_, true);
+            return;
+        }
+        write_bit(img, err_, false);
+        cycle_.run(ctx, en_.read(img));
+        write_bit(img, alm_, cycle_.broken_bits() != 0);
+    }
+
+    std::string_view mnemonic() const noexcept override { return "TP4"; }
+
+private:
+    static void write_bit(image::Image& img, const std::optional<Device>& d, bool v) {
+        if (d) img.write_bit(*d, v);
+    }
+
+    BitSource en_;
+    ModuleCycle cycle_;
+    std::optional<Device> err_;
+    std::optional<Device> alm_;
+    std::vector<engine::Claim> claims_;
+};
+
+}  // namespace
+
+std::unique_ptr<engine::Instruction> make_tp4(const instructions::Entry& ic,
+                                              const instructions::BindContext& ctx) {
+    Operands ops(ic, ctx);
+    const BitSource en = ops.bit_source("en", true);
+    const ModuleOperands m = bind_module(ops, cycle::kWorkingWords);
+    std::optional<Device> err, alm;
+    if (ops.has("err")) err = ops.bit_output("err");
+    if (ops.has("alm")) alm = ops.bit_output("alm");
+    ops.finish();
+    if (err) ops.refuse_reserved("err", {err->area, err->index, 1});
+    if (alm) ops.refuse_reserved("alm", {alm->area, alm->index, 1});
+    std::vector<engine::Claim> claims;
+    if (m.valid) {
+        const auto mine = module_claims(m, "TP4", cycle::kWorkingWords, ic.where.text());
+        refuse_shared(ops, mine);
+        for (const auto& c : mine) claims.push_back(c.second);
+    }
+    const auto* fs = dynamic_cast<const Services*>(&ctx.services);
+    auto points = fs != nullptr ? fs->points : std::make_shared<Points>();
+    return std::make_unique<Tp4>(en, ModuleCycle(m, std::move(points)), err, alm,
+                                 std::move(claims));
+}
+
+}  // namespace plcemu::profiles::fb
