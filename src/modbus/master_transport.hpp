@@ -16,6 +16,7 @@ enum class MasterOutcome : std::uint8_t {
     Reply,     ///< a frame from the station answering this transaction
     TimedOut,  ///< nothing by the deadline (no connection, a closed one, a silent station)
     Garbled,   ///< bytes that are no frame (a bad MBAP header, a bad CRC, another unit)
+    Sent,      ///< a broadcast (station 0) went out: no station answers one
 };
 
 /// Called once, on the loop, with the outcome and the reply PDU (Reply only; valid during the

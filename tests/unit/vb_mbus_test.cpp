@@ -516,7 +516,7 @@ TEST(MbusConfig, ErrorsAtTheirNode) {
         {"mbus: {routes: {300: \"127.0.0.1:5022\"}}\n", 2, 17, "mbus.routes station"},
         {"mbus: {transport: rtu}\n", 2, 7, "transport rtu needs rtu:"},
         {"mbus: {}\n", 2, 7, "transport tcp needs"},
-        {"mbus: {transport: rtu, rtu: {device: /dev/ttyS2}}\n", 2, 19, "rtu is not emulated yet"},
+        {"mbus: {transport: rtu, rtu: {device: /dev/ttyS2, baud: 1234}}\n", 2, 56, "baud"},
         {"mbus: {tcp: {host: 127.0.0.1}, colour: red}\n", 2, 32, "colour"},
         {"modbus: {rtu: {device: /dev/ttyS1}}\nmbus: {transport: rtu, rtu: {device: "
          "/dev/ttyS1}}\n",
@@ -531,6 +531,22 @@ TEST(MbusConfig, ErrorsAtTheirNode) {
                                      }),
                                      "vb.yaml", c.line, c.col, c.needle);
     }
+}
+
+TEST(MbusConfig, RtuLineIsRead) {
+    const auto cfg = config::parse_config(
+        "profile: vb\nmbus: {transport: rtu, rtu: {device: /dev/ttyS2, baud: 19200, parity: N, "
+        "stop_bits: 2}}\n",
+        "vb.yaml");
+    const auto m = profiles::of(cfg).master(cfg);
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->transport, config::MasterTransport::Rtu);
+    ASSERT_TRUE(m->rtu);
+    EXPECT_EQ(m->rtu->device, "/dev/ttyS2");
+    EXPECT_EQ(m->rtu->baud, 19200);
+    EXPECT_EQ(m->rtu->parity, 'N');
+    EXPECT_EQ(m->rtu->data_bits, 8);
+    EXPECT_EQ(m->rtu->stop_bits, 2);
 }
 
 TEST(MbusConfig, TcpEndpointAndRoutesAreRead) {

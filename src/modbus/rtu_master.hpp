@@ -1,0 +1,42 @@
+#pragma once
+// Modbus RTU master on the event loop: a serial line of its own (the VB's CP2), requests framed
+// as address + PDU + CRC after t3.5 of silence, the reply framed by the same t3.5/t1.5/CRC code
+// as the slave side (RtuFramer) and judged by rtu_reply. One transaction at a time; a broadcast
+// (station 0) gets no reply. A line that fails (read error, hang-up: an unplugged adapter, a
+// socat that went away) is closed; the transaction on it times out and each later one tries
+// to open the device again by its path, so a line that stays gone costs one open() per
+// transaction and a line that comes back is used again.
+
+#include <asio.hpp>
+#include <cstdint>
+#include <memory>
+
+#include "master_transport.hpp"
+#include "serial_line.hpp"
+
+namespace plcemu::modbus {
+
+/// The RTU master.
+class RtuMaster final : public MasterTransport {
+public:
+    /// Opens and configures the device; throws std::system_error when it cannot.
+    RtuMaster(asio::io_context& io, RtuOptions options);
+    ~RtuMaster() override;
+    RtuMaster(const RtuMaster&) = delete;
+    RtuMaster& operator=(const RtuMaster&) = delete;
+
+    void transact(std::uint8_t station,
+                  std::span<const std::uint8_t> pdu,
+                  std::chrono::milliseconds timeout,
+                  MasterDone done) override;
+    void cancel() noexcept override;
+    void stop() noexcept override;
+    std::string description() const override;
+
+    struct State;
+
+private:
+    std::shared_ptr<State> state_;
+};
+
+}  // namespace plcemu::modbus
