@@ -499,6 +499,18 @@ def r0_of(start):
     return ", ".join(str(v) for v in values(start))
 
 
+def bad_reload_keeps_polling(master, mbus, error, slave):
+    """A reload with `mbus` is rejected with `error`, and the master still polls `slave`: new
+    values there land in D2000-D2009."""
+    added = reload(master, MASTER.format(mbus=mbus, set2=2))
+    assert "configuration rejected" in added and error in added, added
+    assert not slave.client().write_registers(0, values(3001), slave=5).isError()
+    c = master.client()
+    got, _ = wait_for(lambda: regs(c, 2000, 10) == values(3001), timeout=1.0)
+    assert got, "still polling where it did"
+    assert master.proc.poll() is None
+
+
 # A reload that gives station 5 a route of its own moves its transfers there; the statuses and
 # the pass counter go on; a reload the config check rejects keeps the master polling where it
 # did.
@@ -523,13 +535,8 @@ def test_reload_routes_the_tcp_master_elsewhere_and_a_bad_reload_keeps_it(start_
     got, _ = wait_for(lambda: regs(c, 102)[0] >= passes + 2, timeout=1.0)
     assert got, "passes go on after the reload"
 
-    added = reload(master, MASTER.format(mbus="{tcp: {host: plc.local, port: 502}}", set2=2))
-    assert "configuration rejected" in added and "expected an IP address" in added, added
-    s = b.client()
-    assert not s.write_registers(0, values(3001), slave=5).isError()
-    got, _ = wait_for(lambda: regs(c, 2000, 10) == values(3001), timeout=1.0)
-    assert got, "still polling station 5 through its route"
-    assert master.proc.poll() is None
+    bad_reload_keeps_polling(master, "{tcp: {host: plc.local, port: 502}}",
+                             "expected an IP address", b)
 
 
 # Over RTU, a reload naming another device moves the master to it (the old line is closed); a
@@ -555,12 +562,7 @@ def test_reload_moves_the_rtu_master_to_another_device(start_plcemud, tmp_path):
         got, _ = wait_for(lambda: status(c) == 0x0502, timeout=1.0)
         assert got, hex(status(c))
 
-        added = reload(master, MASTER.format(mbus="{transport: rtu}", set2=2))
-        assert "configuration rejected" in added and "transport rtu needs rtu:" in added, added
-        s = b.client()
-        assert not s.write_registers(0, values(3001), slave=5).isError()
-        got, _ = wait_for(lambda: regs(c, 2000, 10) == values(3001), timeout=1.0)
-        assert got, "still polling the second device"
+        bad_reload_keeps_polling(master, "{transport: rtu}", "transport rtu needs rtu:", b)
     finally:
         first.stop()
         second.stop()
