@@ -18,8 +18,8 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-struct RtuMaster::State : std::enable_shared_from_this<RtuMaster::State> {
-    State(asio::io_context& io, RtuOptions o)
+struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
+    RtuMasterState(asio::io_context& io, RtuOptions o)
         : options(std::move(o)),
           line(io),
           deadline(io),
@@ -211,10 +211,13 @@ struct RtuMaster::State : std::enable_shared_from_this<RtuMaster::State> {
     }
 
     void stop() noexcept {
+        if (stopped) return;
         stopped = true;
         cancel();
         close();
     }
+
+    std::string description() const { return "rtu " + describe(options); }
 
     RtuOptions options;
     asio::posix::stream_descriptor line;
@@ -240,25 +243,10 @@ struct RtuMaster::State : std::enable_shared_from_this<RtuMaster::State> {
 };
 
 RtuMaster::RtuMaster(asio::io_context& io, RtuOptions options)
-    : state_(std::make_shared<State>(io, std::move(options))) {
+    : SharedStateTransport(std::make_shared<RtuMasterState>(io, std::move(options))) {
     state_->open();
 }
 
-RtuMaster::~RtuMaster() { stop(); }
-
-void RtuMaster::transact(std::uint8_t station,
-                         std::span<const std::uint8_t> pdu,
-                         std::chrono::milliseconds timeout,
-                         MasterDone done) {
-    state_->transact(station, pdu, timeout, std::move(done));
-}
-
-void RtuMaster::cancel() noexcept { state_->cancel(); }
-
-void RtuMaster::stop() noexcept {
-    if (!state_->stopped) state_->stop();
-}
-
-std::string RtuMaster::description() const { return "rtu " + describe(state_->options); }
+RtuMaster::~RtuMaster() = default;
 
 }  // namespace plcemu::modbus

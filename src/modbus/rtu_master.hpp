@@ -9,34 +9,22 @@
 
 #include <asio.hpp>
 #include <cstdint>
-#include <memory>
 
 #include "master_transport.hpp"
 #include "serial_line.hpp"
 
 namespace plcemu::modbus {
 
+struct RtuMasterState;
+
 /// The RTU master.
-class RtuMaster final : public MasterTransport {
+class RtuMaster final : public SharedStateTransport<RtuMasterState> {
 public:
     /// Opens and configures the device; throws std::system_error when it cannot.
     RtuMaster(asio::io_context& io, RtuOptions options);
     ~RtuMaster() override;
     RtuMaster(const RtuMaster&) = delete;
     RtuMaster& operator=(const RtuMaster&) = delete;
-
-    void transact(std::uint8_t station,
-                  std::span<const std::uint8_t> pdu,
-                  std::chrono::milliseconds timeout,
-                  MasterDone done) override;
-    void cancel() noexcept override;
-    void stop() noexcept override;
-    std::string description() const override;
-
-    struct State;
-
-private:
-    std::shared_ptr<State> state_;
 };
 
 }  // namespace plcemu::modbus
