@@ -35,7 +35,8 @@ using Clock = std::chrono::steady_clock;
 using engine::OutboundStatus;
 using testing::PluggablePty;
 
-constexpr int kBaud = 9600;  // 8N1: t3.5 = 3.5 × 10 bits / 9600 ≈ 3.65 ms
+constexpr int kBaud = 9600;      // 8N1: t3.5 = 3.5 × 10 bits / 9600 ≈ 3.65 ms
+constexpr int kSlowBaud = 1200;  // 8N1: a character 8.3 ms, t1.5 12.5 ms, t3.5 29 ms
 
 Bytes with_crc(Bytes f) {
     const std::uint16_t crc = crc16(f.data(), f.size());
@@ -72,6 +73,14 @@ protected:
     }
     std::size_t count(const std::string& needle) const { return loop_.count(needle); }
     PluggablePty& pty() { return loop_.pty(); }
+
+    // The master again, at kSlowBaud: tests that time pauses on the line need silences far longer
+    // than a loaded machine's scheduling delays.
+    void slow_line() {
+        link_.reset();
+        link_ = std::make_unique<daemon::MasterLink>(
+            std::make_unique<RtuMaster>(loop_.io, RtuOptions{pty().link(), kSlowBaud, 'N', 8, 1}));
+    }
 
     // Whatever the master wrote within `limit` (stops at `expected` bytes); stamped when the
     // first byte was read.
@@ -157,17 +166,18 @@ TEST_F(RtuMasterTest, FragmentIsMalformed) {
 }
 
 TEST_F(RtuMasterTest, PauseInsideTheReplyIsMalformed) {
-    ASSERT_TRUE(link_->submit(read_request()));
+    slow_line();
+    ASSERT_TRUE(link_->submit(read_request(5, 1000)));
     ASSERT_EQ(on_line(kReadFrame.size()), kReadFrame);
-    // The master reads the first bytes, then one more 3 ms later: a pause longer than t1.5
-    // (1.56 ms) inside the frame, or, should the loop be late, longer than t3.5 (3.65 ms), which
-    // makes the first bytes a fragment. Either way, no valid frame.
+    // The master reads the first bytes, then one more 25 ms later: a pause longer than t1.5
+    // inside the frame, or, should the loop be late, longer than t3.5, which makes the first
+    // bytes a fragment. Either way, no valid frame.
     answer(Bytes(kReadReply.begin(), kReadReply.begin() + 3));
-    run_until([] { return false; }, 3ms);
+    run_until([] { return false; }, 25ms);
     answer(Bytes(kReadReply.begin() + 3, kReadReply.begin() + 4));
-    run_until([] { return false; }, 1ms);
+    run_until([] { return false; }, 25ms);
     answer(Bytes(kReadReply.begin() + 4, kReadReply.end()));
-    const auto c = completion();
+    const auto c = completion(2s);
     ASSERT_TRUE(c);
     EXPECT_EQ(c->status, OutboundStatus::Malformed);
 }
@@ -205,9 +215,12 @@ TEST_F(RtuMasterTest, SilenceTimesOutAtTheDeadline) {
 }
 
 // "t3.5 of silence before each request", counted from the last byte the line carried: a request
-// due while bytes keep coming (one a millisecond, less than t3.5 apart) waits for them to stop.
+// due while bytes keep coming (one every millisecond or so, less than t3.5 apart) waits for them
+// to stop.
 TEST_F(RtuMasterTest, RequestWaitsForT35OfSilence) {
-    const auto t35 = RtuTiming::for_line(kBaud, 'N', 8, 1).t35;
+    // At 1200 baud t3.5 is 29 ms: a loaded machine writes the noise far more often than that.
+    slow_line();
+    const auto t35 = RtuTiming::for_line(kSlowBaud, 'N', 8, 1).t35;
     Bytes during;
     Clock::time_point last{};
     auto noise = [&](int ms) {
