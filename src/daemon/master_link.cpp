@@ -88,11 +88,13 @@ void MasterLink::abandon() noexcept {
 }
 
 std::unique_ptr<MasterLink> open_master_link(asio::io_context& io,
-                                             const config::MasterConfig& config) {
+                                             const config::MasterConfig& config,
+                                             bool strict) {
     if (config.transport == config::MasterTransport::Rtu) {
         const config::RtuConfig& r = *config.rtu;
         return std::make_unique<MasterLink>(std::make_unique<modbus::RtuMaster>(
-            io, modbus::RtuOptions{r.device, r.baud, r.parity, r.data_bits, r.stop_bits}));
+            io, modbus::RtuOptions{r.device, r.baud, r.parity, r.data_bits, r.stop_bits},
+            strict ? modbus::RtuMaster::Open::Now : modbus::RtuMaster::Open::Lazily));
     }
     modbus::TcpMasterOptions o;
     if (!config.tcp.host.empty()) o.fallback = endpoint_of(config.tcp);

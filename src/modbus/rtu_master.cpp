@@ -38,6 +38,7 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
             throw std::system_error(ec, "rtu: " + options.device);
         }
         up = true;
+        opened = true;
         open_failed = false;
         framer.clear();
         read();
@@ -66,8 +67,10 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
         send_after_silence();
     }
 
-    // A line that failed is opened again by its path when a transfer needs it.
+    // A line that failed, or could not be opened at a reload, is opened (again) by its path when
+    // a transfer needs it; a failure is logged once.
     bool reopen() {
+        const bool again = opened;
         try {
             open();
         } catch (const std::system_error& e) {
@@ -77,7 +80,7 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
             }
             return false;
         }
-        spdlog::info("mbus: rtu {}: reopened", options.device);
+        spdlog::info("mbus: rtu {}: {}", options.device, again ? "reopened" : "opened");
         return true;
     }
 
@@ -231,6 +234,7 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
     std::array<std::uint8_t, 512> rx{};
     Clock::time_point quiet_from{};  // the line is silent from then on, as far as we know
     bool up = false;                 // the device is open
+    bool opened = false;             // it was open once
     bool open_failed = false;        // the last reopen failed (logged once)
     bool writing = false;            // a write is under way
     bool active = false;             // a transaction waits for its outcome
@@ -242,9 +246,13 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
     bool stopped = false;
 };
 
-RtuMaster::RtuMaster(asio::io_context& io, RtuOptions options)
+RtuMaster::RtuMaster(asio::io_context& io, RtuOptions options, Open open)
     : SharedStateTransport(std::make_shared<RtuMasterState>(io, std::move(options))) {
-    state_->open();
+    if (open == Open::Now) {
+        state_->open();
+    } else {
+        state_->reopen();
+    }
 }
 
 RtuMaster::~RtuMaster() = default;

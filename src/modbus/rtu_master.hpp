@@ -20,8 +20,13 @@ struct RtuMasterState;
 /// The RTU master.
 class RtuMaster final : public SharedStateTransport<RtuMasterState> {
 public:
-    /// Opens and configures the device; throws std::system_error when it cannot.
-    RtuMaster(asio::io_context& io, RtuOptions options);
+    /// How a device that cannot be opened at construction is taken.
+    enum class Open : std::uint8_t {
+        Now,     ///< throw std::system_error (a start: the config names a device that is not there)
+        Lazily,  ///< log it and try again at every transfer, as for a device that went away
+    };
+    /// Opens and configures the device.
+    RtuMaster(asio::io_context& io, RtuOptions options, Open open = Open::Now);
     ~RtuMaster() override;
     RtuMaster(const RtuMaster&) = delete;
     RtuMaster& operator=(const RtuMaster&) = delete;

@@ -566,3 +566,31 @@ def test_reload_moves_the_rtu_master_to_another_device(start_plcemud, tmp_path):
     finally:
         first.stop()
         second.stop()
+
+
+# A reload that names a device not there yet keeps the master port: status 5 meanwhile, and the
+# first transfer after the device appears opens it.
+def test_reload_to_a_device_not_there_yet_is_status_5_until_it_appears(start_plcemud, tmp_path):
+    first = PtyPair(new_dir(tmp_path, "pty"))
+    later = new_dir(tmp_path, "pty")
+    second = None
+    try:
+        _, master, c = polling_over_rtu(start_plcemud, first)
+        device = str(later / "plcemu-rtu-b")  # PtyPair's name for its master end
+        added = reload(master, MASTER.format(mbus=rtu_mbus(device), set2=2))
+        assert "reload: done" in added and "trying again at every transfer" in added, added
+        got, _ = wait_for(lambda: status(c) >> 8 == 5, timeout=1.0)
+        assert got, hex(status(c))
+        assert served_within(c, 0.05, n=30) < 0.05
+
+        second = PtyPair(later)
+        assert second.master == device
+        slave = start_plcemud(slave_config(device=second.slave, r0=r0_of(2001)))
+        assert slave.wait_log("listening on rtu"), slave.log_text()
+        got, _ = wait_for(lambda: regs(c, 2000, 10) == values(2001), timeout=2.0)
+        assert got, master.log_text()
+        assert f"mbus: rtu {device}: opened" in master.log_text()
+    finally:
+        first.stop()
+        if second:
+            second.stop()

@@ -321,6 +321,42 @@ TEST(RtuMasterOpen, MissingDeviceIsAnErrorAtStart) {
         std::system_error);
 }
 
+// At a reload a missing device is taken as one that went away: status 5 meanwhile, and the first
+// transfer after it appears opens it.
+TEST(RtuMasterOpen, MissingDeviceAtAReloadIsOpenedOnceItAppears) {
+    testing::PtyLoop loop("rtu-master-open-test");
+    loop.pty().unplug();
+    daemon::MasterLink link(std::make_unique<RtuMaster>(
+        loop.io, RtuOptions{loop.pty().link(), kBaud, 'N', 8, 1}, RtuMaster::Open::Lazily));
+    EXPECT_EQ(loop.count("trying again at every transfer"), 1u) << loop.log();
+    std::optional<engine::OutboundCompletion> c;
+    auto completed = [&] { return (c = link.poll()).has_value(); };
+    ASSERT_TRUE(link.submit(read_request(5, 50)));
+    loop.run_until(completed, 1000ms, 1ms);
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->status, OutboundStatus::TimedOut);
+
+    loop.pty().plug();
+    ASSERT_TRUE(link.submit(read_request(5, 500)));
+    Bytes got;
+    loop.run_until(
+        [&] {
+            std::array<std::uint8_t, 64> b{};
+            const ssize_t n = ::read(loop.pty().master(), b.data(), b.size());
+            if (n > 0) got.insert(got.end(), b.begin(), b.begin() + n);
+            return got.size() >= kReadFrame.size();
+        },
+        500ms, 1ms);
+    ASSERT_EQ(got, kReadFrame);
+    ASSERT_EQ(::write(loop.pty().master(), kReadReply.data(), kReadReply.size()),
+              static_cast<ssize_t>(kReadReply.size()));
+    c.reset();
+    loop.run_until(completed, 1000ms, 1ms);
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->status, OutboundStatus::Reply);
+    EXPECT_EQ(loop.count(loop.pty().link() + ": opened"), 1u) << loop.log();
+}
+
 // The pure part, as the fuzz harness drives it.
 TEST(RtuReply, OnlyAWholeFrameOfTheStationIsAReply) {
     const Bytes f = kReadReply;
