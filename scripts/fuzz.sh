@@ -12,7 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config)
+readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config fuzz_master_reply)
 readonly BUILD=build-fuzz
 
 usage() {

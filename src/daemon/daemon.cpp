@@ -101,7 +101,7 @@ public:
             tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(*cfg_));
         }
         open_rtu();
-        open_master();
+        open_master(true);
         start_scanning();
 
         spdlog::info("plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
@@ -153,11 +153,12 @@ private:
     }
 
     // The master port the program polls other devices through (VB MBUS), on the same loop:
-    // its completions wait for the next scan, which never waits for them.
-    void open_master() {
+    // its completions wait for the next scan, which never waits for them. A serial device that
+    // is missing stops a start; at a reload it is tried again at every transfer.
+    void open_master(bool at_start) {
         const auto master = profiles::of(*cfg_).master(*cfg_);
         if (!master) return;
-        master_ = open_master_link(io_, *master);
+        master_ = open_master_link(io_, *master, at_start);
         plc_->engine().set_outbound(master_.get());
         spdlog::info("mbus: master via {}", master_->description());
     }
@@ -383,7 +384,7 @@ private:
         // The new program's MBUS starts afresh on a new port; the old one's request is dropped.
         master_.reset();
         try {
-            open_master();
+            open_master(false);
         } catch (const std::exception& e) {
             spdlog::error("reload: mbus: {}; running without the master port", e.what());
         }

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "modbus/rtu_master.hpp"
 #include "modbus/tcp_master.hpp"
 
 namespace plcemu::daemon {
@@ -54,6 +55,11 @@ void MasterLink::on_done(modbus::MasterOutcome outcome,
         case modbus::MasterOutcome::Garbled:
             c.status = engine::OutboundStatus::Malformed;
             break;
+        case modbus::MasterOutcome::Sent:
+            // A broadcast write is done once sent; nobody answers a broadcast read.
+            c.status = modbus::is_write(request_[0]) ? engine::OutboundStatus::Reply
+                                                     : engine::OutboundStatus::TimedOut;
+            break;
         case modbus::MasterOutcome::Reply: {
             const auto check = modbus::check_reply({request_.data(), request_size_}, pdu, c.values);
             c.status = check.verdict == modbus::ReplyVerdict::Ok ? engine::OutboundStatus::Reply
@@ -82,7 +88,14 @@ void MasterLink::abandon() noexcept {
 }
 
 std::unique_ptr<MasterLink> open_master_link(asio::io_context& io,
-                                             const config::MasterConfig& config) {
+                                             const config::MasterConfig& config,
+                                             bool strict) {
+    if (config.transport == config::MasterTransport::Rtu) {
+        const config::RtuConfig& r = *config.rtu;
+        return std::make_unique<MasterLink>(std::make_unique<modbus::RtuMaster>(
+            io, modbus::RtuOptions{r.device, r.baud, r.parity, r.data_bits, r.stop_bits},
+            strict ? modbus::RtuMaster::Open::Now : modbus::RtuMaster::Open::Lazily));
+    }
     modbus::TcpMasterOptions o;
     if (!config.tcp.host.empty()) o.fallback = endpoint_of(config.tcp);
     for (const auto& r : config.routes) o.routes.emplace_back(r.station, endpoint_of(r.endpoint));

@@ -40,9 +40,11 @@ private:
     std::optional<engine::OutboundCompletion> result_;
 };
 
-/// Opens the master port `config` describes on `io` (RTU: opens the serial device; throws
-/// std::system_error when it cannot).
+/// Opens the master port `config` describes on `io`. RTU: opens the serial device; when it
+/// cannot, throws std::system_error if `strict` (at start), else logs it and tries again at
+/// every transfer (at a reload: the running PLC keeps its port and shows status 5 meanwhile).
 std::unique_ptr<MasterLink> open_master_link(asio::io_context& io,
-                                             const config::MasterConfig& config);
+                                             const config::MasterConfig& config,
+                                             bool strict = true);
 
 }  // namespace plcemu::daemon

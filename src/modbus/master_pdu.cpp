@@ -37,6 +37,11 @@ std::size_t bit_bytes(std::uint16_t quantity) { return (quantity + 7u) / 8u; }
 
 }  // namespace
 
+bool is_write(std::uint8_t function) noexcept {
+    return function == kWriteCoil || function == kWriteRegister || function == kWriteCoils ||
+           function == kWriteRegisters;
+}
+
 std::size_t encode_request(std::uint8_t function,
                            std::uint16_t address,
                            std::uint16_t quantity,

@@ -22,6 +22,9 @@ std::size_t encode_request(std::uint8_t function,
                            std::span<const std::uint16_t> values,
                            std::span<std::uint8_t> out) noexcept;
 
+/// True for the write functions a master sends (5, 6, 15, 16).
+bool is_write(std::uint8_t function) noexcept;
+
 /// What a reply says about its request.
 enum class ReplyVerdict : std::uint8_t {
     Ok,         ///< answers the request (a read's values were taken)

@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
+#include <utility>
 
 namespace plcemu::modbus {
 
@@ -16,6 +18,7 @@ enum class MasterOutcome : std::uint8_t {
     Reply,     ///< a frame from the station answering this transaction
     TimedOut,  ///< nothing by the deadline (no connection, a closed one, a silent station)
     Garbled,   ///< bytes that are no frame (a bad MBAP header, a bad CRC, another unit)
+    Sent,      ///< a broadcast (station 0) went out: no station answers one
 };
 
 /// Called once, on the loop, with the outcome and the reply PDU (Reply only; valid during the
@@ -38,6 +41,34 @@ public:
     virtual void stop() noexcept = 0;
     /// Where requests go, as logged.
     virtual std::string description() const = 0;
+};
+
+/// A master port whose state lives in an object shared with the handlers it has pending on the
+/// loop, so that a handler that runs after the port is gone finds the state stopped, not freed.
+/// `State` has transact, cancel, stop (which may be called again) and description, and is
+/// complete where the port's constructor and destructor are defined.
+template <class State>
+class SharedStateTransport : public MasterTransport {
+public:
+    ~SharedStateTransport() override { state_->stop(); }
+    SharedStateTransport(const SharedStateTransport&) = delete;
+    SharedStateTransport& operator=(const SharedStateTransport&) = delete;
+
+    void transact(std::uint8_t station,
+                  std::span<const std::uint8_t> pdu,
+                  std::chrono::milliseconds timeout,
+                  MasterDone done) override {
+        state_->transact(station, pdu, timeout, std::move(done));
+    }
+    void cancel() noexcept override { state_->cancel(); }
+    void stop() noexcept override { state_->stop(); }
+    std::string description() const override { return state_->description(); }
+
+protected:
+    explicit SharedStateTransport(std::shared_ptr<State> state)
+        : state_(std::move(state)) {}
+
+    std::shared_ptr<State> state_;  ///< never null
 };
 
 }  // namespace plcemu::modbus

@@ -1,8 +1,6 @@
 #include "rtu_server.hpp"
 
-#include <fcntl.h>
 #include <spdlog/spdlog.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,83 +23,6 @@ constexpr auto kMaxReopen = std::chrono::seconds(5);
 // that opens and fails at once is the same outage, not a new "reopened"/"lost" pair.
 constexpr auto kSettle = std::chrono::seconds(1);
 
-speed_t speed_of(int baud) {
-    switch (baud) {
-        case 300:
-            return B300;
-        case 600:
-            return B600;
-        case 1200:
-            return B1200;
-        case 2400:
-            return B2400;
-        case 4800:
-            return B4800;
-        case 9600:
-            return B9600;
-        case 19200:
-            return B19200;
-        case 38400:
-            return B38400;
-        case 57600:
-            return B57600;
-        case 115200:
-            return B115200;
-        case 230400:
-            return B230400;
-        case 460800:
-            return B460800;
-        case 921600:
-            return B921600;
-        default:
-            throw std::system_error(EINVAL, std::generic_category(),
-                                    "rtu: unsupported baud rate " + std::to_string(baud));
-    }
-}
-
-[[noreturn]] void fail(int fd, const std::string& what) {
-    const int err = errno;
-    if (fd >= 0) ::close(fd);
-    throw std::system_error(err, std::generic_category(), what);
-}
-
-// Opens the device non-blocking and sets the line: raw bytes, no flow control, no modem lines.
-int open_line(const RtuOptions& o) {
-    const int fd = ::open(o.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) fail(fd, "rtu: cannot open " + o.device);
-    termios tio{};
-    if (::tcgetattr(fd, &tio) != 0) fail(fd, "rtu: " + o.device + " is not a serial device");
-    ::cfmakeraw(&tio);
-    tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS);
-    tio.c_cflag |= CLOCAL | CREAD | (o.data_bits == 7 ? CS7 : CS8);
-    if (o.stop_bits == 2) tio.c_cflag |= CSTOPB;
-    tio.c_iflag &= ~static_cast<tcflag_t>(INPCK | IGNPAR | PARMRK | IXON | IXOFF | IXANY);
-    if (o.parity != 'N') {
-        tio.c_cflag |= PARENB;
-        if (o.parity == 'O') tio.c_cflag |= PARODD;
-        // A character with a parity error is dropped; the frame's CRC then fails: silence.
-        tio.c_iflag |= INPCK | IGNPAR;
-    }
-    tio.c_cc[VMIN] = 1;
-    tio.c_cc[VTIME] = 0;
-    const speed_t speed = speed_of(o.baud);
-    if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0) {
-        fail(fd, "rtu: " + o.device + ": cannot set " + std::to_string(o.baud) + " baud");
-    }
-    if (::tcsetattr(fd, TCSANOW, &tio) != 0) fail(fd, "rtu: cannot configure " + o.device);
-    // tcsetattr succeeds when any part of the request was applied: say what was not.
-    termios now{};
-    constexpr tcflag_t kLine = CSIZE | PARENB | PARODD | CSTOPB;
-    if (::tcgetattr(fd, &now) == 0 &&
-        ((now.c_cflag & kLine) != (tio.c_cflag & kLine) || ::cfgetispeed(&now) != speed)) {
-        spdlog::warn("rtu: {} did not take every line setting of {} {}{}{} (a pty ignores them)",
-                     o.device, o.baud, o.data_bits, o.parity, o.stop_bits);
-    }
-    // Whatever was waiting from before we opened the line is not a request to us.
-    ::tcflush(fd, TCIOFLUSH);
-    return fd;
-}
-
 const char* verdict_name(RtuVerdict v) {
     switch (v) {
         case RtuVerdict::Ok:
@@ -119,11 +40,6 @@ const char* verdict_name(RtuVerdict v) {
 }
 
 }  // namespace
-
-std::string describe(const RtuOptions& o) {
-    return o.device + " " + std::to_string(o.baud) + " " + std::to_string(o.data_bits) + o.parity +
-           std::to_string(o.stop_bits);
-}
 
 struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
     State(asio::io_context& io, Dispatcher& d, RtuOptions o)
@@ -216,7 +132,7 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
         backoff = std::min<Clock::duration>(backoff * 2, kMaxReopen);
         int fd = -1;
         try {
-            fd = open_line(options);
+            fd = open_serial_line(options);
         } catch (const std::system_error&) {
             reopen_later();  // still gone: silent, "lost" said it once
             return;
@@ -266,7 +182,7 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
 
 RtuServer::RtuServer(asio::io_context& io, Dispatcher& dispatcher, RtuOptions options)
     : state_(std::make_shared<State>(io, dispatcher, std::move(options))) {
-    state_->line.assign(open_line(state_->options));
+    state_->line.assign(open_serial_line(state_->options));
     state_->read();
 }
 

@@ -10,20 +10,9 @@
 
 #include "plcemu/modbus/dispatcher.hpp"
 #include "rtu_framer.hpp"
+#include "serial_line.hpp"
 
 namespace plcemu::modbus {
-
-/// Serial line settings (default 9600 8E1).
-struct RtuOptions {
-    std::string device;  ///< e.g. /dev/ttyUSB0 or a pty
-    int baud = 9600;     ///< bits per second
-    char parity = 'E';   ///< 'N', 'E' or 'O'
-    int data_bits = 8;   ///< 7 or 8
-    int stop_bits = 1;   ///< 1 or 2
-};
-
-/// The settings as users write them: "/dev/ttyUSB0 9600 8E1".
-std::string describe(const RtuOptions& o);
 
 /// The serial slave. A device that goes away while running (read error, hang-up) is closed and
 /// reopened by its path with back-off (0.1 s doubling to 5 s), logged once when lost and once

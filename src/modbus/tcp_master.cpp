@@ -42,8 +42,8 @@ struct Connection {
 
 }  // namespace
 
-struct TcpMaster::State : std::enable_shared_from_this<TcpMaster::State> {
-    explicit State(asio::io_context& io)
+struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
+    explicit TcpMasterState(asio::io_context& io)
         : deadline(io) {}
 
     void transact(std::uint8_t to,
@@ -93,6 +93,7 @@ struct TcpMaster::State : std::enable_shared_from_this<TcpMaster::State> {
     }
 
     void stop() noexcept {
+        if (stopped) return;
         stopped = true;
         cancel();
         for (std::size_t i = 0; i < conns.size(); ++i) close(static_cast<int>(i));
@@ -219,6 +220,12 @@ struct TcpMaster::State : std::enable_shared_from_this<TcpMaster::State> {
         c.used = 0;
     }
 
+    std::string description() const {
+        std::string s;
+        for (const auto& c : conns) s += (s.empty() ? "tcp " : ", ") + name_of(c->peer);
+        return s.empty() ? "tcp (no endpoint)" : s;
+    }
+
     std::vector<std::unique_ptr<Connection>> conns;
     std::array<int, 256> route{};  // station → connection, -1: none
     asio::steady_timer deadline;
@@ -232,7 +239,7 @@ struct TcpMaster::State : std::enable_shared_from_this<TcpMaster::State> {
 };
 
 TcpMaster::TcpMaster(asio::io_context& io, TcpMasterOptions options)
-    : state_(std::make_shared<State>(io)) {
+    : SharedStateTransport(std::make_shared<TcpMasterState>(io)) {
     auto index_of = [&](const tcp::endpoint& ep) {
         for (std::size_t i = 0; i < state_->conns.size(); ++i) {
             if (state_->conns[i]->peer == ep) return static_cast<int>(i);
@@ -246,25 +253,6 @@ TcpMaster::TcpMaster(asio::io_context& io, TcpMasterOptions options)
     for (const auto& [station, ep] : options.routes) state_->route[station] = index_of(ep);
 }
 
-TcpMaster::~TcpMaster() { stop(); }
-
-void TcpMaster::transact(std::uint8_t station,
-                         std::span<const std::uint8_t> pdu,
-                         std::chrono::milliseconds timeout,
-                         MasterDone done) {
-    state_->transact(station, pdu, timeout, std::move(done));
-}
-
-void TcpMaster::cancel() noexcept { state_->cancel(); }
-
-void TcpMaster::stop() noexcept {
-    if (!state_->stopped) state_->stop();
-}
-
-std::string TcpMaster::description() const {
-    std::string s;
-    for (const auto& c : state_->conns) s += (s.empty() ? "tcp " : ", ") + name_of(c->peer);
-    return s.empty() ? "tcp (no endpoint)" : s;
-}
+TcpMaster::~TcpMaster() = default;
 
 }  // namespace plcemu::modbus

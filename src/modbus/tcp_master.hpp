@@ -6,7 +6,6 @@
 
 #include <asio.hpp>
 #include <cstdint>
-#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -22,26 +21,15 @@ struct TcpMasterOptions {
     std::vector<std::pair<std::uint8_t, asio::ip::tcp::endpoint>> routes;
 };
 
+struct TcpMasterState;
+
 /// The TCP master.
-class TcpMaster final : public MasterTransport {
+class TcpMaster final : public SharedStateTransport<TcpMasterState> {
 public:
     TcpMaster(asio::io_context& io, TcpMasterOptions options);
     ~TcpMaster() override;
     TcpMaster(const TcpMaster&) = delete;
     TcpMaster& operator=(const TcpMaster&) = delete;
-
-    void transact(std::uint8_t station,
-                  std::span<const std::uint8_t> pdu,
-                  std::chrono::milliseconds timeout,
-                  MasterDone done) override;
-    void cancel() noexcept override;
-    void stop() noexcept override;
-    std::string description() const override;
-
-    struct State;
-
-private:
-    std::shared_ptr<State> state_;
 };
 
 }  // namespace plcemu::modbus

@@ -20,6 +20,7 @@
 #include "fuzz_support.hpp"
 #include "modbus/crc.hpp"
 #include "modbus/rtu_framer.hpp"
+#include "serial_chunks.hpp"
 
 using namespace plcemu;
 
@@ -113,9 +114,6 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
         return;
     }
 
-    const auto timing = modbus::RtuTiming::for_line(9600, 'E', 8, 1);
-    modbus::RtuFramer framer(timing);
-    modbus::RtuFramer::Clock::time_point now{};
     auto handle = [&](const std::optional<modbus::RtuFrame>& f) {
         if (!f || f->verdict != modbus::RtuVerdict::Ok) return;
         const auto b = f->bytes;
@@ -127,15 +125,7 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
         server.serve(b);
         after_frame();
     };
-    while (in.size() >= 3) {
-        const std::size_t n = std::min<std::size_t>(in[0], in.size() - 2);
-        const std::uint8_t pause = in[1];
-        const auto chunk = in.subspan(2, n);
-        in = in.subspan(2 + n);
-        now += timing.char_time * static_cast<std::int64_t>(n) + timing.char_time * pause / 2;
-        handle(framer.receive(chunk, now));
-    }
-    handle(framer.expire(now + timing.t35));
+    fuzz::feed_chunks(in, modbus::RtuTiming::for_line(9600, 'E', 8, 1), handle);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes the hand-made seed corpora of the request harnesses (tests/fuzz/corpus/fuzz_tcp_request
-and fuzz_rtu_frame): a valid request of every function code docs/profile-fbs.md ("Modbus map")
+and fuzz_rtu_frame) and of the master's reply harness (fuzz_master_reply): a valid request of every function code docs/profile-fbs.md ("Modbus map")
 lists, the quantity limits, refusals, and short sequences that set up the user remap or change
 the station. The config corpus is kept as plain YAML files. Run it after changing the seeds:
 tests/fuzz/make_corpus.py
@@ -189,6 +189,46 @@ def main():
     bad[-1] ^= 0xFF
     write("fuzz_rtu_frame", "raw_bad_crc", rtu_raw([(0, bytes(bad)), (20, good)]))
     write("fuzz_rtu_frame", "raw_too_long", rtu_raw([(0, bytes(200)), (0, bytes(100))]))
+
+    master_replies()
+
+
+MASTER_FCS = [1, 2, 3, 4, 5, 6, 15, 16]
+
+
+def master_input(fc, addr, qty, station, reply, framed=False):
+    """fuzz_master_reply: the request's header, then a reply PDU or raw chunks of RTU frames."""
+    header = bytes([MASTER_FCS.index(fc)]) + be16(addr) + bytes([qty - 1, station - 1, framed])
+    if not framed:
+        return header + reply
+    frame = with_crc(bytes([station]) + reply)
+    return header + bytes([len(frame), 0]) + frame
+
+
+def master_replies():
+    """Replies a master gets: right ones of every function code, exceptions, wrong counts."""
+    h = "fuzz_master_reply"
+    cases = {
+        "fc01_ok": (1, 0, 10, b"\x01\x02\x85\x02"),
+        "fc02_ok": (2, 0, 3, b"\x02\x01\x05"),
+        "fc03_ok": (3, 0, 2, b"\x03\x04\x12\x34\x00\x07"),
+        "fc04_ok": (4, 100, 1, b"\x04\x02\xab\xcd"),
+        "fc05_ok": (5, 7, 1, b"\x05\x00\x07\x00\x00"),
+        "fc06_ok": (6, 7, 1, b"\x06\x00\x07\x00\x00"),
+        "fc15_ok": (15, 0, 10, b"\x0f\x00\x00\x00\x0a"),
+        "fc16_ok": (16, 1000, 5, b"\x10\x03\xe8\x00\x05"),
+        "exception_0b": (16, 1000, 5, b"\x90\x0b"),
+        "wrong_count": (3, 0, 2, b"\x03\x02\x12\x34"),
+        "wrong_function": (3, 0, 1, b"\x04\x02\x12\x34"),
+    }
+    for name, (fc, addr, qty, reply) in cases.items():
+        write(h, name, master_input(fc, addr, qty, 5, reply))
+        write(h, "rtu_" + name, master_input(fc, addr, qty, 5, reply, framed=True))
+    ok = with_crc(b"\x05\x03\x04\x12\x34\x00\x07")
+    head = bytes([MASTER_FCS.index(3)]) + be16(0) + bytes([1, 4, 1])
+    write(h, "rtu_split", head + bytes([3, 0]) + ok[:3] + bytes([len(ok) - 3, 1]) + ok[3:])
+    write(h, "rtu_gap", head + bytes([3, 0]) + ok[:3] + bytes([len(ok) - 3, 5]) + ok[3:])
+    write(h, "rtu_other_station", head + bytes([len(ok), 0]) + b"\x06" + ok[1:])
 
 
 if __name__ == "__main__":

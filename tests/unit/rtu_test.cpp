@@ -30,10 +30,14 @@
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 #include "plcemu/modbus/plc_unit.hpp"
+#include "support/pluggable_pty.hpp"
+#include "support/pty_loop.hpp"
 #include "support/wire.hpp"
 
 namespace plcemu::modbus {
 namespace {
+
+using testing::PluggablePty;
 
 using namespace std::chrono_literals;
 using Bytes = std::vector<std::uint8_t>;
@@ -315,79 +319,17 @@ TEST_F(RtuStation, BroadcastWritesApplyWithoutAnswer) {
     EXPECT_EQ(img_.word(image::Area::R, 5), 0xABCD);
 }
 
-// A serial device that can be unplugged and plugged back: a pty whose slave end is reached
-// through a link, as socat's pty pairs are, and comes back under the same link.
-class PluggablePty {
-public:
-    explicit PluggablePty(std::string link)
-        : link_(std::move(link)) {
-        plug();
-    }
-    ~PluggablePty() { unplug(); }
-    PluggablePty(const PluggablePty&) = delete;
-    PluggablePty& operator=(const PluggablePty&) = delete;
-
-    void plug() {
-        master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-        ASSERT_GE(master_, 0);
-        ASSERT_EQ(::grantpt(master_), 0);
-        ASSERT_EQ(::unlockpt(master_), 0);
-        std::array<char, 128> name{};
-        ASSERT_EQ(::ptsname_r(master_, name.data(), name.size()), 0);
-        termios tio{};
-        ASSERT_EQ(::tcgetattr(master_, &tio), 0);
-        ::cfmakeraw(&tio);
-        ASSERT_EQ(::tcsetattr(master_, TCSANOW, &tio), 0);
-        ::unlink(link_.c_str());
-        ASSERT_EQ(::symlink(name.data(), link_.c_str()), 0);
-    }
-
-    // Closing the master makes the slave read EIO and its /dev/pts node disappear.
-    void unplug() {
-        if (master_ >= 0) ::close(master_);
-        master_ = -1;
-        ::unlink(link_.c_str());
-    }
-
-    int master() const { return master_; }
-    const std::string& link() const { return link_; }
-
-private:
-    std::string link_;
-    int master_ = -1;
-};
-
 // The RTU server on a pty that goes away and comes back: reopened by path, with back-off,
 // logged once each way, and no reopen after stop().
 class RtuReopen : public RtuStation {
 protected:
-    void SetUp() override {
-        previous_ = spdlog::default_logger();
-        auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(log_);
-        spdlog::set_default_logger(std::make_shared<spdlog::logger>("rtu-test", sink));
-        char dir[] = "/tmp/plcemu-rtu-test-XXXXXX";
-        ASSERT_NE(::mkdtemp(dir), nullptr);
-        dir_ = dir;
-        pty_ = std::make_unique<PluggablePty>(dir_ + "/tty");
-    }
-    void TearDown() override {
-        pty_.reset();
-        ::rmdir(dir_.c_str());
-        spdlog::set_default_logger(previous_);
-        spdlog::drop("rtu-test");  // its sink writes to log_, which goes with this fixture
-    }
-
-    // Runs the loop until `done` or `limit`; true when `done`.
     template <class Pred>
     bool run_until(Pred done, std::chrono::milliseconds limit) {
-        const auto end = std::chrono::steady_clock::now() + limit;
-        while (!done()) {
-            if (std::chrono::steady_clock::now() > end) return false;
-            io_.restart();
-            io_.run_for(10ms);
-        }
-        return true;
+        return loop_.run_until(done, limit);
     }
+    std::size_t count(const std::string& needle) const { return loop_.count(needle); }
+    static double cpu_seconds() { return testing::PtyLoop::cpu_seconds(); }
+    PluggablePty& pty() { return loop_.pty(); }
 
     // Sends a read of R4055 on the master end until the station's reply comes back (a request
     // written before the device is reopened is flushed by the open) or `limit` has passed.
@@ -396,16 +338,16 @@ protected:
         const auto end = std::chrono::steady_clock::now() + limit;
         while (std::chrono::steady_clock::now() < end) {
             std::array<std::uint8_t, 64> b{};
-            while (::read(pty_->master(), b.data(), b.size()) > 0) {
+            while (::read(pty().master(), b.data(), b.size()) > 0) {
             }
-            if (::write(pty_->master(), req.data(), req.size()) !=
+            if (::write(pty().master(), req.data(), req.size()) !=
                 static_cast<ssize_t>(req.size())) {
                 return false;
             }
             Bytes got;
             run_until(
                 [&] {
-                    const ssize_t n = ::read(pty_->master(), b.data(), b.size());
+                    const ssize_t n = ::read(pty().master(), b.data(), b.size());
                     if (n > 0) got.insert(got.end(), b.begin(), b.begin() + n);
                     return got.size() >= 7;
                 },
@@ -415,59 +357,41 @@ protected:
         return false;
     }
 
-    std::size_t count(const std::string& needle) const {
-        const std::string text = log_.str();
-        std::size_t n = 0;
-        for (auto at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1))
-            ++n;
-        return n;
-    }
-
-    static double cpu_seconds() {
-        rusage ru{};
-        ::getrusage(RUSAGE_THREAD, &ru);
-        return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
-               static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec) / 1e6;
-    }
-
-    asio::io_context io_;
-    std::ostringstream log_;
-    std::shared_ptr<spdlog::logger> previous_;
-    std::string dir_;
-    std::unique_ptr<PluggablePty> pty_;
+    testing::PtyLoop loop_{"rtu-test"};
+    asio::io_context& io_ = loop_.io;
 };
 
 TEST_F(RtuReopen, DeviceThatComesBackIsReopenedWithoutSpinning) {
-    RtuServer server(io_, disp_, {pty_->link(), 115200, 'N', 8, 1});
+    RtuServer server(io_, disp_, {pty().link(), 115200, 'N', 8, 1});
     ASSERT_TRUE(answered());
 
-    pty_->unplug();
-    ASSERT_TRUE(run_until([&] { return count("lost") == 1; }, 2000ms)) << log_.str();
+    pty().unplug();
+    ASSERT_TRUE(run_until([&] { return count("lost") == 1; }, 2000ms)) << loop_.log();
     // Gone for 2 s: a few silent attempts (0.1 s doubling), no busy loop.
     const double cpu = cpu_seconds();
     run_until([] { return false; }, 2000ms);
     EXPECT_LT(cpu_seconds() - cpu, 0.3);
-    EXPECT_EQ(count("lost"), 1u) << log_.str();
-    EXPECT_EQ(count("reopened"), 0u) << log_.str();
+    EXPECT_EQ(count("lost"), 1u) << loop_.log();
+    EXPECT_EQ(count("reopened"), 0u) << loop_.log();
 
-    pty_->plug();
-    EXPECT_TRUE(answered(6000ms)) << log_.str();  // the next attempt is at most 5 s away
-    EXPECT_EQ(count("lost"), 1u) << log_.str();
-    EXPECT_EQ(count("reopened"), 1u) << log_.str();
-    EXPECT_EQ(count(pty_->link() + ": reopened"), 1u) << log_.str();
+    pty().plug();
+    EXPECT_TRUE(answered(6000ms)) << loop_.log();  // the next attempt is at most 5 s away
+    EXPECT_EQ(count("lost"), 1u) << loop_.log();
+    EXPECT_EQ(count("reopened"), 1u) << loop_.log();
+    EXPECT_EQ(count(pty().link() + ": reopened"), 1u) << loop_.log();
 }
 
 TEST_F(RtuReopen, StopDuringTheBackOffLeavesNothingToRun) {
-    RtuServer server(io_, disp_, {pty_->link(), 115200, 'N', 8, 1});
-    pty_->unplug();
-    ASSERT_TRUE(run_until([&] { return count("lost") == 1; }, 2000ms)) << log_.str();
+    RtuServer server(io_, disp_, {pty().link(), 115200, 'N', 8, 1});
+    pty().unplug();
+    ASSERT_TRUE(run_until([&] { return count("lost") == 1; }, 2000ms)) << loop_.log();
     server.stop();
     // With the back-off timer cancelled the loop runs out of work at once.
     io_.restart();
     const auto start = std::chrono::steady_clock::now();
     io_.run_for(3s);
     EXPECT_LT(std::chrono::steady_clock::now() - start, 500ms);
-    EXPECT_EQ(count("reopened"), 0u) << log_.str();
+    EXPECT_EQ(count("reopened"), 0u) << loop_.log();
 }
 
 }  // namespace

@@ -35,8 +35,8 @@ const std::string kProgram = "  - MBUS: {en: M0, s1: D1000, s2: D100}\n";
 
 // A VB running MBUS over a scripted link, with a table of sets of 7 words at D1000.
 struct Rig {
-    explicit Rig(const std::string& program = kProgram)
-        : p(program, kMbusSection) {
+    explicit Rig(const std::string& program = kProgram, const std::string& head = "")
+        : p(program, kMbusSection + head) {
         p.plc.engine().set_outbound(&link);
     }
     // The table: N, then the sets.
@@ -368,6 +368,36 @@ TEST(Mbus, TableIsReadAgainAtEverySetsTurn) {
     EXPECT_TRUE(r.pass_pulse());
 }
 
+// File registers are "read only registers" (VB manual FNC149) holding program data: the table
+// may live there and a write set may send them, but no read lands there — a read set whose
+// master devices touch them is skipped with status 3 (a device number error), nothing sent.
+TEST(Mbus, FileRegistersHoldTheTableAndAreSentButNeverReadInto) {
+    const std::string files =
+        "file_registers: D1000-D1099\n"
+        "init:\n"
+        "  D1000: 3\n"
+        "  D1001: [5, 1, 2, 13, 1050, 4, 0]\n"   // read into D1050–D1051: file registers
+        "  D1008: [5, 1, 2, 13, 999, 4, 0]\n"    // D999–D1000: the last one is a file register
+        "  D1015: [5, 2, 2, 13, 1090, 4, 10]\n"  // write D1090–D1091 to the slave
+        "  D1090: [41, 42]\n";
+    Rig r(kProgram, files);
+    r.link.responder = echo_slave;
+    r.enable();
+    r.p.scan();
+    EXPECT_EQ(r.status(), 0x0305) << "the reads are refused before anything is sent";
+    ASSERT_EQ(r.link.sent.size(), 1u);
+    EXPECT_EQ(r.link.sent[0].function, 16);
+    EXPECT_EQ(r.link.sent[0].values[0], 41);
+    EXPECT_EQ(r.link.sent[0].values[1], 42);
+    r.p.scan(3);
+    EXPECT_EQ(r.p.d(1050, 2), (W{0, 0})) << "no reply lands in a file register";
+    EXPECT_EQ(r.p.word(Area::D, 999), 0);
+    ASSERT_GE(r.link.sent.size(), 2u);
+    for (const auto& q : r.link.sent)
+        EXPECT_EQ(q.function, 16) << "every pass sends the write only";
+    EXPECT_GE(r.p.word(Area::D, 102), 1) << "passes go on";
+}
+
 // VB manual FNC149: time-out = D9129 × 10 ms, 0 = 100 ms, read when the request is sent.
 TEST(Mbus, TimeoutComesFromD9129WhenSent) {
     Rig r;
@@ -516,7 +546,7 @@ TEST(MbusConfig, ErrorsAtTheirNode) {
         {"mbus: {routes: {300: \"127.0.0.1:5022\"}}\n", 2, 17, "mbus.routes station"},
         {"mbus: {transport: rtu}\n", 2, 7, "transport rtu needs rtu:"},
         {"mbus: {}\n", 2, 7, "transport tcp needs"},
-        {"mbus: {transport: rtu, rtu: {device: /dev/ttyS2}}\n", 2, 19, "rtu is not emulated yet"},
+        {"mbus: {transport: rtu, rtu: {device: /dev/ttyS2, baud: 1234}}\n", 2, 56, "baud"},
         {"mbus: {tcp: {host: 127.0.0.1}, colour: red}\n", 2, 32, "colour"},
         {"modbus: {rtu: {device: /dev/ttyS1}}\nmbus: {transport: rtu, rtu: {device: "
          "/dev/ttyS1}}\n",
@@ -531,6 +561,22 @@ TEST(MbusConfig, ErrorsAtTheirNode) {
                                      }),
                                      "vb.yaml", c.line, c.col, c.needle);
     }
+}
+
+TEST(MbusConfig, RtuLineIsRead) {
+    const auto cfg = config::parse_config(
+        "profile: vb\nmbus: {transport: rtu, rtu: {device: /dev/ttyS2, baud: 19200, parity: N, "
+        "stop_bits: 2}}\n",
+        "vb.yaml");
+    const auto m = profiles::of(cfg).master(cfg);
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->transport, config::MasterTransport::Rtu);
+    ASSERT_TRUE(m->rtu);
+    EXPECT_EQ(m->rtu->device, "/dev/ttyS2");
+    EXPECT_EQ(m->rtu->baud, 19200);
+    EXPECT_EQ(m->rtu->parity, 'N');
+    EXPECT_EQ(m->rtu->data_bits, 8);
+    EXPECT_EQ(m->rtu->stop_bits, 2);
 }
 
 TEST(MbusConfig, TcpEndpointAndRoutesAreRead) {

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <string>
+#include <vector>
 
 #include "instructions/operands.hpp"
 #include "profiles/vb/blocks.hpp"
@@ -35,6 +36,7 @@ struct Bound {
     std::uint32_t s2 = 0;                   // the working area
     std::string where;                      // the entry's "file:line:col"
     const image::Naming* naming = nullptr;  // the profile's: octal areas, 32-bit counters
+    std::vector<image::Range> read_only;    // program data (file registers): no read lands there
 };
 
 class Mbus final : public engine::Instruction {
@@ -73,7 +75,8 @@ public:
                 out.push_back({{Area::D, b_.s1 + offset, 1}, what + at, Number::Unsigned});
             }
             const auto words = set_words(image, k);
-            const mbus::Checked c = mbus::check_set(words, image.layout(), *b_.naming);
+            const mbus::Checked c =
+                mbus::check_set(words, image.layout(), *b_.naming, b_.read_only);
             if (c.status != mbus::kNormal) continue;
             std::string what = set;
             what += c.transfer.read ? "data read from station " : "data written to station ";
@@ -226,7 +229,8 @@ private:
             }
             set_working(img, kSetInProgress, static_cast<std::uint16_t>(s_.set + 1));
             const auto words = set_words(img, s_.set);
-            const mbus::Checked checked = mbus::check_set(words, img.layout(), *b_.naming);
+            const mbus::Checked checked =
+                mbus::check_set(words, img.layout(), *b_.naming, b_.read_only);
             if (checked.status == mbus::kNormal) {
                 // A link still busy with an abandoned request: the set waits for the next scan.
                 submit(img, link, checked.transfer);
@@ -278,6 +282,7 @@ std::unique_ptr<engine::Instruction> make_mbus(const instructions::Entry& ic,
     Bound b;
     b.where = ic.where.text();
     b.naming = &ctx.naming;
+    for (const auto& [range, why] : ctx.services.reserved_outputs) b.read_only.push_back(range);
     b.en = ops.bit_source("en", true);
     b.s1 = d_block(ops, "s1", "S1 (the table)", 1, Use::Read);
     b.s2 = d_block(ops, "s2", "S2 (the working area)", kWorkingWords, Use::Written);

@@ -87,7 +87,8 @@ std::uint8_t function_of(std::uint16_t command, std::uint16_t slave) {
 
 Checked check_set(const std::array<std::uint16_t, kSetWords>& set,
                   const image::Layout& layout,
-                  const image::Naming& naming) {
+                  const image::Naming& naming,
+                  std::span<const image::Range> read_only) {
     Checked out;
     auto fail = [&out](Status s) {
         out.status = s;
@@ -116,6 +117,12 @@ Checked check_set(const std::array<std::uint16_t, kSetWords>& set,
     // Type 11 is the 16-bit counters' values; a 32-bit counter's is not one word.
     if (master->area == Area::CV && range.end() > naming.first_32bit_counter) {
         return fail(kNumberError);
+    }
+    // File registers are "read only registers" (VB manual FNC149): no reply lands in them.
+    if (command == kRead) {
+        for (const auto& r : read_only) {
+            if (range.overlaps(r)) return fail(kNumberError);
+        }
     }
     const std::uint32_t address = set[kSlaveNumber];
     if (address + count - 1 > kMaxSlaveNumber) return fail(kNumberError);

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 
 #include "plcemu/image/area.hpp"
 #include "plcemu/image/layout.hpp"
@@ -44,9 +45,12 @@ struct Checked {
 
 /// Checks `set` in the manual's order (station, command, length, types, writes to read-only
 /// slave types, bit/word kinds, numbers); `layout` says which master devices exist, `naming`
-/// which areas are numbered in octal and which counters have 32-bit values.
+/// which areas are numbered in octal and which counters have 32-bit values. A read whose master
+/// devices overlap `read_only` (the file registers: program data the program only reads) is a
+/// device number error too; a write may send them.
 Checked check_set(const std::array<std::uint16_t, kSetWords>& set,
                   const image::Layout& layout,
-                  const image::Naming& naming);
+                  const image::Naming& naming,
+                  std::span<const image::Range> read_only = {});
 
 }  // namespace plcemu::profiles::vb::mbus

@@ -1,0 +1,27 @@
+#pragma once
+// A serial line as the RTU slave and the RTU master open it: the device path and the line
+// settings, a non-blocking raw descriptor set up from them.
+
+#include <string>
+
+namespace plcemu::modbus {
+
+/// Serial line settings (default 9600 8E1).
+struct RtuOptions {
+    std::string device;  ///< e.g. /dev/ttyUSB0 or a pty
+    int baud = 9600;     ///< bits per second
+    char parity = 'E';   ///< 'N', 'E' or 'O'
+    int data_bits = 8;   ///< 7 or 8
+    int stop_bits = 1;   ///< 1 or 2
+};
+
+/// The settings as users write them: "/dev/ttyUSB0 9600 8E1".
+std::string describe(const RtuOptions& o);
+
+/// Opens the device non-blocking and sets the line: raw bytes, no flow control, no modem lines,
+/// the baud rate, parity and data and stop bits (a setting the device does not take, as a pty
+/// takes none, is logged). Whatever waited on the line is flushed. Returns the descriptor;
+/// throws std::system_error when the device cannot be opened or configured.
+int open_serial_line(const RtuOptions& o);
+
+}  // namespace plcemu::modbus
