@@ -8,11 +8,13 @@
 #
 #   scripts/fuzz.sh 20                      # every harness, 20 s each
 #   scripts/fuzz.sh 600 fuzz_config         # one harness, ten minutes
+#   (harnesses: fuzz_tcp_request, fuzz_rtu_frame, fuzz_config (YAML text), fuzz_config_tree (the
+#   same loader fed trees without the YAML library); docs/development.md, "Fuzzing")
 #   build-fuzz/tests/fuzz/fuzz_config FILE  # replay one input
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config fuzz_master_reply)
+readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config fuzz_config_tree fuzz_master_reply)
 readonly BUILD=build-fuzz
 
 usage() {
@@ -46,8 +48,13 @@ for h in "${harnesses[@]}"; do
     bin=$BUILD/tests/fuzz/$h
     regressions=tests/fuzz/regressions/$h
     log=$TMP/$h.log
+    # fuzz_config_tree reads the keys and values fuzz_config reads, in its own syntax: its
+    # dictionary is fuzz_config's and its own (libFuzzer takes one -dict).
+    dicts=("tests/fuzz/$h.dict")
+    [[ $h == fuzz_config_tree ]] && dicts=(tests/fuzz/fuzz_config.dict "${dicts[@]}")
     dict=()
-    [[ -f tests/fuzz/$h.dict ]] && dict=(-dict="tests/fuzz/$h.dict")
+    for d in "${dicts[@]}"; do [[ -f $d ]] && cat "$d" >>"$TMP/$h.dict"; done
+    [[ -s $TMP/$h.dict ]] && dict=(-dict="$TMP/$h.dict")
 
     # Saved crash inputs first: each must now pass.
     mapfile -t saved < <(find "$regressions" -type f 2>/dev/null | sort)

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <tuple>
 
+#include "plcemu/config/tree.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
 #include "plcemu/profiles/profile.hpp"
@@ -459,13 +460,17 @@ Config read_root(Reader& r, const Node& root) {
         r.fail(root, "the config must be a mapping with at least 'profile:' (one of " +
                          profiles::names() + ")");
     }
-    // The common sections, and those a profile reads itself (which may not be this one's).
-    std::vector<std::string> known(kCommonSections.begin(), kCommonSections.end());
-    for (const profiles::Profile* p : profiles::all()) {
-        for (std::string_view s : p->sections()) {
-            if (std::find(known.begin(), known.end(), s) == known.end()) known.emplace_back(s);
+    // The common sections, and those a profile reads itself (which may not be this one's). The
+    // profiles registered themselves before main(): the list is made once.
+    static const std::vector<std::string> known = [] {
+        std::vector<std::string> k(kCommonSections.begin(), kCommonSections.end());
+        for (const profiles::Profile* p : profiles::all()) {
+            for (std::string_view s : p->sections()) {
+                if (std::find(k.begin(), k.end(), s) == k.end()) k.emplace_back(s);
+            }
         }
-    }
+        return k;
+    }();
     r.check_keys(root, "config", known);
     if (!root["profile"]) r.fail(root, "'profile' is required (one of " + profiles::names() + ")");
     c.profile = r.scalar(root["profile"], "profile");
@@ -551,6 +556,10 @@ Config parse_config(const std::string& text, const std::string& name) {
         throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
                           excerpt(e.msg, kYamlMsgChars));
     }
+    return read_config(root, name);
+}
+
+Config read_config(const Node& root, const std::string& name) {
     Reader r;
     Config c = read_root(r, root);
     c.path = name;

@@ -1,8 +1,10 @@
 #include "plcemu/config/reader.hpp"
 
+#include <bitset>
 #include <cmath>
-#include <set>
 #include <sstream>
+#include <stdexcept>
+#include <string_view>
 
 #include "plcemu/image/excerpt.hpp"
 
@@ -15,7 +17,18 @@ using image::excerpt;
 std::string format_error(const Position& p, const std::string& m) {
     // Line 0: the error is about the file as a whole (e.g. it cannot be opened).
     if (p.line <= 0) return p.file + ": " + m;
-    return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": " + m;
+    const std::string line = std::to_string(p.line);
+    const std::string column = std::to_string(p.column);
+    std::string out;
+    out.reserve(p.file.size() + line.size() + column.size() + m.size() + 4);
+    out += p.file;
+    out += ':';
+    out += line;
+    out += ':';
+    out += column;
+    out += ": ";
+    out += m;
+    return out;
 }
 
 }  // namespace
@@ -61,36 +74,65 @@ void Reader::expect_map(const Node& n, const std::string& what) const {
     if (!n.is_map()) fail(n, what + ": expected a mapping");
 }
 
+namespace {
+
+// Every mapping of a config goes through here: nothing is allocated unless a key is refused. A
+// key is either one of `known` (at most once) or refused where it first stands, so the first
+// refused key is the one a check of duplicates before names would find.
+template <class Names>
+void check_known_keys(const Reader& r, const Node& n, const std::string& what, const Names& known) {
+    r.expect_map(n, what);
+    constexpr std::size_t kMaxNames = 64;
+    if (known.size() > kMaxNames) throw std::logic_error("check_keys: too many names");
+    std::bitset<kMaxNames> seen;
+    for (const auto& [k, v] : n.entries) {
+        if (!k.is_scalar()) r.scalar(k, what + " key");  // refuses it
+        const std::string& key = k.text;
+        std::size_t i = 0;
+        for (const auto& name : known) {
+            if (key == name) break;
+            ++i;
+        }
+        if (i < known.size()) {
+            // A YAML reader keeps the first of two equal keys: a silent surprise, so refuse it.
+            if (seen[i]) r.fail(k, "duplicate key '" + excerpt(key) + "' in " + what);
+            seen[i] = true;
+            continue;
+        }
+        // Built in one piece: mistyped keys are most of what a fuzzer tries.
+        const std::string quoted = excerpt(key);
+        std::size_t length = quoted.size() + what.size() + 48;
+        for (const auto& name : known) length += std::string_view(name).size() + 2;
+        std::string msg;
+        msg.reserve(length);
+        msg += "unknown key '";
+        msg += quoted;
+        msg += "' in ";
+        msg += what;
+        msg += " (expected one of: ";
+        bool first = true;
+        for (const auto& name : known) {
+            if (!first) msg += ", ";
+            first = false;
+            msg += name;
+        }
+        msg += ")";
+        r.fail(k, msg);
+    }
+}
+
+}  // namespace
+
 void Reader::check_keys(const Node& n,
                         const std::string& what,
                         std::initializer_list<const char*> known) const {
-    check_keys(n, what, std::vector<std::string>(known.begin(), known.end()));
+    check_known_keys(*this, n, what, known);
 }
 
 void Reader::check_keys(const Node& n,
                         const std::string& what,
                         const std::vector<std::string>& known) const {
-    expect_map(n, what);
-    std::set<std::string> seen;
-    for (const auto& [k, v] : n.entries) {
-        const std::string key = scalar(k, what + " key");
-        // A YAML reader keeps the first of two equal keys: a silent surprise, so refuse it.
-        if (!seen.insert(key).second) fail(k, "duplicate key '" + excerpt(key) + "' in " + what);
-        bool ok = false;
-        for (const std::string& name : known) ok = ok || key == name;
-        if (ok) continue;
-        std::string list;
-        for (const std::string& name : known) {
-            if (!list.empty()) list += ", ";
-            list += name;
-        }
-        std::string msg = "unknown key '" + excerpt(key) + "' in ";
-        msg += what;
-        msg += " (expected one of: ";
-        msg += list;
-        msg += ")";
-        fail(k, msg);
-    }
+    check_known_keys(*this, n, what, known);
 }
 
 std::string Reader::scalar(const Node& n, const std::string& what) const {

@@ -1,12 +1,16 @@
 #include "plcemu/image/excerpt.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace plcemu::image {
 
 // Counts characters, not bytes, so a cut never splits a UTF-8 sequence; stray bytes are escaped.
 std::string excerpt(std::string_view s, std::size_t max_chars) {
+    static constexpr char kHex[] = "0123456789ABCDEF";
     std::string out;
+    // Enough unless something is escaped: an error message quotes one per refusal.
+    out.reserve(std::min(s.size(), max_chars) + 4);
     std::size_t chars = 0;
     std::size_t pending = 0;  // continuation bytes the last lead byte announced
     char hex[8];
@@ -29,8 +33,9 @@ std::string excerpt(std::string_view s, std::size_t max_chars) {
         } else if (c == '\t') {
             out += "\\t";
         } else if (c < 0x20 || c == 0x7F || (c & 0xC0) == 0x80 || c >= 0xF8) {
-            std::snprintf(hex, sizeof hex, "\\x%02X", c);
-            out += hex;
+            out += "\\x";
+            out += kHex[c >> 4];
+            out += kHex[c & 0xF];
         } else if (c == 0xC2 && next(1) >= 0x80 && next(1) <= 0x9F) {  // C1 controls (NEL…)
             std::snprintf(hex, sizeof hex, "\\u%04X", next(1));
             out += hex;

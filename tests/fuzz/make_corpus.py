@@ -2,7 +2,8 @@
 """Writes the hand-made seed corpora of the request harnesses (tests/fuzz/corpus/fuzz_tcp_request
 and fuzz_rtu_frame) and of the master's reply harness (fuzz_master_reply): a valid request of every function code docs/profile-fbs.md ("Modbus map")
 lists, the quantity limits, refusals, and short sequences that set up the user remap or change
-the station. The config corpus is kept as plain YAML files. Run it after changing the seeds:
+the station; and the seeds of fuzz_config_tree, each YAML seed of fuzz_config (kept as plain YAML
+files) written in that harness's flow syntax (python3-yaml). Run it after changing the seeds:
 tests/fuzz/make_corpus.py
 """
 
@@ -159,7 +160,35 @@ def write(harness, name, data):
     (d / name).write_bytes(data)
 
 
+TREE_SPECIAL = set("{}[],:\n\"")
+
+
+def tree_text(node, top=False):
+    """A YAML document (every scalar a string) in fuzz_config_tree's flow syntax."""
+    if isinstance(node, dict):
+        sep = ",\n " if top else ", "
+        return "{" + sep.join(f"{tree_text(k)}: {tree_text(v)}" for k, v in node.items()) + "}"
+    if isinstance(node, list):
+        return "[" + ", ".join(tree_text(v) for v in node) + "]"
+    text = "" if node is None else str(node)
+    if any(c in TREE_SPECIAL for c in text) or text != text.strip(" \t"):
+        return '"' + text.replace('"', "") + '"'
+    return text
+
+
+def write_config_trees():
+    import yaml  # python3-yaml, only for this
+
+    for f in sorted((HERE / "corpus" / "fuzz_config").iterdir()):
+        try:
+            doc = yaml.load(f.read_text(), Loader=yaml.BaseLoader)
+        except (yaml.YAMLError, UnicodeDecodeError):
+            continue  # a seed of the YAML syntax itself
+        write("fuzz_config_tree", f.name, (tree_text(doc, top=True) + "\n").encode())
+
+
 def main():
+    write_config_trees()
     for name, seq in SEQUENCES.items():
         write("fuzz_tcp_request", name, tcp_stream(seq))
         rec = rtu_records(seq)

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/config/tree.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "profiles/fbs/model.hpp"
 #include "support/config_errors.hpp"
@@ -290,10 +291,41 @@ TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
     EXPECT_GE(f.pos.column, 1) << f.what;
     expect_error("profile: fbs\n  station: 1\n", 2, 10, "");
     expect_error("profile: fbs\nstation: 1\nstation: 2\n", 3, 1, "duplicate key 'station'");
+    // The first refused key is the one named, whether it repeats a key or is unknown.
+    expect_error("profile: fbs\nstation: 1\nstation: 2\nbogus: 1\n", 3, 1,
+                 "duplicate key 'station'");
+    expect_error("profile: fbs\nbogus: 1\nstation: 1\nstation: 2\n", 2, 1,
+                 "unknown key 'bogus' in config (expected one of: profile, model, station,");
+    expect_error("profile: fbs\nbogus: 1\nbogus: 2\n", 2, 1, "unknown key 'bogus'");
     expect_error("profile: fbs\nmodbus: {tcp: {port: 1, port: 2}}\n", 2, 25,
                  "duplicate key 'port' in modbus.tcp");
     expect_error("profile: fbs\nprogram:\n  - MOV: {s: R1, d: R2, s: R3}\n", 3, 25,
                  "MOV: duplicate operand 's'");
+}
+
+// A tree read without YAML (config/tree.hpp) goes through the same loader: values, the path, and
+// errors at the positions the tree's nodes carry.
+TEST(Config, ReadConfigTakesATreeAsParseConfigTakesText) {
+    auto scalar = [](const std::string& text, int line, int column) {
+        Node n;
+        n.kind = Node::Kind::Scalar;
+        n.text = text;
+        n.pos = {"t.tree", line, column};
+        return n;
+    };
+    Node root;
+    root.kind = Node::Kind::Map;
+    root.pos = {"t.tree", 1, 1};
+    root.entries.push_back({scalar("profile", 1, 2), scalar("fbs", 1, 11)});
+    root.entries.push_back({scalar("station", 2, 2), scalar("7", 2, 11)});
+    const Config c = read_config(root, "t.tree");
+    EXPECT_EQ(c.profile, "fbs");
+    EXPECT_EQ(c.station, 7);
+    EXPECT_EQ(c.path, "t.tree");
+
+    root.entries.push_back({scalar("statoin", 3, 4), scalar("1", 3, 13)});
+    const ConfigFailure f = testing::config_failure([&] { read_config(root, "t.tree"); });
+    testing::expect_config_error(f, "t.tree", 3, 4, "unknown key 'statoin' in config");
 }
 
 TEST(Config, LogLevel) {
