@@ -36,12 +36,20 @@ FBS_TEMPERATURE = {
     ],
 }
 
+# A FATEK FB with one TP4: the raw readings and the FB temperature registers besides its operands.
+FB_TP4 = {
+    "profile": "fb",
+    "program": [{"TP4": {"en": "M3", "tp": 0, "pl": 0, "sm": 0, "ym": "Y16", "ar": "R3842",
+                         "tr": "R0", "wr": "R220", "err": "M110", "alm": "M111"}}],
+}
+
 CONFIGS = {
     "default": REPO / "config" / "default.yaml",
     "vb": REPO / "config" / "vb.yaml",
     "vb-pid": REPO / "config" / "vb-pid.yaml",
     "vb-mbus": REPO / "config" / "vb-mbus.yaml",
     "fbs-temperature": FBS_TEMPERATURE,
+    "fb-tp4": FB_TP4,
 }
 
 # Rows each config must have (a sample of what its program, profile and presets describe).
@@ -66,7 +74,10 @@ EXPECTED = {
                         "D308": "TPCTL WR+8", "Y71": "heater output of plant channel 13"},
 }
 # ...and rows it must not have (one past a block's end).
-ABSENT = {"default": ["R12", "D12", "R309"], "fbs-temperature": ["R5028", "R5116", "D102"],
+EXPECTED["fb-tp4"] = {"R3968": "raw reading of temperature point", "R3999": "[31]",
+                      "R4016": "K thermocouple factor", "R4021": "compensation table",
+                      "R227": "TP4 wr", "R3842": "TP4 ar", "Y23": "TP4 ym", "M1926": "RUN"}
+ABSENT = {"fb-tp4": ["R228", "R4", "Y24"], "default": ["R12", "D12", "R309"], "fbs-temperature": ["R5028", "R5116", "D102"],
           "vb-mbus": ["D1022", "D2016"], "vb-pid": ["D225"]}
 
 # The simulator unit's fields as the plugin's plant() takes them: (keyword, scale).
