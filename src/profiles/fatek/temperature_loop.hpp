@@ -3,7 +3,7 @@
 // (FBs manual §21.7) and the FB's FUN73 TSTC and FUN86 TPCTL (FB manual FUN73/FUN86). The
 // positional PID law, the in-zone band, the over-temperature and heater-open warnings, the PWM
 // outputs and the R4005 timing codes are one mechanism; the families differ only in the figures
-// LoopRules holds (docs/profile-fbs.md "FUN86 TPCTL", docs/profile-fb.md "TSTC: control").
+// LoopRules holds (docs/profile-fbs.md "FUN86 TPCTL", docs/profile-fb.md "FUN73 TSTC").
 
 #include <array>
 #include <chrono>

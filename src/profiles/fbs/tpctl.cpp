@@ -37,9 +37,10 @@ struct Bound {
     Device yn;
     long long sn = 0;
     long long zn = 0;
-    bool valid = false;  // the Sn/Zn rule holds
-    int points = 0;      // Zn when valid
-    Device sv, os, pr, ir, dr, out, wr;
+    bool valid = false;   // the Sn/Zn rule holds
+    int points = 0;       // Zn when valid
+    fatek::LoopBlocks l;  // sv, os, pr, ir, dr, or
+    Device wr;
     std::optional<Device> err;
     std::optional<Device> alm;
     instructions::Where pos;  // of the mnemonic
@@ -64,12 +65,7 @@ Bound bind(const instructions::Entry& ic, const BindContext& ctx) {
     b.points = b.valid ? static_cast<int>(b.zn) : 0;
     const auto span = static_cast<std::uint32_t>(std::max(b.points, 1));
     b.yn = ops.device("yn", span, {Area::Y});
-    b.sv = fatek::register_block(ops, "sv", span);
-    b.os = fatek::register_block(ops, "os", span);
-    b.pr = fatek::register_block(ops, "pr", span);
-    b.ir = fatek::register_block(ops, "ir", span);
-    b.dr = fatek::register_block(ops, "dr", span);
-    b.out = fatek::register_block(ops, "or", span);
+    fatek::bind_point_blocks(ops, span, b.l);
     b.wr = fatek::register_block(ops, "wr", kWorkingWords);
     if (ops.has("err")) b.err = ops.bit_output("err");
     if (ops.has("alm")) b.alm = ops.bit_output("alm");
@@ -89,9 +85,9 @@ void check_overlaps(const Bound& me, const instructions::Entry& ic, const BindCo
     Operands ops(ic, ctx);
     const Range wr = block(me.wr, kWorkingWords);
     const std::pair<const char*, Range> own[] = {
-        {"sv", block(me.sv, me.points)}, {"os", block(me.os, me.points)},
-        {"pr", block(me.pr, me.points)}, {"ir", block(me.ir, me.points)},
-        {"dr", block(me.dr, me.points)}, {"or", block(me.out, me.points)}};
+        {"sv", block(me.l.sv, me.points)}, {"os", block(me.l.os, me.points)},
+        {"pr", block(me.l.pr, me.points)}, {"ir", block(me.l.ir, me.points)},
+        {"dr", block(me.l.dr, me.points)}, {"or", block(me.l.out, me.points)}};
     for (const auto& [key, r] : own) {
         if (r.overlaps(wr)) {
             ops.fail(key, ops.format(r) + " overlaps this instruction's working registers " +
@@ -99,7 +95,7 @@ void check_overlaps(const Bound& me, const instructions::Entry& ic, const BindCo
         }
     }
     // Each pair is checked once, at the later entry, against what the earlier ones own.
-    const Range mine_or = block(me.out, me.points);
+    const Range mine_or = block(me.l.out, me.points);
     const Range mine_y = block(me.yn, me.points);
     for (const auto& c : ctx.earlier.claims) {
         const std::string of = " of the " + std::string(c.mnemonic) + " at " + c.where;
@@ -147,7 +143,12 @@ std::optional<Device> decode(const image::Image& img, std::uint16_t v, std::uint
 const fatek::LoopRules kRules{kFullScale, 9999, 60, 100, {1, 2, 4, 8, 16, 32}, false, false};
 
 fatek::LoopBlocks loop_blocks(const Bound& b) {
-    return {b.yn, b.sv, b.os, b.pr, b.ir, b.dr, b.out, b.wr, static_cast<int>(b.sn), b.points};
+    fatek::LoopBlocks l = b.l;
+    l.y = b.yn;
+    l.status = b.wr;
+    l.first = static_cast<int>(b.sn);
+    l.points = b.points;
+    return l;
 }
 
 class Tpctl final : public engine::Instruction {
@@ -162,7 +163,7 @@ public:
         const std::string at = b_.pos.text();
         out.claims.push_back(
             {block(b_.wr, kWorkingWords), engine::ClaimKind::Working, "TPCTL", at});
-        out.claims.push_back({block(b_.out, b_.points), engine::ClaimKind::Output, "TPCTL", at});
+        out.claims.push_back({block(b_.l.out, b_.points), engine::ClaimKind::Output, "TPCTL", at});
         out.claims.push_back({block(b_.yn, b_.points), engine::ClaimKind::Pwm, "TPCTL", at});
         // Y(yn + i) switches the heater of temperature channel sn + i.
         for (int i = 0; i < b_.points; ++i) {
@@ -187,9 +188,9 @@ public:
         const std::string at = ", TPCTL at " + b_.pos.text();
         // Point i of each per-point block, on temperature channel Sn+i.
         const std::pair<const Device*, const char*> points[] = {
-            {&b_.sv, "setpoint, 0.1 degree"}, {&b_.os, "in-zone offset, 0.1 degree"},
-            {&b_.pr, "Kc, 1-9999"},           {&b_.ir, "Ki, 0.01 repeats/min"},
-            {&b_.dr, "Td, 0.01 min"},         {&b_.out, "PID output, 0-16383"}};
+            {&b_.l.sv, "setpoint, 0.1 degree"}, {&b_.l.os, "in-zone offset, 0.1 degree"},
+            {&b_.l.pr, "Kc, 1-9999"},           {&b_.l.ir, "Ki, 0.01 repeats/min"},
+            {&b_.l.dr, "Td, 0.01 min"},         {&b_.l.out, "PID output, 0-16383"}};
         for (int i = 0; i < b_.points; ++i) {
             const std::string point = "TPCTL point " + std::to_string(i) + " (channel " +
                                       std::to_string(b_.sn + i) + ") ";
