@@ -221,3 +221,23 @@ def test_s10_r4005_codes(start_plcemud):
         step(c, 1)
         assert regs(c, 212) == [0]
 
+
+def test_fb_example_yaml_runs_example_1(start_plcemud):
+    """config/fb-example.yaml (the FB manual's FUN73 program example 1): R4010-R4013 from
+    M800-M863, the first execution's defaults Kc 60, Ti 17, Td 100 on all 16 points, and the 16
+    slow loops from 25 degC within 150 +- 5 by 20 simulated minutes, every in-zone bit of WR+8."""
+    from conftest import REPO
+    text = (REPO / "config" / "fb-example.yaml").read_text()
+    text = text.replace("    port: 5020\n", "")
+    d = start_plcemud(text)
+    c = d.client()
+    freeze(c)
+    step(c, 2)
+    assert regs(c, 4010, 4) == [0xFFFF] * 4
+    assert regs(c, 140, 16) == [60] * 16
+    assert regs(c, 160, 16) == [17] * 16
+    assert regs(c, 180, 16) == [100] * 16
+    step(c, 1200 * SCANS_PER_S)
+    readings = [s16(v) for v in regs(c, 0, 16)]
+    assert all(145 <= v <= 155 for v in readings), readings
+    assert regs(c, 208) == [0xFFFF]
