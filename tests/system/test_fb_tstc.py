@@ -241,3 +241,14 @@ def test_fb_example_yaml_runs_example_1(start_plcemud):
     readings = [s16(v) for v in regs(c, 0, 16)]
     assert all(145 <= v <= 155 for v in readings), readings
     assert regs(c, 208) == [0xFFFF]
+
+
+def test_s7_load_errors_contiguous_tr(tmp_path):
+    """FB SPEC S7 load errors of the example 1 program: a TP4 with TR R5 instead of R4, and a TP4
+    with tp 1 under a tp 0 TSTC, are refused at the TP4's operand (status 2, file:line:col)."""
+    good = EXAMPLE1.replace("en: M1", "en: M0").replace("en: M2", "en: M0")
+    assert load_error(tmp_path, good)[0] == 0
+    code, err = load_error(tmp_path, good.replace("tr: R4,", "tr: R5,"))
+    assert code == 2 and "fb.yaml:6:" in err and "must be at R4-R7" in err, err
+    code, err = load_error(tmp_path, good.replace("tp: 0, pl: 0, sm: 4", "tp: 1, pl: 0, sm: 4"))
+    assert code == 2 and "fb.yaml:6:" in err and "same range and polarity" in err, err

@@ -249,19 +249,35 @@ TEST(FbTstc, EnOff) {
     EXPECT_EQ(rig.r(0), 200);
 }
 
-// Load checks: Ym overlapping Yh, OR overlapping WR, two instructions on one module.
+// Load checks: Ym overlapping Yh, OR overlapping WR; and FB manual FUN73's "TR must be contiguous,
+// starting at the first point of modules of the same type": a TP4 measuring a point the TSTC
+// controls must have its Tp and Pl and TR + (p - Sm), refused at whichever entry comes later.
 TEST(FbTstc, LoadChecks) {
-    const auto fails = [](const std::string& program, const std::string& needle) {
+    const auto fails = [](const std::string& program, int line, const std::string& needle) {
         SCOPED_TRACE(program);
         const auto f = testing::config_failure([&] { Rig rig(program); });
         ASSERT_TRUE(f.thrown);
         EXPECT_NE(f.what.find(needle), std::string::npos) << f.what;
-        EXPECT_NE(f.what.find("fb.yaml:6:"), std::string::npos) << f.what;
+        EXPECT_EQ(f.what.rfind("fb.yaml:" + std::to_string(line) + ":", 0), 0u) << f.what;
     };
     std::string p = tstc();
-    fails(p.replace(p.find("yh: Y48"), 7, "yh: Y20"), "Y20-Y23 overlaps its own ym");
+    fails(p.replace(p.find("yh: Y48"), 7, "yh: Y20"), 6, "Y20-Y23 overlaps its own ym");
     p = tstc();
-    fails(p.replace(p.find("or: R300"), 8, "or: R210"), "overlaps its own wr");
+    fails(p.replace(p.find("or: R300"), 8, "or: R210"), 6, "overlaps its own wr");
+
+    const std::string eight = tstc("tp: 0, pl: 0, sm: 0", "sh: 0, zh: 8");
+    const auto tp4 = [](const std::string& tp_pl, const std::string& tr) {
+        return "  - TP4: {en: M0, " + tp_pl + ", sm: 4, ym: Y24, ar: R3845, tr: " + tr +
+               ", wr: R220}\n";
+    };
+    EXPECT_NO_THROW(Rig(eight + tp4("tp: 0, pl: 0", "R4")));
+    EXPECT_NO_THROW(Rig(tp4("tp: 0, pl: 0", "R4") + eight));
+    fails(eight + tp4("tp: 0, pl: 0", "R5"), 7, "must be at R4-R7");
+    fails(eight + tp4("tp: 1, pl: 0", "R4"), 7, "same range and polarity");
+    fails(eight + tp4("tp: 0, pl: 2", "R4"), 7, "same range and polarity");
+    fails(tp4("tp: 0, pl: 0", "R40") + eight, 7, "TR must be contiguous");
+    // A TP4 on points the TSTC does not control may read anywhere.
+    EXPECT_NO_THROW(Rig(tstc() + tp4("tp: 1, pl: 0", "R40")));
 }
 
 }  // namespace

@@ -215,6 +215,7 @@ std::unique_ptr<engine::Instruction> make_tstc(const instructions::Entry& ic,
         for (const auto& c : mine) claims.push_back(c.second);
     }
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
+    if (b.valid && fs != nullptr) fs->contiguity->controlled(ops, b.m, b.sh, b.zh, b.where);
     auto points = fs != nullptr ? fs->points : std::make_shared<Points>();
     return std::make_unique<Tstc>(std::move(b), std::move(points), std::move(claims));
 }
