@@ -26,4 +26,13 @@ image::Device register_block(instructions::Operands& ops, const char* key, std::
     return d;
 }
 
+void bind_point_blocks(instructions::Operands& ops, std::uint32_t span, LoopBlocks& into) {
+    into.sv = register_block(ops, "sv", span);
+    into.os = register_block(ops, "os", span);
+    into.pr = register_block(ops, "pr", span);
+    into.ir = register_block(ops, "ir", span);
+    into.dr = register_block(ops, "dr", span);
+    into.out = register_block(ops, "or", span);
+}
+
 }  // namespace plcemu::profiles::fatek

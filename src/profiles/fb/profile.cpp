@@ -16,6 +16,7 @@
 #include "profiles/fb/temperature_config.hpp"
 #include "profiles/fb/temperature_modules.hpp"
 #include "profiles/fb/tp4.hpp"
+#include "profiles/fb/tstc.hpp"
 
 namespace plcemu::profiles::fb {
 
@@ -58,6 +59,7 @@ public:
         static const instructions::Table kTable{
             {"MOV", &instructions::make_mov},
             {"TP4", &make_tp4},
+            {"TSTC", &make_tstc},
         };
         return kTable;
     }

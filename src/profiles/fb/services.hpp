@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "plcemu/instructions/instructions.hpp"
+#include "profiles/fb/contiguity.hpp"
 #include "profiles/fb/points.hpp"
 #include "profiles/fb/temperature_config.hpp"
 
@@ -16,6 +17,8 @@ namespace plcemu::profiles::fb {
 struct Services : instructions::Services {
     std::shared_ptr<Points> points = std::make_shared<Points>();  ///< shared by the program
     std::vector<TemperatureModule> modules;                       ///< `temperature.modules`
+    /// The TP4s and TSTCs bound so far, for the contiguous-TR rule.
+    std::shared_ptr<Contiguity> contiguity = std::make_shared<Contiguity>();
 };
 
 }  // namespace plcemu::profiles::fb

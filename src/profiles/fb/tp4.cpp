@@ -82,6 +82,7 @@ std::unique_ptr<engine::Instruction> make_tp4(const instructions::Entry& ic,
         for (const auto& c : mine) claims.push_back(c.second);
     }
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
+    if (m.valid && fs != nullptr) fs->contiguity->measured(ops, m, ic.where.text());
     auto points = fs != nullptr ? fs->points : std::make_shared<Points>();
     return std::make_unique<Tp4>(en, ModuleCycle(m, std::move(points)), err, alm,
                                  std::move(claims));

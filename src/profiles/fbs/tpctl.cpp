@@ -11,6 +11,7 @@
 
 #include "instructions/operands.hpp"
 #include "profiles/fatek/operands.hpp"
+#include "profiles/fatek/temperature_loop.hpp"
 #include "profiles/fbs/services.hpp"
 #include "profiles/fbs/special_registers.hpp"
 #include "profiles/fbs/temperature_table.hpp"
@@ -28,9 +29,6 @@ using instructions::BitSource;
 using instructions::Operands;
 using namespace tpctl;
 
-// R4005 codes 0…5 → 1, 2, 4, 8, 16, 32 s.
-constexpr int kMaxTimingCode = 5;
-
 /// The operands of one TPCTL entry, checked.
 struct Bound {
     BitSource en;
@@ -39,9 +37,10 @@ struct Bound {
     Device yn;
     long long sn = 0;
     long long zn = 0;
-    bool valid = false;  // the Sn/Zn rule holds
-    int points = 0;      // Zn when valid
-    Device sv, os, pr, ir, dr, out, wr;
+    bool valid = false;   // the Sn/Zn rule holds
+    int points = 0;       // Zn when valid
+    fatek::LoopBlocks l;  // sv, os, pr, ir, dr, or
+    Device wr;
     std::optional<Device> err;
     std::optional<Device> alm;
     instructions::Where pos;  // of the mnemonic
@@ -66,12 +65,7 @@ Bound bind(const instructions::Entry& ic, const BindContext& ctx) {
     b.points = b.valid ? static_cast<int>(b.zn) : 0;
     const auto span = static_cast<std::uint32_t>(std::max(b.points, 1));
     b.yn = ops.device("yn", span, {Area::Y});
-    b.sv = fatek::register_block(ops, "sv", span);
-    b.os = fatek::register_block(ops, "os", span);
-    b.pr = fatek::register_block(ops, "pr", span);
-    b.ir = fatek::register_block(ops, "ir", span);
-    b.dr = fatek::register_block(ops, "dr", span);
-    b.out = fatek::register_block(ops, "or", span);
+    fatek::bind_point_blocks(ops, span, b.l);
     b.wr = fatek::register_block(ops, "wr", kWorkingWords);
     if (ops.has("err")) b.err = ops.bit_output("err");
     if (ops.has("alm")) b.alm = ops.bit_output("alm");
@@ -91,9 +85,9 @@ void check_overlaps(const Bound& me, const instructions::Entry& ic, const BindCo
     Operands ops(ic, ctx);
     const Range wr = block(me.wr, kWorkingWords);
     const std::pair<const char*, Range> own[] = {
-        {"sv", block(me.sv, me.points)}, {"os", block(me.os, me.points)},
-        {"pr", block(me.pr, me.points)}, {"ir", block(me.ir, me.points)},
-        {"dr", block(me.dr, me.points)}, {"or", block(me.out, me.points)}};
+        {"sv", block(me.l.sv, me.points)}, {"os", block(me.l.os, me.points)},
+        {"pr", block(me.l.pr, me.points)}, {"ir", block(me.l.ir, me.points)},
+        {"dr", block(me.l.dr, me.points)}, {"or", block(me.l.out, me.points)}};
     for (const auto& [key, r] : own) {
         if (r.overlaps(wr)) {
             ops.fail(key, ops.format(r) + " overlaps this instruction's working registers " +
@@ -101,7 +95,7 @@ void check_overlaps(const Bound& me, const instructions::Entry& ic, const BindCo
         }
     }
     // Each pair is checked once, at the later entry, against what the earlier ones own.
-    const Range mine_or = block(me.out, me.points);
+    const Range mine_or = block(me.l.out, me.points);
     const Range mine_y = block(me.yn, me.points);
     for (const auto& c : ctx.earlier.claims) {
         const std::string of = " of the " + std::string(c.mnemonic) + " at " + c.where;
@@ -143,45 +137,33 @@ std::optional<Device> decode(const image::Image& img, std::uint16_t v, std::uint
     return d;
 }
 
-std::chrono::seconds timing_code(unsigned code) {
-    return std::chrono::seconds(1 << std::min<unsigned>(code, kMaxTimingCode));
+// FBs FUN86's figures (FBs manual §21.7): OR 0–16383, E in 0.1° straight into it, Kc/Ki/Td up
+// to 9999, R4007 from 60 s, R4008 in 0.1° from 100, R4005 codes 0…5 → 1, 2, 4, 8, 16, 32 s, and
+// the 7FFFh of a broken sensor is no temperature at all.
+const fatek::LoopRules kRules{kFullScale, 9999, 60, 100, {1, 2, 4, 8, 16, 32}, false, false};
+
+fatek::LoopBlocks loop_blocks(const Bound& b) {
+    fatek::LoopBlocks l = b.l;
+    l.y = b.yn;
+    l.status = b.wr;
+    l.first = static_cast<int>(b.sn);
+    l.points = b.points;
+    return l;
 }
-
-/// One control point's state.
-struct Point {
-    double integral = 0.0;                       // Σ term, output counts
-    int pv_prev = 0;                             // PV when the loop was last solved
-    bool solved = false;                         // pv_prev is valid
-    std::uint16_t output = 0;                    // OR value
-    engine::Duration on{0};                      // PWM on-time latched for the current cycle
-    int over_scans = 0;                          // consecutive scans with PV ≥ R4008
-    bool over = false;                           // over-temperature warning
-    std::optional<engine::Duration> high_since;  // output high while out of zone, since
-    bool open = false;                           // heater-open warning
-
-    void reset() { *this = Point{}; }
-    /// Everything but the over-temperature count, which watches points without PID too.
-    void reset_control() {
-        const int n = over_scans;
-        const bool o = over;
-        reset();
-        over_scans = n;
-        over = o;
-    }
-};
 
 class Tpctl final : public engine::Instruction {
 public:
     Tpctl(Bound b, std::optional<Device> table)
         : b_(std::move(b)),
-          table_(table) {}
+          table_(table),
+          loop_(&kRules, loop_blocks(b_), 1.0, b_.md == 0, 1) {}
 
     void declare(engine::Declarations& out) const override {
         if (!b_.valid) return;  // never executes, never writes
         const std::string at = b_.pos.text();
         out.claims.push_back(
             {block(b_.wr, kWorkingWords), engine::ClaimKind::Working, "TPCTL", at});
-        out.claims.push_back({block(b_.out, b_.points), engine::ClaimKind::Output, "TPCTL", at});
+        out.claims.push_back({block(b_.l.out, b_.points), engine::ClaimKind::Output, "TPCTL", at});
         out.claims.push_back({block(b_.yn, b_.points), engine::ClaimKind::Pwm, "TPCTL", at});
         // Y(yn + i) switches the heater of temperature channel sn + i.
         for (int i = 0; i < b_.points; ++i) {
@@ -206,9 +188,9 @@ public:
         const std::string at = ", TPCTL at " + b_.pos.text();
         // Point i of each per-point block, on temperature channel Sn+i.
         const std::pair<const Device*, const char*> points[] = {
-            {&b_.sv, "setpoint, 0.1 degree"}, {&b_.os, "in-zone offset, 0.1 degree"},
-            {&b_.pr, "Kc, 1-9999"},           {&b_.ir, "Ki, 0.01 repeats/min"},
-            {&b_.dr, "Td, 0.01 min"},         {&b_.out, "PID output, 0-16383"}};
+            {&b_.l.sv, "setpoint, 0.1 degree"}, {&b_.l.os, "in-zone offset, 0.1 degree"},
+            {&b_.l.pr, "Kc, 1-9999"},           {&b_.l.ir, "Ki, 0.01 repeats/min"},
+            {&b_.l.dr, "Td, 0.01 min"},         {&b_.l.out, "PID output, 0-16383"}};
         for (int i = 0; i < b_.points; ++i) {
             const std::string point = "TPCTL point " + std::to_string(i) + " (channel " +
                                       std::to_string(b_.sn + i) + ") ";
@@ -243,20 +225,15 @@ public:
             return;
         }
         write_bit(img, b_.err, false);
-        if (rising) {
-            // R4005 is read only here: changes while EN = 1 wait for the next rise (manual note 1).
-            const std::uint16_t t = img.word(Area::R, sp::kPidTiming);
-            ts_ = timing_code(t & 0xFFu);
-            pwm_ = timing_code(static_cast<unsigned>(t >> 8));
-        }
+        // R4005 is read only at the rise: changes while EN = 1 wait for the next (manual note 1).
+        if (rising) loop_.latch_timing(img);
         if (!en) {
             stop(img);
             return;
         }
-        if (!defaults_given_) {
-            first_execution(img);
-            defaults_given_ = true;
-        }
+        // "When performing the instruction the first time": default gains for every point whose
+        // PR is still 0 (a retained, tuned PR is kept).
+        loop_.first_execution(img, {kDefaultKc, kDefaultKi, kDefaultTd});
         const std::optional<Device> pv_start = pv_source(img);
         if (!pv_start) {
             // "FUN86 will be enabled after reading all temperature channels."
@@ -271,27 +248,6 @@ public:
 private:
     static void write_bit(image::Image& img, const std::optional<Device>& d, bool v) {
         if (d) img.write_bit(*d, v);
-    }
-
-    std::uint16_t word(const image::Image& img, const Device& base, int i) const {
-        return img.word(base.area, base.index + static_cast<std::uint32_t>(i));
-    }
-    void set_word(image::Image& img, const Device& base, int i, std::uint16_t v) const {
-        img.set_word(base.area, base.index + static_cast<std::uint32_t>(i), v);
-    }
-    void set_y(image::Image& img, int i, bool v) const {
-        img.set_bit(Area::Y, b_.yn.index + static_cast<std::uint32_t>(i), v);
-    }
-
-    // The manual's "when performing the instruction the first time": default gains for every
-    // point whose PR is still 0 (a retained, tuned PR is kept).
-    void first_execution(image::Image& img) const {
-        for (int i = 0; i < b_.points; ++i) {
-            if (word(img, b_.pr, i) != 0) continue;
-            set_word(img, b_.pr, i, kDefaultKc);
-            set_word(img, b_.ir, i, kDefaultKi);
-            set_word(img, b_.dr, i, kDefaultTd);
-        }
     }
 
     // Where the readings are, or nothing while the measurement is not running. R4003 = A55Ah
@@ -316,166 +272,27 @@ private:
 
     // EN = 0 (or no measurement): Y off, OR 0, PID state reset, status cleared.
     void stop(image::Image& img) {
-        for (int i = 0; i < b_.points; ++i) {
-            set_y(img, i, false);
-            set_word(img, b_.out, i, 0);
-            points_[static_cast<std::size_t>(i)].reset();
-        }
-        for (std::uint32_t w = 0; w < kWorkingWords; ++w)
-            img.set_word(b_.wr.area, b_.wr.index + w, 0);
+        loop_.stop(img);
         write_bit(img, b_.alm, false);
-        running_ = false;
     }
 
-    bool pid_enabled(const image::Image& img, int channel) const {
-        const std::uint16_t w =
-            img.word(Area::R, sp::kPidEnable + static_cast<std::uint32_t>(channel / 16));
-        return ((w >> (channel % 16)) & 1u) != 0;
-    }
-
+    // A reading of 7FFFh is a broken sensor: no PV (FBs manual §21.3).
     void run(engine::ScanContext& ctx, const Device& pv_start) {
         image::Image& img = ctx.image;
-        const bool heating = b_.hc.read(img);
-        if (!running_ || heating != heating_) {
-            // Start (or a change of action): solve now, start a PWM cycle now, from fresh state.
-            for (auto& p : points_) p.reset();
-            running_ = true;
-            heating_ = heating;
-            next_solve_ = ctx.now;
-            cycle_start_ = ctx.now;
-            cycle_due_ = true;
-        }
-        bool solve = false;
-        if (ctx.now >= next_solve_) {
-            solve = true;
-            next_solve_ += ts_;
-            if (next_solve_ <= ctx.now) next_solve_ = ctx.now + ts_;  // after a jump in time
-        }
-        if (ctx.now >= cycle_start_ + pwm_) {
-            cycle_start_ += pwm_;
-            if (cycle_start_ + pwm_ <= ctx.now) cycle_start_ = ctx.now;
-            cycle_due_ = true;
-        }
-        const bool new_cycle = cycle_due_;
-        cycle_due_ = false;
-
-        const int over_limit = std::max<int>(img.word(Area::R, sp::kOverTemperature), 100);
-        const int open_percent =
-            std::clamp<int>(img.word(Area::R, sp::kHeaterOpenPercent), 80, 100);
-        const auto open_time =
-            std::chrono::seconds(std::max<int>(img.word(Area::R, sp::kHeaterOpenSeconds), 60));
-
-        std::uint32_t in_zone = 0, warn = 0, over_bits = 0, open_bits = 0;
-        bool alarm = false;
+        std::array<fatek::LoopInput, fatek::kLoopMaxPoints> in{};
         for (int i = 0; i < b_.points; ++i) {
-            Point& p = points_[static_cast<std::size_t>(i)];
-            const int channel = static_cast<int>(b_.sn) + i;
             const std::uint16_t raw =
-                img.word(pv_start.area, pv_start.index + static_cast<std::uint32_t>(channel));
-            const bool broken = raw == kBrokenReading;
-            const bool enabled = pid_enabled(img, channel);
-            const int pv = static_cast<std::int16_t>(raw);
-            const int sv = static_cast<std::int16_t>(word(img, b_.sv, i));
-            const int os = word(img, b_.os, i);
-
-            // Over-temperature guards against a shorted SSR, which does not care whether the
-            // point runs PID: every point with a temperature is watched.
-            p.over_scans =
-                !broken && pv >= over_limit ? std::min(p.over_scans + 1, kOverTemperatureScans) : 0;
-            p.over = p.over_scans >= kOverTemperatureScans;
-
-            bool zone = false;
-            if (!enabled || broken) {
-                // R4012/R4013 bit 0: no PID, output off. A broken sensor: no PV to control on,
-                // so the output is off too, and the point is out of zone (ALM).
-                p.reset_control();
-                set_y(img, i, false);
-                set_word(img, b_.out, i, 0);
-                if (enabled) alarm = true;
-            } else {
-                if (solve) solve_point(img, i, p, pv, sv);
-                set_word(img, b_.out, i, p.output);
-                if (new_cycle) {
-                    p.on =
-                        std::chrono::duration_cast<engine::Duration>(pwm_ * p.output) / kFullScale;
-                }
-                // ON for OR/16383 of the cycle, to the nearest scan: a scan holds its Y for dt.
-                set_y(img, i, (ctx.now - cycle_start_) + ctx.dt / 2 < p.on);
-
-                zone = pv >= sv - os && pv <= sv + os;
-                if (!zone && p.output * 100 >= open_percent * kFullScale) {
-                    if (!p.high_since) p.high_since = ctx.now;
-                    p.open = ctx.now - *p.high_since >= open_time;
-                } else {
-                    p.high_since.reset();
-                    p.open = false;
-                }
-                alarm = alarm || !zone;
-            }
-            const std::uint32_t bit = 1u << i;
-            if (zone) in_zone |= bit;
-            if (p.over) over_bits |= bit;
-            if (p.open) open_bits |= bit;
-            if (p.over || p.open) warn |= bit;
-            alarm = alarm || p.over || p.open;
+                img.word(pv_start.area, pv_start.index + static_cast<std::uint32_t>(b_.sn + i));
+            in[static_cast<std::size_t>(i)] = {static_cast<std::int16_t>(raw),
+                                               raw == kBrokenReading};
         }
-        set_word(img, b_.wr, 0, static_cast<std::uint16_t>(in_zone & 0xFFFF));
-        set_word(img, b_.wr, 1, static_cast<std::uint16_t>(in_zone >> 16));
-        set_word(img, b_.wr, 2, static_cast<std::uint16_t>(warn & 0xFFFF));
-        set_word(img, b_.wr, 3, static_cast<std::uint16_t>(warn >> 16));
-        // WR+4…WR+8, "used by this instruction": the state lives here in the instruction; these
-        // words only show it (timing in effect, and the cause behind each warning bit).
-        set_word(img, b_.wr, 4, static_cast<std::uint16_t>((pwm_.count() << 8) | ts_.count()));
-        set_word(img, b_.wr, 5, static_cast<std::uint16_t>(over_bits & 0xFFFF));
-        set_word(img, b_.wr, 6, static_cast<std::uint16_t>(over_bits >> 16));
-        set_word(img, b_.wr, 7, static_cast<std::uint16_t>(open_bits & 0xFFFF));
-        set_word(img, b_.wr, 8, static_cast<std::uint16_t>(open_bits >> 16));
-        write_bit(img, b_.alm, alarm);
-    }
-
-    // The positional PID of FBs manual §21.7 (docs/profile-fbs.md, "FUN86 TPCTL"), E in 0.1°,
-    // output in counts of 0–16383.
-    void solve_point(const image::Image& img, int i, Point& p, int pv, int sv) const {
-        const double kc = std::clamp<int>(word(img, b_.pr, i), 1, 9999);
-        const double ki = std::min<int>(word(img, b_.ir, i), 9999);
-        const double td = std::min<int>(word(img, b_.dr, i), 9999);
-        const double ts = static_cast<double>(ts_.count());
-        const double e = heating_ ? sv - pv : pv - sv;
-        const double prop = kc * e;  // reaches 16383 at the proportional band (Kc 110 → 14.9°)
-        double deriv = 0.0;
-        if (p.solved) {
-            // Against the change of PV, in the direction that reduces the error.
-            const double towards = heating_ ? pv - p.pv_prev : p.pv_prev - pv;
-            deriv = -kc * (td / 100.0 * 60.0) * towards / ts;
-        }
-        p.pv_prev = pv;
-        p.solved = true;
-        // Md 0 (modified minimum overshoot): integrate only inside the proportional band.
-        if (b_.md == 1 || std::abs(prop) < kFullScale) {
-            const double step = kc * (ki / 100.0) * (ts / 60.0) * e;
-            double next = p.integral + step;
-            // No wind-up: integrating never pushes the output further past 0 or full scale.
-            if (step > 0) next = std::min(next, std::max(p.integral, kFullScale - prop - deriv));
-            if (step < 0) next = std::max(next, std::min(p.integral, -prop - deriv));
-            p.integral = std::clamp(next, 0.0, static_cast<double>(kFullScale));
-        }
-        const double m =
-            std::clamp(prop + p.integral + deriv, 0.0, static_cast<double>(kFullScale));
-        p.output = static_cast<std::uint16_t>(std::lround(m));
+        write_bit(img, b_.alm, loop_.run(ctx, b_.hc.read(img), in));
     }
 
     Bound b_;
     std::optional<Device> table_;
-    std::array<Point, kMaxPoints> points_{};
+    fatek::TemperatureLoop loop_;
     bool prev_en_ = false;
-    bool defaults_given_ = false;
-    bool running_ = false;
-    bool heating_ = true;
-    bool cycle_due_ = false;
-    std::chrono::seconds ts_{4};
-    std::chrono::seconds pwm_{2};
-    engine::Duration next_solve_{0};
-    engine::Duration cycle_start_{0};
 };
 
 }  // namespace

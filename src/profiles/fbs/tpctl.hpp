@@ -8,6 +8,7 @@
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/instructions/instructions.hpp"
+#include "profiles/fatek/temperature_loop.hpp"
 #include "profiles/fbs/temperature_table.hpp"
 
 namespace plcemu::profiles::fbs {
@@ -17,15 +18,15 @@ namespace tpctl {
 /// Full scale of the PID output OR+i.
 inline constexpr int kFullScale = 16383;
 /// Points one instruction can control.
-inline constexpr int kMaxPoints = 32;
+inline constexpr int kMaxPoints = fatek::kLoopMaxPoints;
 /// Words of the instruction's working registers WR.
-inline constexpr std::uint32_t kWorkingWords = 9;
+inline constexpr std::uint32_t kWorkingWords = fatek::kLoopStatusWords;
 /// Gains a point whose PR is 0 gets on the first execution.
 inline constexpr std::uint16_t kDefaultKc = 110;  ///< Kc
 inline constexpr std::uint16_t kDefaultKi = 17;   ///< Ki, 0.01 repeats/min
 inline constexpr std::uint16_t kDefaultTd = 50;   ///< Td, 0.01 min
 /// Consecutive scans at or above R4008 before the over-temperature warning.
-inline constexpr int kOverTemperatureScans = 10;
+inline constexpr int kOverTemperatureScans = fatek::kOverTemperatureScans;
 /// A reading that means "no temperature" (broken sensor, FBs manual §21.3).
 inline constexpr std::uint16_t kBrokenReading = temperature::kBroken;
 /// The temperature execute code that lets TPCTL run.

@@ -1,0 +1,284 @@
+// FUN73 TSTC (FB manual FUN73; docs/profile-fb.md, "FUN73 TSTC"): ERR for Sh/Zh out of range or
+// Sh < Sm, the first-execution defaults, PID only once every point has been read, the PID law on
+// 0–4095 with the error scaled by 4095 / full scale, R4005's FB codes, the in-zone band, the
+// R4008 over-temperature in whole degrees, broken points, R4012, EN = 0, and the load checks.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "plcemu/config/config.hpp"
+#include "plcemu/daemon/plc.hpp"
+#include "plcemu/plant/thermal_plant.hpp"
+#include "profiles/fb/tstc.hpp"
+#include "support/config_errors.hpp"
+
+namespace plcemu::profiles::fb {
+namespace {
+
+using image::Area;
+
+std::string tstc(const std::string& module = "tp: 0, pl: 0, sm: 0",
+                 const std::string& points = "sh: 0, zh: 4") {
+    return "  - TSTC: {en: M0, hc: 1, " + module + ", ym: Y16, ar: R3842, tr: R0, yh: Y48, " +
+           points +
+           ", sv: R100, os: R120, pr: R140, ir: R160, dr: R180, or: R300, wr: R200, err: M100, "
+           "ao0: M101, ao1: M102}\n";
+}
+
+// An FB PLC whose plant channels 0–7 sit at 200 °C (k 0: the heaters change nothing).
+struct Rig {
+    explicit Rig(const std::string& program = tstc())
+        : plc(config::parse_config("profile: fb\nscan_ms: 10\nplant:\n  defaults: {k: 0, "
+                                   "ambient: 200}\nprogram:\n" +
+                                       program,
+                                   "fb.yaml")) {}
+    void scan(std::uint64_t n = 1) { plc.engine().run_scans(n, {}); }
+    std::uint16_t r(std::uint32_t i) { return plc.image().word(Area::R, i); }
+    void set_r(std::uint32_t i, int v) {
+        plc.image().set_word(Area::R, i, static_cast<std::uint16_t>(v));
+    }
+    void set_block(std::uint32_t at, int v, int n = 4) {
+        for (int i = 0; i < n; ++i) set_r(at + static_cast<std::uint32_t>(i), v);
+    }
+    bool y(std::uint32_t i) { return plc.image().bit(Area::Y, i); }
+    bool m(std::uint32_t i) { return plc.image().bit(Area::M, i); }
+    void set_m(std::uint32_t i, bool v) { plc.image().set_bit(Area::M, i, v); }
+    /// SP `sp`, offset 5, tuned gains Kc 60, Ti 17, Td 0; EN on and the four points read.
+    void start(int sp) {
+        set_block(100, sp);
+        set_block(120, 5);
+        set_block(140, 60);
+        set_block(160, 17);
+        set_block(180, 0);
+        set_m(0, true);
+        scan(202);  // point 3's sample falls on scan 200 (the 201st), and PID starts there
+    }
+    void fault(int channel, bool broken) {
+        plant::Faults f;
+        f.sensor_broken = broken;
+        plc.plant().set_faults(channel, f);
+    }
+
+    daemon::Plc plc;
+};
+
+// FB manual FUN73: "Sh or Zh out of range, or Sh < Sm": not executed, ERR ON, whatever EN.
+TEST(FbTstc, ErrForShZhOutOfRangeOrShBelowSm) {
+    for (const char* bad : {"sh: 0, zh: 0", "sh: 1, zh: 32", "sh: 32, zh: 1"}) {
+        Rig rig(tstc("tp: 0, pl: 0, sm: 0", bad));
+        rig.scan(10);
+        EXPECT_TRUE(rig.m(100)) << bad;
+        rig.set_m(0, true);
+        rig.scan(300);
+        EXPECT_TRUE(rig.m(100)) << bad;
+        EXPECT_EQ(rig.r(3968), 0) << bad;
+        EXPECT_EQ(rig.r(140), 0) << bad;
+        EXPECT_FALSE(rig.y(16)) << bad;
+    }
+    Rig below(tstc("tp: 0, pl: 0, sm: 4", "sh: 0, zh: 4"));
+    below.set_m(0, true);
+    below.scan(300);
+    EXPECT_TRUE(below.m(100));
+    EXPECT_EQ(below.r(0), 0);
+}
+
+// FB manual FUN73, first execution: every point whose PR is 0 gets Kc by range (60/30/120/60;
+// RTDs 120/60), Ti 17 and Td 100; a nonzero PR is kept.
+TEST(FbTstc, FirstExecutionDefaults) {
+    struct Case {
+        const char* module;
+        int kc;
+    };
+    for (const Case& c : {Case{"tp: 0, pl: 0, sm: 0", 60}, Case{"tp: 0, pl: 1, sm: 0", 30},
+                          Case{"tp: 1, pl: 2, sm: 0", 120}, Case{"tp: 0, pl: 3, sm: 0", 60},
+                          Case{"tp: 2, pl: 0, sm: 0", 120}, Case{"tp: 3, pl: 1, sm: 0", 60}}) {
+        Rig rig(tstc(c.module));
+        rig.set_r(141, 77);
+        rig.scan(5);
+        EXPECT_EQ(rig.r(140), 0) << "EN off: nothing given yet";
+        rig.set_m(0, true);
+        rig.scan();
+        EXPECT_EQ(rig.r(140), c.kc) << c.module;
+        EXPECT_EQ(rig.r(160), 17) << c.module;
+        EXPECT_EQ(rig.r(180), 100) << c.module;
+        EXPECT_EQ(rig.r(141), 77) << c.module;
+        EXPECT_EQ(rig.r(161), 0) << c.module;
+        EXPECT_EQ(rig.r(143), c.kc) << c.module;
+    }
+    EXPECT_EQ(tstc::default_kc(0, 0), 60);
+}
+
+// FB manual FUN73: "PID only really starts once every point has been measured"; a point no
+// instruction measures is never read, so PID never starts.
+TEST(FbTstc, PidWaitsUntilEveryPointIsRead) {
+    Rig rig;
+    rig.set_block(100, 250);
+    rig.set_m(0, true);
+    rig.scan(200);  // points 0-2 read, point 3 not yet
+    EXPECT_EQ(rig.r(300), 0);
+    EXPECT_EQ(rig.r(212), 0);
+    rig.scan(2);
+    EXPECT_EQ(rig.r(300), 4095);
+    EXPECT_EQ(rig.r(212), 0x0202);
+
+    Rig lone(tstc("tp: 0, pl: 0, sm: 0", "sh: 0, zh: 8"));
+    lone.set_r(100, 250);
+    lone.set_m(0, true);
+    lone.scan(2000);
+    EXPECT_EQ(lone.r(300), 0);
+    EXPECT_FALSE(lone.y(48));
+    EXPECT_EQ(lone.r(212), 0);
+    // With a TP4 on points 4-7 reading into R4-R7 the loop starts.
+    Rig paired(tstc("tp: 0, pl: 0, sm: 0", "sh: 0, zh: 8") +
+               "  - TP4: {en: M0, tp: 0, pl: 0, sm: 4, ym: Y24, ar: R3845, tr: R4, wr: R220}\n");
+    paired.set_r(100, 250);
+    paired.set_m(0, true);
+    paired.scan(202);
+    EXPECT_EQ(paired.r(300), 4095);
+    EXPECT_EQ(paired.r(4), 200);
+}
+
+// FB manual FUN73, the PID law: P = Kc·E·G with G = 4095 / full scale (1000 °C on 0~10 V),
+// I += Kc·(Ti/100)·(Ts/60 s)·E·G per solution, OR 0–4095, one solution every Ts.
+TEST(FbTstc, PidLawOnTheConverterFullScale) {
+    Rig rig;
+    rig.start(201);  // E = 1 °C
+    // 60 × 4.095 + 60 × 0.17 × (2/60) × 4.095 = 245.7 + 1.39
+    EXPECT_EQ(rig.r(300), 247);
+    rig.scan(198);  // PID started at scan 200 (point 3's sample); scans 202-399
+    EXPECT_EQ(rig.r(300), 247);
+    rig.scan(1);  // scan 400, 2 s later: the integral again
+    EXPECT_EQ(rig.r(300), 248);
+    // The full scale behind G: 500 °C on 0~5 V, × 1.8 in °F.
+    EXPECT_NEAR(tstc::full_scale(0, 1, false, false), 500.0, 1e-9);
+    EXPECT_NEAR(tstc::full_scale(0, 0, true, false), 1800.0, 1e-9);
+}
+
+// FB manual FUN73, R4005: low byte Ts, high byte PWM, 0 → 2 s, 1 → 4 s, 2 → 8 s, ≥ 3 → 1 s, read
+// when EN rises; WR+12 shows them.
+TEST(FbTstc, R4005TimingCodes) {
+    struct Case {
+        int r4005;
+        int wr12;
+    };
+    for (const Case& c : {Case{0x0000, 0x0202}, Case{0x0001, 0x0204}, Case{0x0103, 0x0401},
+                          Case{0x0300, 0x0102}, Case{0x0202, 0x0808}, Case{0xFFFF, 0x0101}}) {
+        Rig rig;
+        rig.set_r(4005, c.r4005);
+        rig.start(200);
+        EXPECT_EQ(rig.r(212), c.wr12) << c.r4005;
+        rig.set_r(4005, 0x0000);
+        rig.scan(10);
+        EXPECT_EQ(rig.r(212), c.wr12) << "a change while EN = 1 waits";
+    }
+}
+
+// FB manual FUN73: SP − Os ≤ PV ≤ SP + Os is in zone (WR+8), else AO1; Os < 0 is never in zone;
+// R4012 bit 0: no PID, output OFF, no AO1 for being out of zone.
+TEST(FbTstc, ZoneAo1AndR4012) {
+    Rig rig;
+    rig.start(200);
+    EXPECT_EQ(rig.r(208), 0x000F);
+    EXPECT_FALSE(rig.m(102));
+    rig.set_r(100, 100);
+    rig.scan();
+    EXPECT_EQ(rig.r(208), 0x000E);
+    EXPECT_TRUE(rig.m(102));
+    rig.set_r(100, 200);
+    rig.set_r(121, -1);
+    rig.scan();
+    EXPECT_EQ(rig.r(208), 0x000D);
+    rig.set_r(121, 5);
+    rig.set_r(103, 300);  // point 3 far off, full output
+    rig.scan(400);
+    EXPECT_EQ(rig.r(303), 4095);
+    rig.set_r(4012, 0xFFF7);
+    rig.scan();
+    EXPECT_EQ(rig.r(303), 0);
+    EXPECT_FALSE(rig.y(51));
+    EXPECT_EQ(rig.r(208), 0x0007);
+    EXPECT_FALSE(rig.m(102));
+}
+
+// FB manual FUN73, over-temperature: the reading ≥ R4008 (whole degrees, at least 50) for 10
+// consecutive scans sets WR+10 and WR+13 and AO1; it clears at the first scan below.
+TEST(FbTstc, R4008OverTemperatureInWholeDegrees) {
+    Rig rig;
+    rig.set_r(4008, 200);
+    rig.start(200);
+    rig.scan(20);
+    EXPECT_EQ(rig.r(210), 0x000F);
+    EXPECT_EQ(rig.r(213), 0x000F);
+    EXPECT_TRUE(rig.m(102));
+    rig.set_r(4008, 201);
+    rig.scan();
+    EXPECT_EQ(rig.r(210), 0);
+    EXPECT_FALSE(rig.m(102));
+}
+
+// Broken point: output OFF, out of zone, AO0 (WR+0); its reading (991 with K defaults) is a
+// temperature and counts for over-temperature against R4008 350.
+TEST(FbTstc, BrokenPointOutputOffAndOverTemperature) {
+    Rig rig;
+    rig.start(250);
+    EXPECT_EQ(rig.r(301), 4095);
+    rig.fault(1, true);
+    rig.scan(220);
+    EXPECT_EQ(rig.r(1), 991);
+    EXPECT_EQ(rig.r(200), 0x0002);
+    EXPECT_TRUE(rig.m(101));
+    EXPECT_EQ(rig.r(301), 0);
+    EXPECT_FALSE(rig.y(49));
+    EXPECT_EQ(rig.r(213) & 0x2, 0x2);
+}
+
+// EN = 0: Ym, Yh OFF, OR 0, WR+0…WR+16 0, AO0/AO1 OFF; TR keeps its values.
+TEST(FbTstc, EnOff) {
+    Rig rig;
+    rig.start(250);
+    EXPECT_TRUE(rig.m(102));
+    rig.set_m(0, false);
+    rig.scan();
+    for (std::uint32_t w = 0; w < tstc::kWorkingWords; ++w) EXPECT_EQ(rig.r(200 + w), 0) << w;
+    for (std::uint32_t i = 0; i < 4; ++i) EXPECT_EQ(rig.r(300 + i), 0);
+    for (std::uint32_t y = 16; y < 24; ++y) EXPECT_FALSE(rig.y(y));
+    for (std::uint32_t y = 48; y < 52; ++y) EXPECT_FALSE(rig.y(y));
+    EXPECT_FALSE(rig.m(101));
+    EXPECT_FALSE(rig.m(102));
+    EXPECT_EQ(rig.r(0), 200);
+}
+
+// Load checks: Ym overlapping Yh, OR overlapping WR; and FB manual FUN73's "TR must be contiguous,
+// starting at the first point of modules of the same type": a TP4 measuring a point the TSTC
+// controls must have its Tp and Pl and TR + (p - Sm), refused at whichever entry comes later.
+TEST(FbTstc, LoadChecks) {
+    const auto fails = [](const std::string& program, int line, const std::string& needle) {
+        SCOPED_TRACE(program);
+        const auto f = testing::config_failure([&] { Rig rig(program); });
+        ASSERT_TRUE(f.thrown);
+        EXPECT_NE(f.what.find(needle), std::string::npos) << f.what;
+        EXPECT_EQ(f.what.rfind("fb.yaml:" + std::to_string(line) + ":", 0), 0u) << f.what;
+    };
+    std::string p = tstc();
+    fails(p.replace(p.find("yh: Y48"), 7, "yh: Y20"), 6, "Y20-Y23 overlaps its own ym");
+    p = tstc();
+    fails(p.replace(p.find("or: R300"), 8, "or: R210"), 6, "overlaps its own wr");
+
+    const std::string eight = tstc("tp: 0, pl: 0, sm: 0", "sh: 0, zh: 8");
+    const auto tp4 = [](const std::string& tp_pl, const std::string& tr) {
+        return "  - TP4: {en: M0, " + tp_pl + ", sm: 4, ym: Y24, ar: R3845, tr: " + tr +
+               ", wr: R220}\n";
+    };
+    EXPECT_NO_THROW(Rig(eight + tp4("tp: 0, pl: 0", "R4")));
+    EXPECT_NO_THROW(Rig(tp4("tp: 0, pl: 0", "R4") + eight));
+    fails(eight + tp4("tp: 0, pl: 0", "R5"), 7, "must be at R4-R7");
+    fails(eight + tp4("tp: 1, pl: 0", "R4"), 7, "same range and polarity");
+    fails(eight + tp4("tp: 0, pl: 2", "R4"), 7, "same range and polarity");
+    fails(tp4("tp: 0, pl: 0", "R40") + eight, 7, "TR must be contiguous");
+    // A TP4 on points the TSTC does not control may read anywhere.
+    EXPECT_NO_THROW(Rig(tstc() + tp4("tp: 1, pl: 0", "R40")));
+}
+
+}  // namespace
+}  // namespace plcemu::profiles::fb
