@@ -50,6 +50,7 @@ CONFIGS = {
     "vb-mbus": REPO / "config" / "vb-mbus.yaml",
     "fbs-temperature": FBS_TEMPERATURE,
     "fb-tp4": FB_TP4,
+    "fb-example": REPO / "config" / "fb-example.yaml",
 }
 
 # Rows each config must have (a sample of what its program, profile and presets describe).
@@ -77,6 +78,8 @@ EXPECTED = {
 EXPECTED["fb-tp4"] = {"R3968": "raw reading of temperature point", "R3999": "[31]",
                       "R4016": "K thermocouple factor", "R4021": "compensation table",
                       "R227": "TP4 wr", "R3842": "TP4 ar", "Y23": "TP4 ym", "M1926": "RUN"}
+EXPECTED["fb-example"] = {"R102": "TSTC sv", "R142": "TSTC pr", "Y51": "TSTC yh",
+                          "R6": "TP4 tr", "R4014": "ms between points"}
 ABSENT = {"fb-tp4": ["R228", "R4", "Y24"], "default": ["R12", "D12", "R309"], "fbs-temperature": ["R5028", "R5116", "D102"],
           "vb-mbus": ["D1022", "D2016"], "vb-pid": ["D225"]}
 
