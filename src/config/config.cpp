@@ -454,7 +454,20 @@ struct TreeBuilder {
     }
 };
 
-Config read_root(Reader& r, const Node& root) {
+void read_log(const Reader& r, const Node& l, LogConfig& log) {
+    r.check_keys(l, "log", {"level"});
+    if (l["level"]) {
+        log.level = r.scalar(l["level"], "log.level");
+        static const std::set<std::string> kLevels{"trace", "debug", "info",
+                                                   "warn",  "error", "off"};
+        if (!kLevels.count(log.level))
+            r.fail(l["level"], "log.level: expected trace, debug, info, warn, error or off");
+    }
+}
+
+// `entry`: a `plcs:` entry, which may have a `name:` and may not have `log:` (one process, one
+// log).
+Config read_root(Reader& r, const Node& root, bool entry = false) {
     Config c;
     if (!root.is_map()) {
         r.fail(root, "the config must be a mapping with at least 'profile:' (one of " +
@@ -471,7 +484,19 @@ Config read_root(Reader& r, const Node& root) {
         }
         return k;
     }();
-    r.check_keys(root, "config", known);
+    if (entry) {
+        if (root["log"]) {
+            r.fail(root["log"], "log: applies to the whole process; put it beside 'plcs:'");
+        }
+        static const std::vector<std::string> known_in_entry = [] {
+            std::vector<std::string> k = known;
+            k.emplace_back("name");
+            return k;
+        }();
+        r.check_keys(root, "plcs entry", known_in_entry);
+    } else {
+        r.check_keys(root, "config", known);
+    }
     if (!root["profile"]) r.fail(root, "'profile' is required (one of " + profiles::names() + ")");
     c.profile = r.scalar(root["profile"], "profile");
     const profiles::Profile* profile = profiles::find(c.profile);
@@ -485,7 +510,7 @@ Config read_root(Reader& r, const Node& root) {
     // refused where they stand.
     const auto own = profile->sections();
     for (const auto& [key, value] : root.entries) {
-        if (!key.is_scalar()) continue;
+        if (!key.is_scalar() || (entry && key.text == "name")) continue;
         if (std::find(kCommonSections.begin(), kCommonSections.end(), key.text) !=
             kCommonSections.end()) {
             continue;
@@ -531,42 +556,128 @@ Config read_root(Reader& r, const Node& root) {
     if (const auto& p = root["persistence"]) {
         check_ranges_exist(r, p["retentive"], "persistence.retentive entry", layout);
     }
-    if (const auto& l = root["log"]) {
-        r.check_keys(l, "log", {"level"});
-        if (l["level"]) {
-            c.log.level = r.scalar(l["level"], "log.level");
-            static const std::set<std::string> kLevels{"trace", "debug", "info",
-                                                       "warn",  "error", "off"};
-            if (!kLevels.count(c.log.level))
-                r.fail(l["level"], "log.level: expected trace, debug, info, warn, error or off");
-        }
-    }
+    if (root["log"]) read_log(r, root["log"], c.log);
     profile->check(c);
     return c;
 }
 
-}  // namespace
+// An entry's name goes into its state file's name and into log lines.
+bool valid_entry_name(const std::string& s) {
+    return !s.empty() && s.size() <= 32 &&
+           s.find_first_not_of(
+               "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-") ==
+               std::string::npos;
+}
 
-Config parse_config(const std::string& text, const std::string& name) {
-    Node root;
+// Two listeners clash on one port when either takes every address or both take the same one.
+bool same_listener(const TcpConfig& a, const TcpConfig& b) {
+    if (!a.enabled || !b.enabled || a.port == 0 || a.port != b.port) return false;
+    auto any = [](const std::string& s) { return s == "0.0.0.0" || s == "::"; };
+    return a.bind == b.bind || any(a.bind) || any(b.bind);
+}
+
+// The devices and files an entry takes for itself, checked against the earlier entries: two PLCs
+// cannot listen on one port, drive one serial line or write one state file.
+void check_shared(const Reader& r,
+                  const Node& entry,
+                  const Config& c,
+                  const std::vector<Config>& earlier) {
+    for (const auto& o : earlier) {
+        if (!c.name.empty() && c.name == o.name) {
+            r.fail(entry["name"], "name: '" + c.name + "' is also " + o.label + "'s");
+        }
+        if (same_listener(c.modbus.tcp, o.modbus.tcp)) {
+            const Node& port = entry["modbus"]["tcp"]["port"];
+            r.fail(port ? port : entry, "modbus.tcp.port: " + std::to_string(c.modbus.tcp.port) +
+                                            " is also " + o.label +
+                                            "'s (each PLC needs a listener of its own)");
+        }
+        if (c.modbus.rtu && o.modbus.rtu && c.modbus.rtu->device == o.modbus.rtu->device) {
+            r.fail(entry["modbus"]["rtu"]["device"], "modbus.rtu.device: '" +
+                                                         excerpt(c.modbus.rtu->device) +
+                                                         "' is also " + o.label + "'s");
+        }
+        if (c.persistence.enabled && o.persistence.enabled &&
+            default_state_file(c) == default_state_file(o)) {
+            const Node& file = entry["persistence"]["file"];
+            r.fail(file ? file : entry, "persistence.file: '" + excerpt(default_state_file(c)) +
+                                            "' is also " + o.label + "'s state file");
+        }
+    }
+}
+
+// The per-PLC keys of a single-PLC file, refused beside `plcs:`.
+bool per_plc_key(const std::string& key) {
+    if (key == "log") return false;
+    if (std::find(kCommonSections.begin(), kCommonSections.end(), key) != kCommonSections.end())
+        return true;
+    for (const profiles::Profile* p : profiles::all()) {
+        const auto s = p->sections();
+        if (std::find(s.begin(), s.end(), key) != s.end()) return true;
+    }
+    return false;
+}
+
+// `plcs:` — a list of entries, each a single-PLC config with an optional `name:`; only `log:`
+// may stand beside it.
+std::vector<Config> read_plcs(const Node& root, const std::string& file) {
+    Reader top;
+    for (const auto& [key, value] : root.entries) {
+        if (key.is_scalar() && per_plc_key(key.text)) {
+            top.fail(key, key.text +
+                              ": belongs to one PLC; beside 'plcs:' only 'log:' may stand, so "
+                              "move it into each entry of plcs:");
+        }
+    }
+    top.check_keys(root, "config", {"plcs", "log"});
+    const Node& list = root["plcs"];
+    if (!list.is_sequence() || list.items.empty()) {
+        top.fail(list, "plcs: expected a list of PLC configs, each with at least 'profile:'");
+    }
+    LogConfig log;
+    if (root["log"]) read_log(top, root["log"], log);
+    std::vector<Config> out;
+    out.reserve(list.items.size());
+    for (std::size_t i = 0; i < list.items.size(); ++i) {
+        const Node& e = list.items[i];
+        std::string label = "plcs[" + std::to_string(i) + "]";
+        Reader r;
+        try {
+            std::string name;
+            if (e.is_map() && e["name"]) {
+                name = r.scalar(e["name"], "name");
+                if (!valid_entry_name(name)) {
+                    r.fail(e["name"], "name: expected 1 to 32 letters, digits, '_' or '-', got '" +
+                                          excerpt(name) + "'");
+                }
+                label += " (" + name + ")";
+            }
+            Config c = read_root(r, e, true);
+            c.path = file;
+            c.name = std::move(name);
+            c.label = label;
+            c.index = static_cast<int>(i);
+            c.log = log;
+            check_shared(r, e, c, out);
+            out.push_back(std::move(c));
+        } catch (const ConfigError& err) {
+            throw ConfigError(err.position(), label + ": " + err.message());
+        }
+    }
+    return out;
+}
+
+Node parse_tree(const std::string& text, const std::string& name) {
     try {
         TreeBuilder build{name};
-        root = build(YAML::Load(text), 0);
+        return build(YAML::Load(text), 0);
     } catch (const YAML::Exception& e) {
         throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
                           excerpt(e.msg, kYamlMsgChars));
     }
-    return read_config(root, name);
 }
 
-Config read_config(const Node& root, const std::string& name) {
-    Reader r;
-    Config c = read_root(r, root);
-    c.path = name;
-    return c;
-}
-
-Config load_config(const std::string& path) {
+std::string read_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         throw ConfigError({path, 0, 0},
@@ -574,7 +685,50 @@ Config load_config(const std::string& path) {
     }
     std::ostringstream ss;
     ss << in.rdbuf();
-    return parse_config(ss.str(), path);
+    return ss.str();
 }
+
+}  // namespace
+
+std::string default_state_file(const Config& config) {
+    if (!config.persistence.file.empty()) return config.persistence.file;
+    const auto slash = config.path.rfind('/');
+    std::string stem = slash == std::string::npos ? config.path : config.path.substr(slash + 1);
+    const auto dot = stem.rfind('.');
+    if (dot != std::string::npos && dot > 0) stem.erase(dot);
+    if (stem.empty()) stem = "plcemud";
+    if (config.index >= 0) {
+        stem += '-';
+        stem += config.name.empty() ? std::to_string(config.index) : config.name;
+    }
+    return stem + ".state";
+}
+
+Config parse_config(const std::string& text, const std::string& name) {
+    return read_config(parse_tree(text, name), name);
+}
+
+Config read_config(const Node& root, const std::string& name) {
+    if (root.is_map() && root["plcs"]) {
+        Reader r;
+        r.fail(root["plcs"], "plcs: this command takes a config holding one PLC");
+    }
+    Reader r;
+    Config c = read_root(r, root);
+    c.path = name;
+    return c;
+}
+
+Config load_config(const std::string& path) { return parse_config(read_file(path), path); }
+
+std::vector<Config> parse_plcs(const std::string& text, const std::string& name) {
+    const Node root = parse_tree(text, name);
+    if (root.is_map() && root["plcs"]) return read_plcs(root, name);
+    std::vector<Config> one;
+    one.push_back(read_config(root, name));
+    return one;
+}
+
+std::vector<Config> load_plcs(const std::string& path) { return parse_plcs(read_file(path), path); }
 
 }  // namespace plcemu::config

@@ -35,7 +35,8 @@ std::string format_error(const Position& p, const std::string& m) {
 
 ConfigError::ConfigError(const Position& pos, const std::string& message)
     : std::runtime_error(format_error(pos, message)),
-      pos_(pos) {}
+      pos_(pos),
+      message_(message) {}
 
 const Node& Node::operator[](std::string_view key) const {
     static const Node kAbsent;

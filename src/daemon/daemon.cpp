@@ -50,30 +50,24 @@ modbus::TcpOptions tcp_options(const config::Config& c) {
     return o;
 }
 
-// The running daemon: the state file, the PLC, the transports and the scan loop, and what a
-// signal does to them. A reload builds the new PLC beside the running one and swaps it in only
-// when it validated (DESIGN principle 8).
-class Runtime {
+// One PLC of the process: its state file, its Plc, its transports and its scan driver, on the
+// event loop the Runtime owns. A reload builds the new Plc beside the running one and swaps it in
+// only when it validated (DESIGN principle 8).
+class Host {
 public:
-    Runtime(std::string config_path, Overrides overrides)
-        : config_path_(std::move(config_path)),
-          overrides_(overrides) {}
-    // An exception out of run() after a reload must not meet a joinable thread.
-    ~Runtime() { join_threads(); }
-    Runtime(const Runtime&) = delete;
-    Runtime& operator=(const Runtime&) = delete;
+    Host(asio::io_context& io, Notifier& notify, Retirer<Plc>& retirer, config::Config loaded)
+        : io_(io),
+          notify_(notify),
+          retirer_(retirer),
+          cfg_(std::make_shared<const config::Config>(std::move(loaded))),
+          prefix_(cfg_->label.empty() ? "" : cfg_->label + ": ") {}
+    Host(const Host&) = delete;
+    Host& operator=(const Host&) = delete;
 
-    int run() {
-        {
-            config::Config loaded = config::load_config(config_path_);
-            apply_overrides(loaded, overrides_);
-            cfg_ = std::make_shared<const config::Config>(std::move(loaded));
-        }
-        spdlog::set_level(spdlog::level::from_str(cfg_->log.level));
-        // Everything the config can get wrong, found before any file or port is touched.
-        { Plc probe(*cfg_); }
-        tcp_options(*cfg_);
+    const config::Config& config() const { return *cfg_; }
 
+    // Opens the state file, builds the Plc and opens its listeners; throws when one cannot.
+    void open() {
         Start start = Start::Fresh;
         if (cfg_->persistence.enabled) {
             const char* dir = std::getenv("STATE_DIRECTORY");
@@ -82,16 +76,16 @@ public:
                 std::make_unique<image::StateFile>(path, plc_layout(*cfg_), std::time(nullptr));
             for (const auto& n : state_->notes()) {
                 if (n.warning) {
-                    spdlog::warn("{}", n.text);
+                    spdlog::warn("{}{}", prefix_, n.text);
                 } else {
-                    spdlog::info("{}", n.text);
+                    spdlog::info("{}{}", prefix_, n.text);
                 }
             }
             sync_ = std::make_unique<SyncThread>(
                 *state_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
             if (state_->retained()) start = Start::Retained;
         } else {
-            spdlog::info("persistence disabled: nothing is retained across restarts");
+            spdlog::info("{}persistence disabled: nothing is retained across restarts", prefix_);
             heap_.assign(image::Image::storage_size(plc_layout(*cfg_)), std::byte{0});
         }
         plc_ = std::make_unique<Plc>(cfg_, storage(), start);
@@ -104,24 +98,30 @@ public:
         open_master(true);
         start_scanning();
 
-        spdlog::info("plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
-                     version(), cfg_->profile, cfg_->model, int(cfg_->station), cfg_->scan_ms,
-                     cfg_->time_scale);
-        spdlog::info("program: {} instruction(s)", cfg_->program.size());
-        if (tcp_) spdlog::info("listening on tcp {}", tcp_->endpoint());
+        spdlog::info("{}plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
+                     prefix_, version(), cfg_->profile, cfg_->model, int(cfg_->station),
+                     cfg_->scan_ms, cfg_->time_scale);
+        spdlog::info("{}program: {} instruction(s)", prefix_, cfg_->program.size());
+        if (tcp_) spdlog::info("{}listening on tcp {}", prefix_, tcp_->endpoint());
+    }
 
-        arm_signals();
-        arm_watchdog_timer();
-        notify_.ready(status_line());
-        io_.run();
-        join_threads();
+    void stop() {
+        if (driver_) driver_->stop();
+        if (tcp_) tcp_->stop();
+        if (rtu_) rtu_->stop();
+        master_.reset();
+    }
 
-        spdlog::info("stopped after {} scans", plc_->engine().scans());
+    bool frozen() const { return driver_ && driver_->frozen(); }
+
+    // After the loop ended: what ran, and the state file closed.
+    void close() {
+        spdlog::info("{}stopped after {} scans", prefix_, plc_->engine().scans());
         if (driver_) {
             // Scan-start lateness against the real-time deadlines (scripts/bench.sh reads it).
             const auto& l = driver_->lateness();
-            spdlog::info("scan lateness: {} scans, p50 {} us, p99 {} us, max {} us, {} over 1 ms",
-                         l.scans, l.percentile(0.50).count(), l.percentile(0.99).count(),
+            spdlog::info("{}scan lateness: {} scans, p50 {} us, p99 {} us, max {} us, {} over 1 ms",
+                         prefix_, l.scans, l.percentile(0.50).count(), l.percentile(0.99).count(),
                          std::chrono::duration_cast<std::chrono::microseconds>(l.max).count(),
                          l.over_1ms);
         }
@@ -134,9 +134,145 @@ public:
         sync_.reset();
         if (state_) {
             state_->close();
-            spdlog::info("state file {} closed", state_->path());
+            spdlog::info("{}state file {} closed", prefix_, state_->path());
         }
-        return 0;
+    }
+
+    std::string status_line() const {
+        std::string s = prefix_ + "station " + std::to_string(plc_->engine().station());
+        if (tcp_) s += ", tcp " + tcp_->endpoint();
+        if (rtu_) s += ", rtu " + rtu_->description();
+        if (state_) s += ", state " + state_->path();
+        return s;
+    }
+
+    // Why `next` cannot be applied without a restart, or empty.
+    std::string refusal(const config::Config& next) const {
+        if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_->profile) {
+            return prefix_ + "the profile's image layout changed; restart plcemud to apply it";
+        }
+        return {};
+    }
+
+    // A reload's first half: the new listener, when the config asks for another one, opened
+    // before anything changes, so a port in use rejects the reload. False (and said) when it
+    // cannot be had; then nothing changed.
+    bool stage(const config::Config& next) {
+        new_tcp_.reset();
+        old_tcp_stopped_ = false;
+        staged_listener_ = tcp_listener_changed(*cfg_, next);
+        if (!staged_listener_ || !next.modbus.tcp.enabled) return true;
+        try {
+            new_tcp_ =
+                std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(next));
+            return true;
+        } catch (const std::exception& e) {
+            // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
+            if (!tcp_ || next.modbus.tcp.port == 0 ||
+                next.modbus.tcp.port != cfg_->modbus.tcp.port) {
+                spdlog::error("reload: {}{}", prefix_, e.what());
+                return false;
+            }
+        }
+        // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the port, so it
+        // goes first; if the new one still fails, the old one comes back.
+        spdlog::info("reload: {}closing tcp {} to listen on {}:{}", prefix_, tcp_->endpoint(),
+                     next.modbus.tcp.bind, next.modbus.tcp.port);
+        tcp_->stop();
+        old_tcp_stopped_ = true;
+        try {
+            new_tcp_ =
+                std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(next));
+            return true;
+        } catch (const std::exception& e) {
+            spdlog::error("reload: {}{}", prefix_, e.what());
+            unstage();
+            return false;
+        }
+    }
+
+    // Undoes stage(): another PLC's listener could not be had.
+    void unstage() {
+        if (new_tcp_) new_tcp_->stop();
+        new_tcp_.reset();
+        if (old_tcp_stopped_) listen_again();
+        old_tcp_stopped_ = false;
+    }
+
+    // A reload's second half: applies a validated, staged config on the loop.
+    void apply(config::Config next, engine::Program program) {
+        if (next.persistence.enabled != cfg_->persistence.enabled ||
+            next.persistence.file != cfg_->persistence.file) {
+            spdlog::warn(
+                "reload: {}persistence.enabled and persistence.file take effect at the "
+                "next start; the image stays in {}",
+                prefix_, state_ ? state_->path() : std::string("memory"));
+        }
+        const auto changes = config_changes(*cfg_, next);
+        // A station a master set through R4055 stays, unless the config's station changed.
+        if (next.station == cfg_->station) next.station = plc_->engine().station();
+        // The state file stays the one in use until a restart, and later reloads compare with it.
+        next.persistence.enabled = cfg_->persistence.enabled;
+        next.persistence.file = cfg_->persistence.file;
+        // Moved, not copied: a program of 100,000 instructions costs a second to copy.
+        auto applied = std::make_shared<const config::Config>(std::move(next));
+        driver_->stop();
+        if (rtu_) rtu_->stop();
+        rtu_.reset();
+        std::unique_ptr<Plc> plc;
+        try {
+            plc = std::make_unique<Plc>(applied, storage(), Start::Reload, std::move(program));
+        } catch (const std::exception& e) {
+            spdlog::error("reload: {}{}; still running its previous configuration", prefix_,
+                          e.what());
+            unstage();
+            try {
+                open_rtu();
+            } catch (const std::exception& re) {
+                spdlog::error("{}rtu: {}", prefix_, re.what());
+            }
+            driver_->start();
+            return;
+        }
+        plc->plant().continue_from(plc_->plant());
+        std::unique_ptr<Plc> old = std::move(plc_);
+        plc_ = std::move(plc);
+        cfg_ = std::move(applied);
+
+        if (staged_listener_) {
+            if (tcp_) tcp_->stop();
+            tcp_ = std::move(new_tcp_);
+            if (tcp_) spdlog::info("{}listening on tcp {}", prefix_, tcp_->endpoint());
+        } else if (tcp_) {
+            tcp_->set_limits(tcp_options(*cfg_));
+        }
+        old_tcp_stopped_ = false;
+        if (tcp_) ensure_fd_limit(cfg_->modbus.tcp.max_clients);
+        if (tcp_) tcp_->set_dispatcher(plc_->dispatcher());
+        try {
+            open_rtu();
+        } catch (const std::exception& e) {
+            spdlog::error("reload: {}rtu: {}; serving without the serial port", prefix_, e.what());
+        }
+        // The new program's MBUS starts afresh on a new port; the old one's request is dropped.
+        master_.reset();
+        try {
+            open_master(false);
+        } catch (const std::exception& e) {
+            spdlog::error("reload: {}mbus: {}; running without the master port", prefix_, e.what());
+        }
+        start_scanning();
+        if (state_) state_->set_retentive(plc_layout(*cfg_).retentive);
+        if (sync_) sync_->set_period(std::chrono::milliseconds(cfg_->persistence.sync_ms));
+
+        if (changes.empty())
+            spdlog::info("reload: {}no setting changed; program restarted", prefix_);
+        for (const auto& c : changes) spdlog::info("reload: {}{}", prefix_, c);
+        spdlog::info("reload: {}done; station {}, image kept", prefix_,
+                     int(plc_->engine().station()));
+        // The previous PLC is freed off the loop (its program may be large); nothing on the loop
+        // refers to it any more: transports, scan driver and simulator unit were replaced.
+        retirer_.retire(std::move(old));
     }
 
 private:
@@ -149,7 +285,7 @@ private:
         rtu_ = std::make_unique<modbus::RtuServer>(
             io_, plc_->dispatcher(),
             modbus::RtuOptions{r.device, r.baud, r.parity, r.data_bits, r.stop_bits});
-        spdlog::info("listening on rtu {}", rtu_->description());
+        spdlog::info("{}listening on rtu {}", prefix_, rtu_->description());
     }
 
     // The master port the program polls other devices through (VB MBUS), on the same loop:
@@ -160,7 +296,7 @@ private:
         if (!master) return;
         master_ = open_master_link(io_, *master, at_start);
         plc_->engine().set_outbound(master_.get());
-        spdlog::info("mbus: master via {}", master_->description());
+        spdlog::info("{}mbus: master via {}", prefix_, master_->description());
     }
 
     void start_scanning() {
@@ -181,13 +317,94 @@ private:
         if (steps > 0) driver_->step(steps);
     }
 
+    // The previous listener again, after a reload that had to close it failed.
+    void listen_again() {
+        try {
+            tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(*cfg_));
+        } catch (const std::exception& e) {
+            tcp_.reset();
+            spdlog::error("{}tcp: cannot listen again: {}; serving no TCP", prefix_, e.what());
+        }
+    }
+
+    asio::io_context& io_;
+    Notifier& notify_;
+    Retirer<Plc>& retirer_;
+    std::shared_ptr<const config::Config> cfg_;  // shared with the running Plc
+    std::string prefix_;                         // "plcs[1] (kiln): " in log lines
+    std::unique_ptr<image::StateFile> state_;
+    std::unique_ptr<SyncThread> sync_;
+    std::vector<std::byte> heap_;  // the image when persistence is disabled
+    std::unique_ptr<Plc> plc_;
+    std::unique_ptr<modbus::TcpServer> tcp_;
+    std::unique_ptr<modbus::RtuServer> rtu_;
+    std::unique_ptr<MasterLink> master_;
+    std::unique_ptr<ScanDriver> driver_;
+    std::unique_ptr<simulator::SimulatorUnit> sim_;
+    // What stage() prepared for apply().
+    bool staged_listener_ = false;
+    std::unique_ptr<modbus::TcpServer> new_tcp_;
+    bool old_tcp_stopped_ = false;
+};
+
+// The running daemon: one event loop for every PLC of the config (a `plcs:` list or the one PLC
+// of a plain config), and what a signal does to them. Each PLC keeps a scan driver of its own,
+// a timer on this loop: PLCs scan at periods and time scales of their own.
+class Runtime {
+public:
+    Runtime(std::string config_path, Overrides overrides)
+        : config_path_(std::move(config_path)),
+          overrides_(overrides) {}
+    // An exception out of run() after a reload must not meet a joinable thread.
+    ~Runtime() { join_threads(); }
+    Runtime(const Runtime&) = delete;
+    Runtime& operator=(const Runtime&) = delete;
+
+    int run() {
+        std::vector<config::Config> loaded = load();
+        spdlog::set_level(spdlog::level::from_str(loaded.front().log.level));
+        // Everything the config can get wrong, found before any file or port is touched.
+        for (const auto& c : loaded) probe(c);
+        for (auto& c : loaded) {
+            hosts_.push_back(std::make_unique<Host>(io_, notify_, retirer_, std::move(c)));
+        }
+        for (auto& h : hosts_) h->open();
+
+        arm_signals();
+        arm_watchdog_timer();
+        notify_.ready(status_line());
+        io_.run();
+        join_threads();
+        for (auto& h : hosts_) h->close();
+        hosts_.clear();
+        return 0;
+    }
+
+private:
+    // The config's PLCs, with the command line's overrides (which a `plcs:` list does not take:
+    // its PLCs have ports of their own).
+    std::vector<config::Config> load() const {
+        std::vector<config::Config> v = config::load_plcs(config_path_);
+        if (v.front().index >= 0 && overrides_.port) {
+            throw config::ConfigError({config_path_, 0, 0},
+                                      "--port: a config with plcs: sets each PLC's port itself");
+        }
+        for (auto& c : v) apply_overrides(c, overrides_);
+        return v;
+    }
+
     // A frozen simulation runs no scans, but the loop is alive: ping for it.
     void arm_watchdog_timer() {
         if (!notify_.watchdog_enabled()) return;
         watchdog_timer_.expires_after(notify_.watchdog_interval() / 2);
         watchdog_timer_.async_wait([this](const asio::error_code& ec) {
             if (ec) return;
-            if (driver_ && driver_->frozen()) notify_.watchdog(Notifier::Clock::now());
+            for (const auto& h : hosts_) {
+                if (h->frozen()) {
+                    notify_.watchdog(Notifier::Clock::now());
+                    break;
+                }
+            }
             arm_watchdog_timer();
         });
     }
@@ -203,32 +420,27 @@ private:
             spdlog::info("signal {}: stopping", sig == SIGINT ? "SIGINT" : "SIGTERM");
             notify_.stopping();
             watchdog_timer_.cancel();
-            if (driver_) driver_->stop();
-            if (tcp_) tcp_->stop();
-            if (rtu_) rtu_->stop();
-            master_.reset();
+            for (auto& h : hosts_) h->stop();
             io_.stop();
         });
     }
 
     std::string status_line() const {
-        std::string s = "station " + std::to_string(plc_->engine().station());
-        if (tcp_) s += ", tcp " + tcp_->endpoint();
-        if (rtu_) s += ", rtu " + rtu_->description();
-        if (state_) s += ", state " + state_->path();
+        std::string s;
+        for (const auto& h : hosts_) s += (s.empty() ? "" : "; ") + h->status_line();
         return s;
     }
 
-    // What a reload thread prepared: the new config, validated, with its program built; or why
-    // it was rejected.
+    // What a reload thread prepared: the new configs, validated, with their programs built; or
+    // why they were rejected.
     struct Prepared {
-        config::Config config;
-        engine::Program program;
+        std::vector<config::Config> configs;
+        std::vector<engine::Program> programs;
         std::string error;
     };
 
-    // SIGHUP: the new config is read, validated and its program built on a thread of its own
-    // (a program of 100,000 instructions takes seconds), then swapped in on the loop. A SIGHUP
+    // SIGHUP: the new config is read, validated and its programs built on a thread of its own (a
+    // program of 100,000 instructions takes seconds), then swapped in on the loop. A SIGHUP
     // during a reload runs one more reload after it.
     void begin_reload() {
         if (reloading_) {
@@ -242,13 +454,10 @@ private:
         auto prepare = [this] {
             auto p = std::make_shared<Prepared>();
             try {
-                p->config = config::load_config(config_path_);
-                apply_overrides(p->config, overrides_);
-                // Built on an image of its own (the live one is not touched), and never scanned:
-                // its program, bound and checked, is the one the live PLC will run.
-                Plc probe(p->config);
-                tcp_options(p->config);
-                p->program = probe.engine().take_program();
+                p->configs = load();
+                // Built on images of their own (the live ones are not touched), and never
+                // scanned: their programs, bound and checked, are the ones the live PLCs will run.
+                for (const auto& c : p->configs) p->programs.push_back(probe(c));
             } catch (const std::exception& e) {
                 p->error = e.what();
             }
@@ -270,173 +479,72 @@ private:
 
     void finish_reload(Prepared p) {
         reloading_ = false;
+        if (p.error.empty()) p.error = reload(p);
         if (!p.error.empty()) {
             spdlog::error("reload: {}", p.error);
             spdlog::error("reload: configuration rejected; still running the previous one");
-            notify_.ready(status_line());
-        } else {
-            reload(std::move(p.config), std::move(p.program));
         }
+        notify_.ready(status_line());
         if (reload_again_) {
             reload_again_ = false;
             begin_reload();
         }
     }
 
-    // Applies a validated config on the loop.
-    void reload(config::Config next, engine::Program program) {
-        const bool new_listener = tcp_listener_changed(*cfg_, next);
-        std::unique_ptr<modbus::TcpServer> new_tcp;
-        bool old_tcp_stopped = false;  // the new listener needed the old one's port
-        if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_->profile) {
-            spdlog::error(
-                "reload: the profile's image layout changed; restart plcemud to "
-                "apply it. Still running the previous configuration");
-            notify_.ready(status_line());
-            return;
+    // Applies validated configs on the loop, all or none: what needs a restart, or a listener
+    // that cannot be had, keeps every PLC on its previous config. Returns why it refused, or
+    // empty.
+    std::string reload(Prepared& p) {
+        if (p.configs.size() != hosts_.size()) {
+            return "the config has " + std::to_string(p.configs.size()) + " PLC(s), " +
+                   std::to_string(hosts_.size()) +
+                   " are running; restart plcemud to add or remove PLCs";
         }
-        if (next.persistence.enabled != cfg_->persistence.enabled ||
-            next.persistence.file != cfg_->persistence.file) {
-            spdlog::warn(
-                "reload: persistence.enabled and persistence.file take effect at the "
-                "next start; the image stays in {}",
-                state_ ? state_->path() : std::string("memory"));
+        for (std::size_t i = 0; i < hosts_.size(); ++i) {
+            if (p.configs[i].name != hosts_[i]->config().name) {
+                return p.configs[i].label + ": was " + hosts_[i]->config().label +
+                       "; restart plcemud to rename or reorder PLCs";
+            }
+            if (auto why = hosts_[i]->refusal(p.configs[i]); !why.empty()) return why;
         }
-        // Open a new listener before anything changes, so a port in use rejects the reload.
-        if (new_listener && next.modbus.tcp.enabled) {
-            try {
-                new_tcp =
-                    std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(next));
-            } catch (const std::exception& e) {
-                // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
-                if (!tcp_ || next.modbus.tcp.port == 0 ||
-                    next.modbus.tcp.port != cfg_->modbus.tcp.port) {
-                    spdlog::error("reload: {}; still running the previous configuration", e.what());
-                    notify_.ready(status_line());
-                    return;
-                }
-                // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the
-                // port, so it goes first; if the new one still fails, the old one comes back.
-                spdlog::info("reload: closing tcp {} to listen on {}:{}", tcp_->endpoint(),
-                             next.modbus.tcp.bind, next.modbus.tcp.port);
-                tcp_->stop();
-                old_tcp_stopped = true;
-                try {
-                    new_tcp = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(),
-                                                                  tcp_options(next));
-                } catch (const std::exception& e2) {
-                    spdlog::error("reload: {}; still running the previous configuration",
-                                  e2.what());
-                    listen_again();
-                    notify_.ready(status_line());
-                    return;
-                }
+        for (std::size_t i = 0; i < hosts_.size(); ++i) {
+            if (!hosts_[i]->stage(p.configs[i])) {
+                for (std::size_t j = 0; j < i; ++j) hosts_[j]->unstage();
+                return "a listener could not be opened";
             }
         }
-
-        const auto changes = config_changes(*cfg_, next);
-        // A station a master set through R4055 stays, unless the config's station changed.
-        if (next.station == cfg_->station) next.station = plc_->engine().station();
-        // The state file stays the one in use until a restart, and later reloads compare with it.
-        next.persistence.enabled = cfg_->persistence.enabled;
-        next.persistence.file = cfg_->persistence.file;
-        // Moved, not copied: a program of 100,000 instructions costs a second to copy.
-        auto applied = std::make_shared<const config::Config>(std::move(next));
-        driver_->stop();
-        if (rtu_) rtu_->stop();
-        rtu_.reset();
-        std::unique_ptr<Plc> plc;
-        try {
-            plc = std::make_unique<Plc>(applied, storage(), Start::Reload, std::move(program));
-        } catch (const std::exception& e) {
-            spdlog::error("reload: {}; still running the previous configuration", e.what());
-            if (new_tcp) new_tcp->stop();
-            new_tcp.reset();
-            if (old_tcp_stopped) listen_again();
-            try {
-                open_rtu();
-            } catch (const std::exception& re) {
-                spdlog::error("rtu: {}", re.what());
-            }
-            driver_->start();
-            notify_.ready(status_line());
-            return;
+        for (std::size_t i = 0; i < hosts_.size(); ++i) {
+            hosts_[i]->apply(std::move(p.configs[i]), std::move(p.programs[i]));
         }
-        plc->plant().continue_from(plc_->plant());
-        std::unique_ptr<Plc> old = std::move(plc_);
-        plc_ = std::move(plc);
-        cfg_ = std::move(applied);
-
-        if (new_listener) {
-            if (tcp_) tcp_->stop();
-            tcp_ = std::move(new_tcp);
-            if (tcp_) spdlog::info("listening on tcp {}", tcp_->endpoint());
-        } else if (tcp_) {
-            tcp_->set_limits(tcp_options(*cfg_));
-        }
-        if (tcp_) ensure_fd_limit(cfg_->modbus.tcp.max_clients);
-        if (tcp_) tcp_->set_dispatcher(plc_->dispatcher());
-        try {
-            open_rtu();
-        } catch (const std::exception& e) {
-            spdlog::error("reload: rtu: {}; serving without the serial port", e.what());
-        }
-        // The new program's MBUS starts afresh on a new port; the old one's request is dropped.
-        master_.reset();
-        try {
-            open_master(false);
-        } catch (const std::exception& e) {
-            spdlog::error("reload: mbus: {}; running without the master port", e.what());
-        }
-        start_scanning();
-        if (state_) state_->set_retentive(plc_layout(*cfg_).retentive);
-        if (sync_) sync_->set_period(std::chrono::milliseconds(cfg_->persistence.sync_ms));
-        spdlog::set_level(spdlog::level::from_str(cfg_->log.level));
-
-        if (changes.empty()) spdlog::info("reload: no setting changed; program restarted");
-        for (const auto& c : changes) spdlog::info("reload: {}", c);
-        spdlog::info("reload: done; station {}, image kept", int(plc_->engine().station()));
-        notify_.ready(status_line());
-        retire(std::move(old));
+        spdlog::set_level(spdlog::level::from_str(hosts_.front()->config().log.level));
+        return {};
     }
-
-    // The previous listener again, after a reload that had to close it failed.
-    void listen_again() {
-        try {
-            tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(*cfg_));
-        } catch (const std::exception& e) {
-            tcp_.reset();
-            spdlog::error("tcp: cannot listen again: {}; serving no TCP", e.what());
-        }
-    }
-
-    // The previous PLC is freed off the loop (its program may be large); nothing on the loop
-    // refers to it any more: transports, scan driver and simulator unit were replaced.
-    void retire(std::unique_ptr<Plc> old) { retirer_.retire(std::move(old)); }
 
     std::string config_path_;
     Overrides overrides_;
-    std::shared_ptr<const config::Config> cfg_;  // shared with the running Plc
     asio::io_context io_{1};
     Notifier notify_;
-    std::unique_ptr<image::StateFile> state_;
-    std::unique_ptr<SyncThread> sync_;
-    std::vector<std::byte> heap_;  // the image when persistence is disabled
-    std::unique_ptr<Plc> plc_;
-    std::unique_ptr<modbus::TcpServer> tcp_;
-    std::unique_ptr<modbus::RtuServer> rtu_;
-    std::unique_ptr<MasterLink> master_;
-    std::unique_ptr<ScanDriver> driver_;
-    std::unique_ptr<simulator::SimulatorUnit> sim_;
+    Retirer<Plc> retirer_;
+    std::vector<std::unique_ptr<Host>> hosts_;
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
     std::thread reload_thread_;
-    Retirer<Plc> retirer_;
     bool reloading_ = false;
     bool reload_again_ = false;
     asio::steady_timer watchdog_timer_{io_};
 };
 
 }  // namespace
+
+engine::Program probe(const config::Config& c) {
+    try {
+        Plc plc(c);
+        tcp_options(c);
+        return plc.engine().take_program();
+    } catch (const config::ConfigError& e) {
+        if (c.label.empty()) throw;
+        throw config::ConfigError(e.position(), c.label + ": " + e.message());
+    }
+}
 
 int run_daemon(const std::string& config_path, const Overrides& overrides) {
     return Runtime(config_path, overrides).run();

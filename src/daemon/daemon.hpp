@@ -5,6 +5,7 @@
 #include <string>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/engine/engine.hpp"
 
 namespace plcemu::daemon {
 
@@ -16,6 +17,11 @@ struct Overrides {
 
 /// Applies the overrides to a loaded config.
 void apply_overrides(config::Config& config, const Overrides& o);
+
+/// Builds the PLC of `config` on an image of its own, as a check of everything the config can
+/// get wrong that the loader cannot (program operands, the allow list), and returns its program,
+/// bound and checked. An error names the `plcs:` entry. Throws config::ConfigError.
+engine::Program probe(const config::Config& config);
 
 /// Runs until SIGINT or SIGTERM. Throws config::ConfigError for a bad config and
 /// std::system_error when a listener cannot be opened. Returns the exit status.

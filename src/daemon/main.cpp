@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "daemon.hpp"
 #include "plcemu/daemon/plc.hpp"
@@ -121,12 +122,16 @@ int main(int argc, char** argv) {
 
     try {
         if (print) {
-            plcemu::config::Config cfg =
+            const std::vector<plcemu::config::Config> plcs =
                 config_path.empty()
-                    ? plcemu::config::parse_config(
+                    ? plcemu::config::parse_plcs(
                           "profile: " + std::string(default_profile().name()) + "\n", "<built-in>")
-                    : plcemu::config::load_config(config_path);
-            plcemu::daemon::print_map(std::cout, cfg, csv);
+                    : plcemu::config::load_plcs(config_path);
+            // Several PLCs: one map after another, each headed by the PLC it is.
+            for (std::size_t i = 0; i < plcs.size(); ++i) {
+                if (i > 0) std::cout << '\n';
+                plcemu::daemon::print_map(std::cout, plcs[i], csv);
+            }
             return 0;
         }
         if (config_path.empty()) {
@@ -143,9 +148,15 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (check) {
-            plcemu::config::Config cfg = plcemu::config::load_config(config_path);
-            plcemu::daemon::apply_overrides(cfg, overrides);
-            plcemu::daemon::Plc plc(cfg);  // binds the program: operand errors too
+            std::vector<plcemu::config::Config> plcs = plcemu::config::load_plcs(config_path);
+            for (auto& cfg : plcs) {
+                plcemu::daemon::apply_overrides(cfg, overrides);
+                plcemu::daemon::probe(cfg);  // binds the program: operand errors too
+                if (!cfg.label.empty()) {
+                    std::cout << config_path << ": " << cfg.label << ": ok, profile " << cfg.profile
+                              << ", station " << int(cfg.station) << "\n";
+                }
+            }
             std::cout << config_path << ": ok\n";
             return 0;
         }

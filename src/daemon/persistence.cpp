@@ -3,15 +3,7 @@
 namespace plcemu::daemon {
 
 std::string state_file_path(const config::Config& config, const std::string& state_directory) {
-    std::string name = config.persistence.file;
-    if (name.empty()) {
-        const auto slash = config.path.rfind('/');
-        std::string stem = slash == std::string::npos ? config.path : config.path.substr(slash + 1);
-        const auto dot = stem.rfind('.');
-        if (dot != std::string::npos && dot > 0) stem.erase(dot);
-        if (stem.empty()) stem = "plcemud";
-        name = stem + ".state";
-    }
+    std::string name = config::default_state_file(config);
     if (name.front() == '/') return name;
     std::string dir = state_directory.substr(0, state_directory.find(':'));
     if (dir.empty()) {

@@ -146,14 +146,28 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
     // The device column is named after the vendor whose names it holds ("fatek", "vigor").
     std::string vendor(profile.vendor());
     for (char& c : vendor) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+    auto q = [](const std::string& s) { return "\"" + s + "\""; };
+    // A PLC of a `plcs:` list: its rows say which ("plcs[1] (kiln)") in a first column.
+    const bool entry = !config.label.empty();
     if (csv) {
-        out << "table,modbus_5digit,modbus_6digit,wire," << vendor << ",function_codes,access\n";
-        auto q = [](const std::string& s) { return "\"" + s + "\""; };
+        out << (entry ? "plc," : "") << "table,modbus_5digit,modbus_6digit,wire," << vendor
+            << ",function_codes,access\n";
         for (const auto& r : rows) {
+            if (entry) out << q(config.label) << ',';
             out << q(r.table) << ',' << r.five << ',' << r.six << ',' << r.wire << ',' << q(r.fatek)
                 << ',' << r.codes << ',' << q(r.access) << '\n';
         }
         return;
+    }
+    if (entry) {
+        out << config.label << ", tcp ";
+        if (config.modbus.tcp.enabled) {
+            out << config.modbus.tcp.bind << ':' << config.modbus.tcp.port;
+        } else {
+            out << "off";
+        }
+        if (config.modbus.rtu) out << ", rtu " << config.modbus.rtu->device;
+        out << ":\n";
     }
     out << "Modbus map, profile " << config.profile << " (" << profile.vendor() << ' '
         << config.model << "), station " << int(config.station) << " and unit 255\n";

@@ -147,7 +147,12 @@ struct LogConfig {
 
 /// A whole configuration.
 struct Config {
-    std::string path;                        ///< file it was read from
+    std::string path;  ///< file it was read from
+    std::string name;  ///< `name:` of a `plcs:` entry
+    /// How messages name a `plcs:` entry: "plcs[0]" or "plcs[0] (kiln)"; empty for a file
+    /// holding one PLC.
+    std::string label;
+    int index = -1;                          ///< position in `plcs:`; -1 for a file holding one PLC
     std::string profile;                     ///< PLC family (a registered profile's name)
     std::string model;                       ///< model name (the profile's default)
     std::uint8_t station = 1;                ///< station number
@@ -174,8 +179,20 @@ std::string outside(const image::Naming& naming,
                     const image::Layout& layout,
                     const image::Range& range);
 
-/// Reads and validates a config file. Throws ConfigError naming file, line and column.
+/// Reads and validates a config file holding one PLC. A file with `plcs:` is refused (it needs
+/// load_plcs). Throws ConfigError naming file, line and column.
 Config load_config(const std::string& path);
+
+/// Reads and validates a config file holding one PLC or, under `plcs:`, several: one Config per
+/// PLC, in file order. Throws ConfigError naming file, line and column (and the entry).
+std::vector<Config> load_plcs(const std::string& path);
+
+/// The same for config text; `name` is used in error positions.
+std::vector<Config> parse_plcs(const std::string& text, const std::string& name);
+
+/// The state file's name when `persistence.file` is not given: the config file's stem, and for
+/// a `plcs:` entry its name (or index) too: "plant.state", "plant-kiln.state".
+std::string default_state_file(const Config& config);
 
 /// Parses config text; `name` is used in error positions.
 Config parse_config(const std::string& text, const std::string& name);

@@ -20,9 +20,12 @@ public:
     ConfigError(const Position& pos, const std::string& message);
     /// Where the error is.
     const Position& position() const { return pos_; }
+    /// The message without its position.
+    const std::string& message() const { return message_; }
 
 private:
     Position pos_;
+    std::string message_;
 };
 
 /// Reads nodes of one file, spelling devices and constants the profile's way.
