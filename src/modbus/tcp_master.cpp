@@ -76,6 +76,13 @@ struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
         // No endpoint for this station: it never answers.
         if (conn < 0) return;
         Connection& c = *conns[static_cast<std::size_t>(conn)];
+        if (c.open && c.used > 0) {
+            // Part of a frame is left from before: a length field lied, and the next reply
+            // would be read as the rest of it. A new connection starts in step.
+            spdlog::warn("mbus: {}: {} bytes of no whole frame left; reconnecting", name_of(c.peer),
+                         c.used);
+            close(conn);
+        }
         c.queued = std::move(frame);
         c.queued_for = generation;
         if (c.open) {
