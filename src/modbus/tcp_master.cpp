@@ -76,6 +76,13 @@ struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
         // No endpoint for this station: it never answers.
         if (conn < 0) return;
         Connection& c = *conns[static_cast<std::size_t>(conn)];
+        if (c.open && c.used > 0) {
+            // Part of a frame is left from before: a length field lied, and the next reply
+            // would be read as the rest of it. A new connection starts in step.
+            spdlog::warn("mbus: {}: {} bytes of no whole frame left; reconnecting", name_of(c.peer),
+                         c.used);
+            close(conn);
+        }
         c.queued = std::move(frame);
         c.queued_for = generation;
         if (c.open) {
@@ -161,7 +168,9 @@ struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
                                  });
     }
 
-    // Takes the whole frames received; false when the connection was closed for garbage.
+    // Takes the whole frames received; false when the connection was closed for garbage or by
+    // the callback. Each frame leaves the buffer before its outcome is handed on, and a bad
+    // header closes the connection first: the callback may start a transfer or stop the port.
     bool frames(int index) {
         Connection& c = *conns[static_cast<std::size_t>(index)];
         for (;;) {
@@ -170,21 +179,24 @@ struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
             if (f.status == MbapStatus::Bad) {
                 // No frame boundary can be trusted after a bad header.
                 spdlog::warn("mbus: {}: bad MBAP header; closing", name_of(c.peer));
-                if (active && conn == index) finish(MasterOutcome::Garbled, {});
+                const bool ours = active && conn == index;
                 close(index);
+                if (ours) finish(MasterOutcome::Garbled, {});
                 return false;
             }
-            const auto id = static_cast<std::uint16_t>(c.buf[0] << 8 | c.buf[1]);
-            // A reply to an abandoned or timed-out transaction is dropped.
-            if (active && conn == index && id == tid) {
-                const std::span<const std::uint8_t> pdu{c.buf.data() + kMbapPrefix + 1,
-                                                        f.size - kMbapPrefix - 1};
-                finish(
-                    c.buf[kMbapPrefix] == station ? MasterOutcome::Reply : MasterOutcome::Garbled,
-                    pdu);
-            }
+            std::array<std::uint8_t, kMaxTcpAdu> frame{};
+            std::memcpy(frame.data(), c.buf.data(), f.size);
             std::memmove(c.buf.data(), c.buf.data() + f.size, c.used - f.size);
             c.used -= f.size;
+            const auto id = static_cast<std::uint16_t>(frame[0] << 8 | frame[1]);
+            // A reply to an abandoned or timed-out transaction is dropped.
+            if (active && conn == index && id == tid) {
+                const unsigned epoch = c.epoch;
+                finish(
+                    frame[kMbapPrefix] == station ? MasterOutcome::Reply : MasterOutcome::Garbled,
+                    {frame.data() + kMbapPrefix + 1, f.size - kMbapPrefix - 1});
+                if (stopped || c.epoch != epoch) return false;
+            }
         }
     }
 

@@ -4,8 +4,6 @@
 // and the event loop run until a condition holds.
 
 #include <gtest/gtest.h>
-#include <spdlog/sinks/ostream_sink.h>
-#include <spdlog/spdlog.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -13,10 +11,10 @@
 #include <chrono>
 #include <cstdlib>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "support/log_capture.hpp"
 #include "support/pluggable_pty.hpp"
 
 namespace plcemu::testing {
@@ -26,10 +24,7 @@ public:
     /// Captures the default logger's output under `logger` and plugs a pty in at
     /// <temporary directory>/tty.
     explicit PtyLoop(std::string logger)
-        : logger_(std::move(logger)),
-          previous_(spdlog::default_logger()) {
-        auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(log_);
-        spdlog::set_default_logger(std::make_shared<spdlog::logger>(logger_, sink));
+        : capture_(std::move(logger)) {
         char dir[] = "/tmp/plcemu-pty-test-XXXXXX";
         if (::mkdtemp(dir) == nullptr) throw std::runtime_error("mkdtemp failed");
         dir_ = dir;
@@ -38,8 +33,6 @@ public:
     ~PtyLoop() {
         pty_.reset();
         ::rmdir(dir_.c_str());
-        spdlog::set_default_logger(previous_);
-        spdlog::drop(logger_);  // its sink writes to log_, which goes with this object
     }
     PtyLoop(const PtyLoop&) = delete;
     PtyLoop& operator=(const PtyLoop&) = delete;
@@ -62,16 +55,10 @@ public:
     }
 
     /// Everything logged so far.
-    std::string log() const { return log_.str(); }
+    std::string log() const { return capture_.log(); }
 
     /// How often `needle` was logged.
-    std::size_t count(const std::string& needle) const {
-        const std::string text = log_.str();
-        std::size_t n = 0;
-        for (auto at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1))
-            ++n;
-        return n;
-    }
+    std::size_t count(const std::string& needle) const { return capture_.count(needle); }
 
     /// CPU time of the calling thread so far, in seconds.
     static double cpu_seconds() {
@@ -84,9 +71,7 @@ public:
     asio::io_context io;  ///< the loop the code under test runs on
 
 private:
-    std::string logger_;
-    std::ostringstream log_;
-    std::shared_ptr<spdlog::logger> previous_;
+    LogCapture capture_;
     std::string dir_;
     std::unique_ptr<PluggablePty> pty_;
 };
