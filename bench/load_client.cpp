@@ -1,6 +1,10 @@
-// Closed-loop Modbus TCP load generator. Each connection keeps exactly one FC03 request in
-// flight, so the figures measure the server's turnaround rather than queueing in the client.
-// One thread and epoll, so the client itself stays cheap next to the server on a small machine.
+// Modbus TCP load generator. Each connection keeps at most one FC03 request in flight, so the
+// figures measure the server's turnaround rather than queueing in the client. Closed loop by
+// default (the next request leaves as the reply arrives); with --interval-ms each connection
+// polls at that period instead, as a SCADA does, its phase spread evenly over the period, and
+// with --ports N the connections go to N consecutive ports, one each (one client per PLC of a
+// `plcs:` config). One thread and epoll, so the client itself stays cheap next to the server
+// on a small machine.
 //
 // Prints one `name value unit` line per figure, names prefixed with --label.
 
@@ -39,6 +43,8 @@ struct Options {
     int unit = 1;
     int address = 0;
     int quantity = 125;
+    int ports = 1;           // connection i goes to port + i % ports
+    double interval_ms = 0;  // 0: closed loop; else each connection's polling period
     std::string label;
 };
 
@@ -46,6 +52,8 @@ struct Connection {
     int fd = -1;
     uint16_t transaction = 0;
     Clock::time_point sent;
+    Clock::time_point next;  // paced: when the next request is due
+    bool waiting = false;    // a request is in flight
     uint8_t in[kMaxFrame] = {};
     size_t have = 0;
     uint64_t measured = 0;  // replies completed inside the measuring window
@@ -55,12 +63,14 @@ struct Connection {
 struct Stats {
     std::vector<int64_t> latency_ns;
     uint64_t errors = 0;
+    uint64_t overrun = 0;  // paced: a request came due while the last was still unanswered
 };
 
 [[noreturn]] void usage(const char* argv0) {
     std::fprintf(stderr,
                  "usage: %s --port N [--host 127.0.0.1] [--connections C] [--seconds S]\n"
-                 "          [--warmup W] [--unit 1] [--address 0] [--quantity 125] [--label L]\n",
+                 "          [--warmup W] [--unit 1] [--address 0] [--quantity 125] [--label L]\n"
+                 "          [--ports N] [--interval-ms MS]\n",
                  argv0);
     std::exit(2);
 }
@@ -94,19 +104,26 @@ Options parse(int argc, char** argv) {
             o.address = static_cast<int>(number);
         } else if (key == "--quantity") {
             o.quantity = static_cast<int>(number);
+        } else if (key == "--ports") {
+            o.ports = static_cast<int>(number);
+        } else if (key == "--interval-ms") {
+            o.interval_ms = number;
         } else {
             usage(argv[0]);
         }
     }
-    if (o.connections < 1 || o.quantity < 1 || o.quantity > 125 || o.seconds <= 0) usage(argv[0]);
+    if (o.connections < 1 || o.quantity < 1 || o.quantity > 125 || o.seconds <= 0 ||
+        o.ports < 1 || o.interval_ms < 0) {
+        usage(argv[0]);
+    }
     if (o.label.empty()) o.label = "load.c" + std::to_string(o.connections);
     return o;
 }
 
-int connect_to(const Options& o) {
+int connect_to(const Options& o, int port) {
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
-    addr.sin_port = htons(static_cast<uint16_t>(o.port));
+    addr.sin_port = htons(static_cast<uint16_t>(port));
     if (inet_pton(AF_INET, o.host.c_str(), &addr.sin_addr) != 1) {
         errno = EINVAL;
         return -1;
@@ -139,6 +156,7 @@ bool send_request(Connection& c, const Options& o) {
     put16(frame + 8, static_cast<unsigned>(o.address));
     put16(frame + 10, static_cast<unsigned>(o.quantity));
     c.sent = Clock::now();
+    c.waiting = true;
     // With one request in flight the send buffer is empty, so 12 bytes go out whole or the
     // connection is broken; no partial-write bookkeeping is needed.
     return ::send(c.fd, frame, sizeof frame, MSG_NOSIGNAL) == static_cast<ssize_t>(sizeof frame);
@@ -184,8 +202,36 @@ void on_readable(Connection& c,
         }
         c.have -= frame;
         std::memmove(c.in, c.in + frame, c.have);
+        c.waiting = false;
+        if (o.interval_ms > 0) continue;  // paced: the next request leaves when it is due
         if (!send_request(c, o)) return close_connection(c, stats);
     }
+}
+
+// Paced: sends every request that has come due and returns when the next one will.
+Clock::time_point send_due(std::vector<Connection>& conns,
+                           const Options& o,
+                           Stats& stats,
+                           size_t& alive,
+                           Clock::duration period) {
+    const auto now = Clock::now();
+    auto soonest = now + period;
+    for (auto& c : conns) {
+        if (!c.alive) continue;
+        if (c.next <= now) {
+            if (c.waiting) {
+                ++stats.overrun;  // still unanswered: this poll is skipped, as a SCADA would
+            } else if (!send_request(c, o)) {
+                close_connection(c, stats);
+                --alive;
+                continue;
+            }
+            c.next += period;
+            if (c.next <= now) c.next = now + period;  // after a stall, no burst of catch-up
+        }
+        soonest = std::min(soonest, c.next);
+    }
+    return soonest;
 }
 
 double percentile_us(const std::vector<int64_t>& sorted, double q) {
@@ -200,11 +246,12 @@ int main(int argc, char** argv) {
     const Options o = parse(argc, argv);
 
     std::vector<Connection> conns(static_cast<size_t>(o.connections));
-    for (auto& c : conns) {
-        c.fd = connect_to(o);
-        if (c.fd < 0) {
+    for (size_t i = 0; i < conns.size(); ++i) {
+        const int port = o.port + static_cast<int>(i % static_cast<size_t>(o.ports));
+        conns[i].fd = connect_to(o, port);
+        if (conns[i].fd < 0) {
             std::fprintf(stderr, "load_client: cannot connect to %s:%d: %s\n", o.host.c_str(),
-                         o.port, std::strerror(errno));
+                         port, std::strerror(errno));
             return 1;
         }
     }
@@ -226,20 +273,34 @@ int main(int argc, char** argv) {
     // Sized for well beyond loopback rates so the vector never reallocates while measuring.
     stats.latency_ns.reserve(static_cast<size_t>(o.seconds * 400000.0));
 
-    size_t alive = 0;
-    for (auto& c : conns) {
-        if (send_request(c, o)) {
-            ++alive;
-        } else {
-            close_connection(c, stats);
+    const auto period = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double, std::milli>(o.interval_ms));
+    const bool paced = o.interval_ms > 0;
+    size_t alive = conns.size();
+    if (paced) {
+        // Phases spread evenly over the period, as independent pollers drift apart.
+        for (size_t i = 0; i < conns.size(); ++i) {
+            conns[i].next = start + period * static_cast<int64_t>(i) /
+                                        static_cast<int64_t>(conns.size());
+        }
+    } else {
+        alive = 0;
+        for (auto& c : conns) {
+            if (send_request(c, o)) {
+                ++alive;
+            } else {
+                close_connection(c, stats);
+            }
         }
     }
 
     std::vector<epoll_event> events(conns.size());
     for (auto now = Clock::now(); now < window_end && alive > 0; now = Clock::now()) {
-        const auto left = std::chrono::ceil<std::chrono::milliseconds>(window_end - now);
+        auto until = window_end;
+        if (paced) until = std::min(until, send_due(conns, o, stats, alive, period));
+        const auto left = std::chrono::ceil<std::chrono::milliseconds>(until - Clock::now());
         const int n = ::epoll_wait(ep, events.data(), static_cast<int>(events.size()),
-                                   static_cast<int>(std::max<int64_t>(left.count(), 1)));
+                                   static_cast<int>(std::max<int64_t>(left.count(), 0)));
         for (int i = 0; i < n; ++i) {
             Connection& c = conns[events[static_cast<size_t>(i)].data.u64];
             if (!c.alive) continue;
@@ -266,6 +327,9 @@ int main(int argc, char** argv) {
     std::printf("%s.max %.1f us\n", l, percentile_us(lat, 1.0));
     std::printf("%s.fairness %.2f ratio\n", l, fairness);
     std::printf("%s.errors %llu count\n", l, static_cast<unsigned long long>(stats.errors));
+    if (paced) {
+        std::printf("%s.overruns %llu count\n", l, static_cast<unsigned long long>(stats.overrun));
+    }
 
     for (const auto& c : conns) {
         if (c.alive) ::close(c.fd);

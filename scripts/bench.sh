@@ -7,6 +7,9 @@
 #
 #   scripts/bench.sh                     # 5 s per run after a 1 s warm-up
 #   BENCH_SECONDS=2 scripts/bench.sh     # shorter runs (BENCH_WARMUP sets the warm-up)
+#   BENCH_PLCS=100 scripts/bench.sh      # the many-PLC run with 100 PLCs instead of 500
+#   BENCH_ONLY=many_plcs scripts/bench.sh   # one hook alone (engine, plcemud, scan_lateness,
+#                                           # rtu_turnaround, many_plcs)
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
@@ -81,7 +84,7 @@ start_server() {
     shift 2
     "$@" >"$TMP/$name.log" 2>&1 &
     SERVER_PID=$!
-    for _ in $(seq 200); do
+    for _ in $(seq "${START_TRIES:-200}"); do
         alive "$SERVER_PID" || break
         if (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null; then return 0; fi
         sleep 0.05
@@ -239,8 +242,64 @@ YAML
     wait "$pty_pid" 2>/dev/null || true
 }
 
+# ---- Hook: many PLCs in one process ----------------------------------------------------------
+# BENCH_PLCS (500) copies of config/default.yaml's PLC in one `plcs:` process, each on its own
+# port with its own state file: the time to start, the CPU share of one core while nobody polls,
+# then one client per PLC polling FC03 (R0-R9) every 100 ms: its latency, the peak RSS, and the
+# scan-start lateness every PLC logs when the daemon stops (the worst PLC's p99 and the median
+# PLC's).
+bench_many_plcs() {
+    local n=${BENCH_PLCS:-500} dir=$TMP/plcs cfg base started ticks hz t0 t1 c0 c1 up
+    if [[ $BUILD_OK != 1 || ! -x $BUILD/plcemud ]]; then
+        note "plcs: $BUILD/plcemud not built; skipped"
+        return 0
+    fi
+    mkdir -p "$dir"
+    base=$((20000 + RANDOM % 20000))
+    if ! cfg=$("$PY" bench/many_plcs.py --count "$n" --port "$base" --dir "$dir"); then
+        note "plcs: no $n free ports from $base; skipped"
+        return 0
+    fi
+    started=$(date +%s.%N)
+    # The last PLC's port accepting means every listener is open.
+    START_TRIES=2400 start_server plcs "$((base + n - 1))" "$BUILD/plcemud" -c "$cfg" || return 0
+    up=$(awk -v a="$started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f", b - a }')
+    echo "plcs$n.start $up s"
+    hz=$(getconf CLK_TCK)
+    cpu_ticks() { awk '{ print $14 + $15 }' "/proc/$SERVER_PID/stat"; }
+    sleep 2  # past the start-up's own work
+    c0=$(cpu_ticks)
+    t0=$(date +%s.%N)
+    sleep "$((RUN_SECONDS * 2))"
+    c1=$(cpu_ticks)
+    t1=$(date +%s.%N)
+    emit < <(awk -v n="plcs$n.idle_cpu" -v c="$((c1 - c0))" -v hz="$hz" -v a="$t0" -v b="$t1" \
+        'BEGIN { printf "%s %.1f %%\n", n, 100 * c / hz / (b - a) }')
+    emit < <("$BUILD/load_client" --port "$base" --ports "$n" --connections "$n" \
+        --interval-ms 100 --quantity 10 --seconds "$((RUN_SECONDS * 2))" \
+        --warmup "$WARMUP_SECONDS" --label "plcs$n.fc03" | grep -v '\.fairness ')
+    if alive "$SERVER_PID"; then
+        emit < <(awk -v n="plcs$n" '/^VmHWM:/ { printf "%s.peak_rss %.1f MB\n", n, $2 / 1024 }' \
+            "/proc/$SERVER_PID/status")
+    fi
+    stop_server
+    emit < <(sed -n 's/.*scan lateness: [0-9]* scans, p50 [0-9]* us, p99 \([0-9]*\) us.*/\1/p' \
+        "$TMP/plcs.log" | sort -n | awk -v n="plcs$n.scan_lateness" '
+            { v[NR] = $1 }
+            END { if (NR) printf "%s.p99_median_plc %s us\n%s.p99_worst_plc %s us\n",
+                                 n, v[int((NR + 1) / 2)], n, v[NR] }')
+    [[ -n ${FIG[plcs$n.scan_lateness.p99_worst_plc]:-} ]] ||
+        note "plcs: no scan lateness in plcemud's log"
+}
+
 install_packages
 build
+if [[ -n ${BENCH_ONLY:-} ]]; then
+    # One hook alone, e.g. BENCH_ONLY=many_plcs.
+    declare -F "bench_$BENCH_ONLY" >/dev/null || { echo "bench: no hook '$BENCH_ONLY'" >&2; exit 2; }
+    "bench_$BENCH_ONLY"
+    exit 0
+fi
 note "each run: ${WARMUP_SECONDS} s warm-up, ${RUN_SECONDS} s measured; FC03 of 125 registers"
 bench_engine
 bench_plcemud
@@ -252,5 +311,6 @@ port=$(free_port)
 bench_server pymodbus "$port" "$PY" bench/pymodbus_server.py --port "$port"
 bench_scan_lateness
 bench_rtu_turnaround
+bench_many_plcs
 ratio plcemud_vs_noop plcemud noop
 ratio plcemud_vs_libmodbus plcemud libmodbus

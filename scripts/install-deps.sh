@@ -20,7 +20,8 @@ for what in "${@:-run}"; do
         package) want+=(dpkg-dev file lintian) ;;
         # scripts/style.sh: the versions CI checks style with.
         style) want+=(clang-format-14 clang-tidy-14 git) ;;
-        bench) want+=(libbenchmark-dev python3-pymodbus python3-serial-asyncio socat) ;;
+        # python3-yaml: bench/many_plcs.py writes the 500-PLC config from config/default.yaml.
+        bench) want+=(libbenchmark-dev python3-pymodbus python3-serial-asyncio python3-yaml socat) ;;
         fuzz) want+=(clang-14 libclang-rt-14-dev) ;;
         plot) want+=(python3-matplotlib) ;;
         trace) want+=(python3-pymodbus python3-serial-asyncio python3-yaml) ;;

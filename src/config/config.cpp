@@ -294,8 +294,8 @@ void read_program(const Reader& r, const Node& n, std::vector<InstructionConfig>
     for (const auto& item : n.items) {
         if (!item.is_map() || item.size() != 1) {
             r.fail(item,
-                   "program entry: expected one instruction such as 'MOV: {en: M1926, s: WM800, d: "
-                   "R4012}'");
+                   "program entry: expected one instruction with its operands, such as "
+                   "'MOV: {en: M0, s: K5, d: D0}'");
         }
         const auto& kv = item.entries.front();
         InstructionConfig ic;

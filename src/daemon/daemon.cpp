@@ -52,7 +52,7 @@ modbus::TcpOptions tcp_options(const config::Config& c) {
 
 // One PLC of the process: its state file, its Plc, its transports and its scan driver, on the
 // event loop the Runtime owns. A reload builds the new Plc beside the running one and swaps it in
-// only when it validated (DESIGN principle 8).
+// only when it validated (docs/architecture.md).
 class Host {
 public:
     Host(asio::io_context& io, Notifier& notify, Retirer<Plc>& retirer, config::Config loaded)

@@ -784,7 +784,8 @@ FunctionReply echo_length(const FunctionRequest& r, PduBuffer out) noexcept {
     return FunctionReply::pdu(3);
 }
 
-// Function codes are a table a profile may extend or cut (DESIGN: handlers per code).
+// Function codes are a table a profile may extend or cut (docs/architecture.md, one handler per
+// code).
 TEST_F(ModbusMap, AProfileMayAddOrRefuseFunctionCodes) {
     EXPECT_EQ(wire::exception_of(tcp({0x41, 1, 2})), kIllegalFunction);
     disp_.set_function(0x41, &echo_length);

@@ -215,6 +215,46 @@ TEST_F(TcpMasterTest, FirstTransferConnectsSendsMbapAndTakesTheReply) {
     EXPECT_EQ(calls_, 1);
 }
 
+// `mbus.tcp.routes` (docs/profile-vb.md, "Transports: `mbus:`"): a routed station goes to its own
+// endpoint, every other station to `mbus.tcp`'s; with no fallback an unrouted station is never
+// sent and times out.
+TEST_F(TcpMasterTest, EachRoutedStationGoesToItsOwnEndpointTheRestToTheFallback) {
+    tcp::acceptor routed(io_, {asio::ip::make_address("127.0.0.1"), 0});
+    std::optional<tcp::socket> routed_peer;
+    routed.async_accept([&](const asio::error_code& ec, tcp::socket s) {
+        if (!ec) routed_peer.emplace(std::move(s));
+    });
+    acceptor_.listen();
+    accept();
+    TcpMasterOptions o;
+    o.fallback = acceptor_.local_endpoint();
+    o.routes.emplace_back(std::uint8_t{9}, routed.local_endpoint());
+    master_ = std::make_unique<TcpMaster>(io_, o);
+
+    first_transfer();  // station 5: the fallback's
+    result_.reset();
+    master_->transact(9, kReadPdu, kDeadline,
+                      [this](MasterOutcome out, std::span<const std::uint8_t> p) {
+                          result_ = Result{out, Bytes(p.begin(), p.end()), Clock::now()};
+                      });
+    ASSERT_TRUE(run_until([&] { return routed_peer.has_value(); }));
+    Bytes got(kRequestSize);
+    asio::read(*routed_peer, asio::buffer(got));
+    EXPECT_EQ(got, mbap(2, 9, kReadPdu));  // transaction IDs count per master
+    asio::write(*routed_peer, asio::buffer(mbap(2, 9, kReplyPdu)));
+    ASSERT_TRUE(run_until([&] { return ended(); }));
+    EXPECT_EQ(result_->outcome, MasterOutcome::Reply);
+    EXPECT_EQ(peers_[0]->received.size(), kRequestSize);  // nothing more went to the fallback
+
+    TcpMasterOptions only_routes;
+    only_routes.routes.emplace_back(std::uint8_t{9}, routed.local_endpoint());
+    master_ = std::make_unique<TcpMaster>(io_, only_routes);
+    transact(kReadPdu, 50ms);  // station 5: no endpoint at all
+    ASSERT_TRUE(run_until([&] { return ended(); }));
+    EXPECT_EQ(result_->outcome, MasterOutcome::TimedOut);
+    EXPECT_GE(result_->at - sent_at_, 50ms);
+}
+
 TEST_F(TcpMasterTest, TheConnectionIsKeptForTheNextTransfer) {
     listen();
     first_transfer();

@@ -167,7 +167,8 @@ TEST(Mbus, MasterXYNumbersAreOctalDigits) {
     EXPECT_FALSE(r.p.bit(Area::Y, 20));
 }
 
-// §7.6 "Exactly one request is in flight": nothing more is sent while it waits.
+// FNC149 (docs/profile-vb.md, "The cycle"): "Exactly one request is in flight": nothing more is
+// sent while it waits.
 TEST(Mbus, OneRequestInFlight) {
     Rig r;
     r.table({kRead5, kWrite2, kWrite3});
@@ -225,7 +226,8 @@ TEST(Mbus, M9199PulsesEvenWhenEveryTransferFailed) {
     EXPECT_TRUE(r.pass_pulse()) << "at most one pass per scan";
 }
 
-// The seven checks, each with its status (§7.6 "Cycle and checks"); the low byte is the station.
+// The seven checks, each with its status (docs/profile-vb.md, "The cycle"); the low byte is the
+// station.
 struct CheckCase {
     const char* rule;
     W set;
@@ -321,8 +323,8 @@ TEST(Mbus, StatusStaysUntilAPassWithoutFailure) {
     EXPECT_EQ(r.status(), 0);
 }
 
-// §7.6: "N outside 1–255, or a table that runs past D7999: status 3 with station 0, nothing is
-// sent, and the check is repeated every scan".
+// FNC149 (docs/profile-vb.md, "FNC149 MBUS"): "N outside 1–255, or a table that runs past D7999:
+// status 3 with station 0, nothing is sent, and the check is repeated every scan".
 TEST(Mbus, BadSetCountIsStatus3StationZeroEveryScan) {
     for (const std::uint16_t n : {std::uint16_t{0}, std::uint16_t{256}}) {
         Rig r;
@@ -351,7 +353,8 @@ TEST(Mbus, TableRunningPastD7999IsStatus3) {
     EXPECT_TRUE(r.link.sent.empty());
 }
 
-// §7.6: "The table, S1+0 included, is re-read at every set's turn."
+// FNC149 (docs/profile-vb.md, "FNC149 MBUS"): "The table, S1+0 included, is re-read at every set's
+// turn."
 TEST(Mbus, TableIsReadAgainAtEverySetsTurn) {
     Rig r;
     r.table({kRead5, kRead5});
@@ -426,8 +429,8 @@ TEST(Mbus, TimeOutIsStatus5AndTheCycleGoesOn) {
     EXPECT_EQ(r.p.d(2000, 2), (W{0, 0}));
 }
 
-// §7.6 reply checks: an exception reply is status 6 with its code in S2+3; S2+3 is 0 again at EN
-// rising.
+// FNC149 reply checks (docs/profile-vb.md, "The working area and the statuses"): an exception reply
+// is status 6 with its code in S2+3; S2+3 is 0 again at EN rising.
 TEST(Mbus, ExceptionIsStatus6WithTheCodeInS2Plus3) {
     Rig r;
     r.table({kWrite2});
@@ -444,7 +447,8 @@ TEST(Mbus, ExceptionIsStatus6WithTheCodeInS2Plus3) {
     EXPECT_EQ(r.p.word(Area::D, 103), 0);
 }
 
-// §7.6 reply checks: a reply that does not answer the request is status 6; nothing lands.
+// FNC149 reply checks (docs/profile-vb.md, "The working area and the statuses"): a reply that does
+// not answer the request is status 6; nothing lands.
 TEST(Mbus, MalformedReplyIsStatus6AndWritesNothing) {
     Rig r;
     r.table({kRead5});
@@ -514,7 +518,8 @@ TEST(Mbus, SecondMbusIsALoadError) {
         "vb.yaml", 5, 5, "one MBUS only; the first is at vb.yaml:4:5");
 }
 
-// §7.6: "A program with MBUS but no mbus: section is a config error."
+// FNC149 (docs/profile-vb.md, "FNC149 MBUS"): "A program with MBUS but no mbus: section is a config
+// error."
 TEST(Mbus, MbusWithoutAnMbusSectionIsAConfigError) {
     testing::expect_program_error(kProgram, 5, "no mbus: section");
 }
