@@ -70,7 +70,8 @@ bool ControlLoop::run(
     // "PID only really starts once every point has been measured" (FUN86: and FUN85 enabled).
     std::array<fatek::LoopInput, fatek::kLoopMaxPoints> in{};
     for (int i = 0; i < blocks_.points; ++i) {
-        const Point& pt = points.at[static_cast<std::size_t>(blocks_.first + i)];
+        const int p = blocks_.first + i;
+        const Point& pt = points.at[static_cast<std::size_t>(p)];
         if (!src.measuring || !pt.read_once) {
             loop_.stop(img);
             return false;

@@ -200,6 +200,7 @@ std::unique_ptr<engine::Instruction> make_tpsns(const instructions::Entry& ic,
     };
     refuse_shared(ops, mine);
     std::vector<engine::Claim> claims;
+    claims.reserve(mine.size() + 1);
     for (const auto& c : mine) claims.push_back(c.second);
     // The raw readings R3968+p of its points.
     claims.push_back({{Area::R, special::kRawReadings, n}, ClaimKind::Output, "TPSNS", b.where});
