@@ -297,6 +297,25 @@ TEST(FbTstc, LoadChecks) {
     fails(tp4("tp: 0, pl: 0", "R40") + eight, 7, "TR must be contiguous");
     // A TP4 on points the TSTC does not control may read anywhere.
     EXPECT_NO_THROW(Rig(tstc() + tp4("tp: 1, pl: 0", "R40")));
+    // One controller per point: a second TSTC on point 4 is refused at its sh.
+    std::string second = tstc("tp: 0, pl: 0, sm: 4", "sh: 4, zh: 4");
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"ym: Y16", "ym: Y24"},
+                                   {"R3842", "R3845"},
+                                   {"tr: R0", "tr: R4"},
+                                   {"Y48", "Y60"},
+                                   {"R100", "R400"},
+                                   {"R120", "R410"},
+                                   {"R140", "R420"},
+                                   {"R160", "R430"},
+                                   {"R180", "R440"},
+                                   {"R300", "R450"},
+                                   {"R200", "R460"},
+                                   {"M100", "M110"},
+                                   {"M101", "M111"},
+                                   {"M102", "M112"}}) {
+        second.replace(second.find(from), from.size(), to);
+    }
+    fails(eight + second, 7, "point 4 is already controlled by the TSTC at fb.yaml:6:5");
 }
 
 }  // namespace
