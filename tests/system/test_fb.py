@@ -1,8 +1,8 @@
 """The FATEK FB profile (docs/profile-fb.md) through Modbus TCP against the real daemon: the map
-of FB SPEC scenario S1 (FATEK's table without the R3968 remap, D2999–D3071 unmapped, IR
-read-only), the special registers' power-up values, R4167, the identity, --print-map, and the
-config errors of the profile and of `temperature.modules` at file:line:col (scenario S12's
-module half)."""
+of docs/profile-fb.md, "Modbus map" (FATEK's table without the R3968 remap, D2999–D3071
+unmapped, IR read-only), the special registers' power-up values, R4167, the identity, --print-map, and the
+config errors of the profile and of `temperature.modules` at file:line:col (docs/profile-fb.md,
+"Temperature modules")."""
 
 import time
 
@@ -32,12 +32,12 @@ def running(client):
         time.sleep(0.01)
 
 
-# --- S1: map --------------------------------------------------------------------------------
+# --- map -----------------------------------------------------------------------------------
 
 
 def test_s1_raw_readings_are_plain_holding_registers_and_a55ah_remaps_nothing(start_plcemud):
-    """FB SPEC S1: FC03 3968 qty 32 answers; R3968 = A55Ah is accepted and changes nothing: R0
-    stays at 0, Y0 at coil 0, and FC02/FC04 get exception 01 at any address."""
+    """docs/profile-fb.md, "Modbus map": FC03 3968 qty 32 answers; R3968 = A55Ah is accepted and
+    changes nothing: R0 stays at 0, Y0 at coil 0, and FC02/FC04 get exception 01 at any address."""
     d = start_plcemud(FB + "init: {R0: 1234, R3969: 0, R3970: 0, R3971: 5, R3974: 5, R3977: 5}\n")
     c = running(d.client())
     assert len(regs(c, 3968, 32)) == 32
@@ -55,8 +55,9 @@ def test_s1_raw_readings_are_plain_holding_registers_and_a55ah_remaps_nothing(st
 
 
 def test_s1_d_ends_at_d2998_on_the_wire_and_d3071_in_the_plc(start_plcemud):
-    """FB SPEC S1: FC03 8998 answers (D2998), 8999 is exception 02 (D2999 exists, not mapped);
-    D3071 exists (an init: preset is accepted and a MOV copies it to a mapped register)."""
+    """docs/profile-fb.md, "Modbus map": FC03 8998 answers (D2998), 8999 is exception 02 (D2999
+    exists, not mapped); D3071 exists (an init: preset is accepted and a MOV copies it to a mapped
+    register)."""
     d = start_plcemud(FB + "init: {D3071: 4321}\nprogram:\n  - MOV: {s: D3071, d: D0}\n")
     c = running(d.client())
     assert len(regs(c, 8998)) == 1
@@ -68,7 +69,7 @@ def test_s1_d_ends_at_d2998_on_the_wire_and_d3071_in_the_plc(start_plcemud):
 
 
 def test_s1_ir_is_read_only(start_plcemud):
-    """FB SPEC S1: FC06 3842 (IR R3842) gets exception 02."""
+    """docs/profile-fb.md, "Modbus map": FC06 3842 (IR R3842) gets exception 02."""
     d = start_plcemud(FB)
     c = running(d.client())
     assert exc(c.write_register(3842, 1, slave=1)) == ILLEGAL_ADDRESS
@@ -77,8 +78,8 @@ def test_s1_ir_is_read_only(start_plcemud):
 
 
 def test_s1_special_registers_after_start_and_model_code(start_plcemud):
-    """FB SPEC S1: FC03 4004 qty 20 after start gives the defaults of R4004-R4023, and R4167 =
-    0128h (FB-40MC, the default model)."""
+    """docs/profile-fb.md, "Special registers": FC03 4004 qty 20 after start gives the defaults of
+    R4004-R4023, and R4167 = 0128h (FB-40MC, the default model)."""
     d = start_plcemud(FB)
     c = running(d.client())
     assert regs(c, 4004, 20) == R4004_DEFAULTS
@@ -117,7 +118,8 @@ def test_identity(start_plcemud):
 
 
 def test_print_map(tmp_path):
-    """FB SPEC §7.2: no image-held maps, one line for R3968-R3999 instead; D0-D2998 mapped."""
+    """docs/profile-fb.md, "Modbus map": no image-held maps, one line for R3968-R3999 instead;
+    D0-D2998 mapped."""
     p, _ = check_config(tmp_path, "profile: fb\n")
     r = run_plcemud("-c", p, "--print-map")
     assert r.returncode == 0, r.stderr
@@ -180,8 +182,8 @@ def test_config_errors_name_file_line_col(tmp_path, text, line, col, needle):
 
 
 def test_s12_mixed_modules_exit_2_naming_both(tmp_path):
-    """FB SPEC S12: `temperature.modules: [FB-2AK4, FB-4AK24]` exits with status 2, naming both
-    modules and where each stands."""
+    """FB manual FUN73 (docs/profile-fb.md, "Temperature modules"): `temperature.modules:
+    [FB-2AK4, FB-4AK24]` exits with status 2, naming both modules and where each stands."""
     text = "profile: fb\ntemperature:\n  modules: [FB-2AK4, FB-4AK24]\n"
     err = expect_config_error(tmp_path, text, 3, 22, "FB-4AK24 cannot be used together with "
                               "the FB-2AK4")

@@ -1,8 +1,8 @@
-"""FUN72 TP4 of profile fb (docs/profile-fb.md, "FUN72 TP4") through Modbus TCP against the real
-daemon, frozen and stepped through the simulator unit: FB SPEC scenarios S2 (K on 0~10 V, the
-relays and AR, R4016, R4009), S3 (J, the bipolar ranges, R4017/R4018), S4 (broken thermocouple,
-R4010, the thresholds of 0~5 V), S5 (Pt100/Pt1000, R4020-R4022, the lead resistance of unit 247
-register 108+10c) and S6 (R4015 averaging)."""
+"""FUN72 TP4 of profile fb (docs/profile-fb.md, "FUN72 TP4" and "Conversion") through Modbus TCP
+against the real daemon, frozen and stepped through the simulator unit (FB manual FUN72/FUN73): K
+on 0~10 V with the relays, AR, R4016 and R4009; J and the bipolar ranges with R4017/R4018; a
+broken thermocouple, R4010 and the thresholds of 0~5 V; Pt100/Pt1000 with R4020-R4022 and the
+lead resistance of unit 247 register 108+10c; R4015 averaging."""
 
 import pytest
 
@@ -46,12 +46,13 @@ S2_TP4 = tp4("M3", 0, 0, 0, "Y16", "R3842", "R0", "R220", "M110", "M111")
 
 
 def test_s2_k_on_0_10v_relays_ar_r4016_r4009(start_plcemud):
-    """FB SPEC S2: channel 0 at 200 degC. Y16/Y17 during the first 50 scans, Y18/Y19 from scan 50;
-    AR shows the selected point; after the first round R3968 = 826, R0 = 200, R220 = 0, M111 OFF,
-    R221 = 000Fh; R4016 = 258 -> 208 (raw still 826), 238 -> 191; R4009 = 1 -> 392 degF."""
+    """FB manual FUN72, K on 0~10 V: channel 0 at 200 degC. Y16/Y17 during the first 50 scans,
+    Y18/Y19 from scan 50; AR shows the selected point; after the first round R3968 = 826, R0 = 200,
+    R220 = 0, M111 OFF, R221 = 000Fh; R4016 = 258 -> 208 (raw still 826), 238 -> 191; R4009 = 1 ->
+    392 degF."""
     c = start(start_plcemud, {0: 200}, S2_TP4)
     # R3968-R3999 take Modbus writes; the measurement overwrites a point at its next sample, a
-    # point nothing measures keeps the value (FB SPEC section 7.2).
+    # point nothing measures keeps the value (docs/profile-fb.md, "Modbus map").
     write(c, 3968, 1234)
     write(c, 3999, 77)
     on(c, 3)
@@ -85,9 +86,9 @@ def test_s2_k_on_0_10v_relays_ar_r4016_r4009(start_plcemud):
 
 
 def test_s3_j_and_bipolar_ranges(start_plcemud):
-    """FB SPEC S3: J 0~10 V at 300 degC: raw 1280, reading 300, R4018 = 250 -> 312. K -10~10 V:
-    200 degC raw 413 reading 200; -50 degC raw -90 (FFA6h) reading -50, R4017 = 300 -> -52.
-    K -5~5 V at -50 degC: raw -179, reading -49 (truncated)."""
+    """FB manual FUN73, R4016-R4019: J 0~10 V at 300 degC: raw 1280, reading 300, R4018 = 250 ->
+    312. K -10~10 V: 200 degC raw 413 reading 200; -50 degC raw -90 (FFA6h) reading -50, R4017 = 300
+    -> -52. K -5~5 V at -50 degC: raw -179, reading -49 (truncated)."""
     c = start(start_plcemud, {0: 300, 4: 200, 5: -50, 8: -50},
               tp4("M3", 1, 0, 0, "Y16", "R3842", "R0", "R220"),
               tp4("M3", 0, 2, 4, "Y24", "R3845", "R4", "R230"),
@@ -109,10 +110,10 @@ def test_s3_j_and_bipolar_ranges(start_plcemud):
 
 
 def test_s4_broken_thermocouple(start_plcemud):
-    """FB SPEC S4: sensor_broken on channel 0 (unit 247 register 100 bit 0): within a round
-    R3968 = 4095, R0 = 991, R220 bit 0, M111; degF 1815 still flagged; R4010 bit 0 = 0 -> R0 = 0,
-    unflagged; the fault cleared -> the reading is back; R4016 = 225 -> 899, not flagged. 0~5 V:
-    455 degC reads 455 and is flagged, 451 degC reads 450 and is not."""
+    """FB manual FUN73, broken thermocouple: sensor_broken on channel 0 (unit 247 register 100 bit
+    0): within a round R3968 = 4095, R0 = 991, R220 bit 0, M111; degF 1815 still flagged; R4010 bit
+    0 = 0 -> R0 = 0, unflagged; the fault cleared -> the reading is back; R4016 = 225 -> 899, not
+    flagged. 0~5 V: 455 degC reads 455 and is flagged, 451 degC reads 450 and is not."""
     c = start(start_plcemud, {0: 200, 4: 455, 5: 451}, S2_TP4,
               tp4("M3", 0, 1, 4, "Y24", "R3845", "R4", "R230", alm="M112"))
     on(c, 3)
@@ -142,11 +143,11 @@ def test_s4_broken_thermocouple(start_plcemud):
 
 
 def test_s5_rtd_compensation_and_lead_resistance(start_plcemud):
-    """FB SPEC S5: Pt100 (tp 2, pl 2) at 50.0 degC: R0 = 500, R3968 = 2081; R4021 = 5000 with
-    R5000 = 10 -> 474; 40 -> 396; JIS -> 398; R4022 = 1034 -> 504; lead 1.50 ohm (unit 247
-    register 108) -> 539, compensated by R5000 = 15 -> 500. Pt1000 with 1.0 ohm -> 497. 200 degC
-    on 10 V DIN: 1466, raw 4095, not flagged. Broken: 32767, raw 4095, WR+0 bit 0, ALM. R4020 =
-    0002h: the table in D (D5000 does not exist: none; R4021 = 100: D100+p)."""
+    """FB manual FUN73, RTDs: Pt100 (tp 2, pl 2) at 50.0 degC: R0 = 500, R3968 = 2081; R4021 = 5000
+    with R5000 = 10 -> 474; 40 -> 396; JIS -> 398; R4022 = 1034 -> 504; lead 1.50 ohm (unit 247
+    register 108) -> 539, compensated by R5000 = 15 -> 500. Pt1000 with 1.0 ohm -> 497. 200 degC on
+    10 V DIN: 1466, raw 4095, not flagged. Broken: 32767, raw 4095, WR+0 bit 0, ALM. R4020 = 0002h:
+    the table in D (D5000 does not exist: none; R4021 = 100: D100+p)."""
     c = start(start_plcemud, {0: 50, 4: 50, 8: 200},
               tp4("M3", 2, 2, 0, "Y16", "R3842", "R0", "R220", alm="M111"),
               tp4("M3", 3, 2, 4, "Y24", "R3845", "R4", "R230"),
@@ -196,9 +197,9 @@ def test_s5_rtd_compensation_and_lead_resistance(start_plcemud):
 
 @pytest.mark.parametrize("r4015,n", [(2, 4), (0, 1)])
 def test_s6_averaging(start_plcemud, r4015, n):
-    """FB SPEC S6: with R4015 = 2 the reading always equals trunc(sum of the last <= 4 raws x 248 /
-    (1024 x count)); with R4015 = 0 it is the latest raw's conversion. A noisy channel makes the
-    raws differ from sample to sample."""
+    """FB manual FUN73, R4015 averaging: with R4015 = 2 the reading always equals trunc(sum of the
+    last <= 4 raws x 248 / (1024 x count)); with R4015 = 0 it is the latest raw's conversion. A
+    noisy channel makes the raws differ from sample to sample."""
     d = start_plcemud(FB + "plant:\n  defaults: {k: 0}\n  channels:\n"
                       "    0: {ambient: 200, noise: 3}\nprogram:\n" + S2_TP4)
     c = d.client()

@@ -1,7 +1,7 @@
 """FUN73 TSTC of profile fb (docs/profile-fb.md, "FUN73 TSTC") through Modbus TCP against the real
-daemon, frozen and stepped through the simulator unit: FB SPEC scenarios S7 (ERR and the gating
-of PID on every point read), S8 (the 4-point closed loop on the default plant), S9 (zone and
-warnings) and S10 (R4005 codes)."""
+daemon, frozen and stepped through the simulator unit (FB manual FUN73): ERR and the gating of
+PID on every point read, the 4-point closed loop on the default plant, zone and warnings, and
+R4005's codes."""
 
 from test_fb_tp4 import FB, ROUND, on, s16, tp4
 from test_vb import SIM, coils, freeze, regs, step, write
@@ -31,7 +31,7 @@ def fill(c, addr, value, n=4):
 
 
 def s8_gains(c, n=4):
-    """S8's set-up: SP 150, offset 5, Kc 60, Ti 17, Td 0."""
+    """The closed loop's set-up: SP 150, offset 5, Kc 60, Ti 17, Td 0."""
     fill(c, 100, 150, n)
     fill(c, 120, 5, n)
     fill(c, 140, 60, n)
@@ -40,7 +40,7 @@ def s8_gains(c, n=4):
 
 
 def test_s7_err_for_sh_zh_and_sh_below_sm(start_plcemud):
-    """FB SPEC S7: sh 0 with sm 4, zh 0, sh + zh = 33 -> ERR at every scan whatever EN, nothing
+    """FB manual FUN73: sh 0 with sm 4, zh 0, sh + zh = 33 -> ERR at every scan whatever EN, nothing
     else written."""
     for bad in ({"sm": 4, "sh": 0}, {"zh": 0}, {"sh": 1, "zh": 32}):
         c = start(start_plcemud, tstc(**bad))
@@ -62,8 +62,8 @@ EXAMPLE1 = (tstc(zh=16, yh="Y48")
 
 
 def test_s7_pid_waits_for_every_point(start_plcemud):
-    """FB SPEC S7: the example 1 program (TSTC Sm 0 / Sh 0 / Zh 16, TP4 at Sm 4, 8, 12). With the
-    TP4 at Sm 12 off, Y48-Y63 stay OFF and R300-R315 stay 0; switching it on, PID starts at the
+    """FB manual FUN73: the example 1 program (TSTC Sm 0 / Sh 0 / Zh 16, TP4 at Sm 4, 8, 12).
+    With the TP4 at Sm 12 off, Y48-Y63 stay OFF and R300-R315 stay 0; switching it on, PID starts at the
     first scan after its 4 points have each been read (within 2 s)."""
     c = start(start_plcemud, EXAMPLE1)
     fill(c, 100, 150, 16)
@@ -92,18 +92,20 @@ def load_error(tmp_path, program):
 
 
 def test_s7_load_errors(tmp_path):
-    """FB SPEC S7 load errors: Ym overlapping Yh is refused at the operand, naming file:line:col."""
+    """docs/profile-fb.md, "FUN73 TSTC", checks at load: Ym overlapping Yh is refused at the
+    operand, naming file:line:col."""
     code, err = load_error(tmp_path, tstc(yh="Y20"))
     assert code == 2
     assert "fb.yaml:5:" in err and "Y20-Y23 overlaps its own ym" in err
 
 
 def test_s8_closed_loop_4_points(start_plcemud):
-    """FB SPEC S8: the default plant (K 400, tau 120 s, theta 5 s, 25 degC), SP 150, offset 5,
-    Kc 60, Ti 17, Td 0, R4005 0000h, R4014 500, 30 simulated minutes: the first execution keeps the
-    gains; reading >= 145 by 90 s; true temperature peaks <= 165.0; reading within 150 +- 5 from
-    300 s and 147...153 over the last 10 minutes; mean R300 over the last 10 minutes 1150...1400;
-    heater power 28.0-34.0 % over the last 10 minutes; WR+8 = 000Fh, M102 OFF, WR+12 = 0202h at the end."""
+    """FB manual FUN73, the 4-point closed loop: the default plant (K 400, tau 120 s, theta 5 s, 25
+    degC), SP 150, offset 5, Kc 60, Ti 17, Td 0, R4005 0000h, R4014 500, 30 simulated minutes: the
+    first execution keeps the gains; reading >= 145 by 90 s; true temperature peaks <= 165.0;
+    reading within 150 +- 5 from 300 s and 147...153 over the last 10 minutes; mean R300 over the
+    last 10 minutes 1150...1400; heater power 28.0-34.0 % over the last 10 minutes; WR+8 = 000Fh,
+    M102 OFF, WR+12 = 0202h at the end."""
     c = start(start_plcemud, tstc())
     s8_gains(c)
     on(c, 0)
@@ -132,7 +134,8 @@ def test_s8_closed_loop_4_points(start_plcemud):
     # Heater power (0.1 %, each a mean of 8 s), averaged over the last 10 minutes: the steady
     # state needs (150 - 25) / 400 = 31.25 %.
     means = [sum(p[ch] for p in power) / len(power) for ch in range(4)]
-    print(f"S8: >=145 at {reached} s, peak {peak / 10} degC, last 10 min {min(late)}..{max(late)},"
+    print(f"closed loop: >=145 at {reached} s, peak {peak / 10} degC, "
+          f"last 10 min {min(late)}..{max(late)},"
           f" mean R300 {mean:.0f}, heater power {[round(m / 10, 1) for m in means]} %")
     assert all(280 <= m <= 340 for m in means), means
     assert regs(c, 208) == [0x000F]
@@ -150,11 +153,11 @@ def settled(start_plcemud):
 
 
 def test_s9_zone_and_warnings(start_plcemud):
-    """FB SPEC S9 on the settled S8 loop: SP far below PV clears WR+8 bit 0 and raises AO1 at the
-    next scan; heater_shorted on channel 1 with R4008 200 sets WR+10/WR+13 bit 1 once R1 >= 200
-    for 10 scans, and clearing the fault clears it at the first scan below 200; heater_open on
-    channel 2 with R4007 300 drives R302 to >= 3686 and sets WR+10/WR+15 bit 2 after 300 s;
-    R4012 bit 3 = 0 turns Y51 OFF and R303 to 0 without AO1."""
+    """FB manual FUN73, zone and warnings on the settled closed loop: SP far below PV clears WR+8
+    bit 0 and raises AO1 at the next scan; heater_shorted on channel 1 with R4008 200 sets
+    WR+10/WR+13 bit 1 once R1 >= 200 for 10 scans, and clearing the fault clears it at the first
+    scan below 200; heater_open on channel 2 with R4007 300 drives R302 to >= 3686 and sets
+    WR+10/WR+15 bit 2 after 300 s; R4012 bit 3 = 0 turns Y51 OFF and R303 to 0 without AO1."""
     c = settled(start_plcemud)
     write(c, 100, 100)
     step(c, 1)
@@ -204,9 +207,9 @@ def test_s9_zone_and_warnings(start_plcemud):
 
 
 def test_s10_r4005_codes(start_plcemud):
-    """FB SPEC S10: R4005 written with EN off is read when EN rises; WR+12 shows PWM (high) and Ts
-    (low) in s: 0001h -> 0204h, 0103h -> 0401h, 0300h -> 0102h; a change while EN = 1 does not
-    alter WR+12 until EN falls and rises."""
+    """FB manual FUN73, R4005: R4005 written with EN off is read when EN rises; WR+12 shows PWM
+    (high) and Ts (low) in s: 0001h -> 0204h, 0103h -> 0401h, 0300h -> 0102h; a change while EN = 1
+    does not alter WR+12 until EN falls and rises."""
     c = start(start_plcemud, tstc(), "plant:\n  defaults: {k: 0, ambient: 200}\n")
     s8_gains(c)
     for r4005, wr12 in ((0x0001, 0x0204), (0x0103, 0x0401), (0x0300, 0x0102)):
@@ -244,8 +247,9 @@ def test_fb_example_yaml_runs_example_1(start_plcemud):
 
 
 def test_s7_load_errors_contiguous_tr(tmp_path):
-    """FB SPEC S7 load errors of the example 1 program: a TP4 with TR R5 instead of R4, and a TP4
-    with tp 1 under a tp 0 TSTC, are refused at the TP4's operand (status 2, file:line:col)."""
+    """FB manual FUN73, "TR must be contiguous", on the example 1 program: a TP4 with TR R5 instead
+    of R4, and a TP4 with tp 1 under a tp 0 TSTC, are refused at the TP4's operand (status 2,
+    file:line:col)."""
     good = EXAMPLE1.replace("en: M1", "en: M0").replace("en: M2", "en: M0")
     assert load_error(tmp_path, good)[0] == 0
     code, err = load_error(tmp_path, good.replace("tr: R4,", "tr: R5,"))

@@ -56,7 +56,7 @@ TEST(FbProfile, Identity) {
 }
 
 // docs/profile-fb.md, "Identity": FB-<points><MA|MC>; R4167 low byte points, high byte 0 MA /
-// 1 MC (FB SPEC S1: FB-40MC → 0128h).
+// 1 MC (so FB-40MC → 0128h).
 TEST(FbProfile, ModelGrammarAndCode) {
     for (const char* ok : {"FB-40MC", "FB-14MA", "FB-20MC", "FB-28MA", "FB-60MC"}) {
         EXPECT_TRUE(fb().valid_model(ok)) << ok;
@@ -100,7 +100,7 @@ TEST(FbLayout, RetentiveDefaultsCoverAllOfD) {
 
 // ---- special registers
 
-// FB SPEC §7.5 / S1: R4004–R4023 after start.
+// docs/profile-fb.md, "Special registers": R4004–R4023 after start.
 TEST(FbSpecials, TemperatureRegistersAtStart) {
     Rig rig;
     rig.scan();

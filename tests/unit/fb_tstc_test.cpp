@@ -10,6 +10,7 @@
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/plant/thermal_plant.hpp"
+#include "profiles/fb/control_loop.hpp"
 #include "profiles/fb/tstc.hpp"
 #include "support/config_errors.hpp"
 
@@ -106,7 +107,7 @@ TEST(FbTstc, FirstExecutionDefaults) {
         EXPECT_EQ(rig.r(161), 0) << c.module;
         EXPECT_EQ(rig.r(143), c.kc) << c.module;
     }
-    EXPECT_EQ(tstc::default_kc(0, 0), 60);
+    EXPECT_EQ(control::default_kc(0, 0), 60);
 }
 
 // FB manual FUN73: "PID only really starts once every point has been measured"; a point no
@@ -151,8 +152,8 @@ TEST(FbTstc, PidLawOnTheConverterFullScale) {
     rig.scan(1);  // scan 400, 2 s later: the integral again
     EXPECT_EQ(rig.r(300), 248);
     // The full scale behind G: 500 °C on 0~5 V, × 1.8 in °F.
-    EXPECT_NEAR(tstc::full_scale(0, 1, false, false), 500.0, 1e-9);
-    EXPECT_NEAR(tstc::full_scale(0, 0, true, false), 1800.0, 1e-9);
+    EXPECT_NEAR(control::full_scale(0, 1, false, false), 500.0, 1e-9);
+    EXPECT_NEAR(control::full_scale(0, 0, true, false), 1800.0, 1e-9);
 }
 
 // FB manual FUN73, R4005: low byte Ts, high byte PWM, 0 → 2 s, 1 → 4 s, 2 → 8 s, ≥ 3 → 1 s, read
@@ -217,6 +218,24 @@ TEST(FbTstc, R4008OverTemperatureInWholeDegrees) {
     EXPECT_FALSE(rig.m(102));
 }
 
+// FB manual FUN73: R4008 is whole degrees ("单位为度"); RTD readings are 0.1°, so they are compared
+// with R4008 × 10: a Pt100 reading 146.6 °C (1466) is not over the default 350 °C.
+TEST(FbTstc, R4008TimesTenForRtdReadings) {
+    Rig rig(tstc("tp: 2, pl: 2, sm: 0"));
+    rig.start(1466);
+    rig.scan(20);
+    EXPECT_EQ(rig.r(0), 1466);
+    EXPECT_EQ(rig.r(213), 0);
+    EXPECT_FALSE(rig.m(102));
+    rig.set_r(4008, 146);
+    rig.scan(10);
+    EXPECT_EQ(rig.r(213), 0x000F);
+    EXPECT_TRUE(rig.m(102));
+    rig.set_r(4008, 147);
+    rig.scan();
+    EXPECT_EQ(rig.r(213), 0);
+}
+
 // Broken point: output OFF, out of zone, AO0 (WR+0); its reading (991 with K defaults) is a
 // temperature and counts for over-temperature against R4008 350.
 TEST(FbTstc, BrokenPointOutputOffAndOverTemperature) {
@@ -278,6 +297,25 @@ TEST(FbTstc, LoadChecks) {
     fails(tp4("tp: 0, pl: 0", "R40") + eight, 7, "TR must be contiguous");
     // A TP4 on points the TSTC does not control may read anywhere.
     EXPECT_NO_THROW(Rig(tstc() + tp4("tp: 1, pl: 0", "R40")));
+    // One controller per point: a second TSTC on point 4 is refused at its sh.
+    std::string second = tstc("tp: 0, pl: 0, sm: 4", "sh: 4, zh: 4");
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"ym: Y16", "ym: Y24"},
+                                   {"R3842", "R3845"},
+                                   {"tr: R0", "tr: R4"},
+                                   {"Y48", "Y60"},
+                                   {"R100", "R400"},
+                                   {"R120", "R410"},
+                                   {"R140", "R420"},
+                                   {"R160", "R430"},
+                                   {"R180", "R440"},
+                                   {"R300", "R450"},
+                                   {"R200", "R460"},
+                                   {"M100", "M110"},
+                                   {"M101", "M111"},
+                                   {"M102", "M112"}}) {
+        second.replace(second.find(from), from.size(), to);
+    }
+    fails(eight + second, 7, "point 4 is already controlled by the TSTC at fb.yaml:6:5");
 }
 
 }  // namespace

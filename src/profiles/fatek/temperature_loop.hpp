@@ -84,6 +84,8 @@ public:
 
     /// A new error scale (the FB's full scale follows R4009's unit).
     void set_gain(double gain) noexcept { gain_ = gain; }
+    /// A new R4008 multiplier (the FB's RTD readings are in 0.1°, R4008 in whole degrees).
+    void set_over_scale(int over_scale) noexcept { over_scale_ = over_scale; }
     /// The timing in effect, as the status block's fifth word shows it.
     std::uint16_t timing_word() const;
     const LoopBlocks& blocks() const noexcept { return b_; }

@@ -7,6 +7,7 @@
 
 #include "profiles/fatek/operands.hpp"
 #include "profiles/fb/conversion.hpp"
+#include "profiles/fb/point_sample.hpp"
 #include "profiles/fb/services.hpp"
 #include "profiles/fb/special_registers.hpp"
 #include "profiles/fb/temperature_modules.hpp"
@@ -38,10 +39,9 @@ void check_module(instructions::Operands& ops, const ModuleOperands& m) {
     }
     const TemperatureModule& module = fs->modules[j];
     if (module.multiplexed || module.sensor != m.tp) {
-        const std::string at = module.pos.file + ":" + std::to_string(module.pos.line) + ":" +
-                               std::to_string(module.pos.column);
-        ops.fail("tp", std::to_string(m.tp) + " does not match the " + module.name + " at " + at +
-                           ", the module of points " + std::to_string(j * kPoints) + "-" +
+        ops.fail("tp", std::to_string(m.tp) + " does not match the " + module.name + " at " +
+                           declared_at(module) + ", the module of points " +
+                           std::to_string(j * kPoints) + "-" +
                            std::to_string(j * kPoints + kPoints - 1));
     }
 }
@@ -164,78 +164,11 @@ void ModuleCycle::stop() noexcept {
     }
 }
 
-int ModuleCycle::module_raw(const image::Image& img,
-                            int k,
-                            const engine::SensorSample& s) const noexcept {
-    const int tp = static_cast<int>(ops_.tp);
-    const int pl = static_cast<int>(ops_.pl);
-    if (thermocouple(tp))
-        return s.broken ? full_scale_raw(pl) : thermocouple_raw(s.celsius, tp, pl);
-    if (s.broken) return 4095;
-    const Factors f = Factors::read(img);
-    const int p = static_cast<int>(ops_.sm) + k;
-    const int c10 = rtd_celsius10(
-        rtd_sample(s.celsius, s.lead_ohm, compensation_ohm(img, p), tp, pl, f.jis), 1, tp, f);
-    return rtd_raw(c10, tp, pl, f.jis);
-}
-
 void ModuleCycle::sample(engine::ScanContext& ctx, int k, const engine::SensorSample& s) noexcept {
-    image::Image& img = ctx.image;
-    const int tp = static_cast<int>(ops_.tp);
-    const int pl = static_cast<int>(ops_.pl);
     const int p = static_cast<int>(ops_.sm) + k;
-    Point& pt = point(k);
-    const Factors f = Factors::read(img);
-    const int n = averaged_samples(img.word(Area::R, sp::kTempAverage));
-    int raw = 0;
-    int reading = 0;
-    bool broken = false;
-    if (thermocouple(tp)) {
-        // FB manual FUN73: the raw value is stored first, then converted.
-        raw = module_raw(img, k, s);
-        const int single = thermocouple_display(thermocouple_celsius(raw, 1, tp, pl, f), f);
-        broken = thermocouple_broken(single, pl, f);
-        if (broken) {
-            pt.clear_samples();  // a broken sample empties the average
-            reading = single;
-        } else {
-            pt.add(raw);
-            reading =
-                thermocouple_display(thermocouple_celsius(pt.sum(n), pt.used(n), tp, pl, f), f);
-        }
-    } else if (s.broken) {
-        pt.clear_samples();
-        broken = true;
-        reading = kRtdBroken;
-        raw = 4095;
-    } else {
-        // RTD: converted first, and the reading converted back into R3968+p last.
-        const int s10 = rtd_sample(s.celsius, s.lead_ohm, compensation_ohm(img, p), tp, pl, f.jis);
-        const int single_c10 = rtd_celsius10(s10, 1, tp, f);
-        broken = rtd_broken(rtd_display(single_c10, f));
-        int c10 = single_c10;
-        if (broken) {
-            pt.clear_samples();
-        } else {
-            pt.add(s10);
-            c10 = rtd_celsius10(pt.sum(n), pt.used(n), tp, f);
-        }
-        reading = rtd_display(c10, f);
-        raw = rtd_raw(c10, tp, pl, f.jis);
-    }
-    img.set_word(Area::R, sp::kRawReadings + static_cast<std::uint32_t>(p),
-                 static_cast<std::uint16_t>(raw));
-    // R4010/R4011 bit 0: no check, no warning, the reading is 0.
-    const std::uint16_t installed =
-        img.word(Area::R, sp::kSensorInstalled + static_cast<std::uint32_t>(p / 16));
-    if (((installed >> (p % 16)) & 1u) == 0) {
-        reading = 0;
-        broken = false;
-        pt.clear_samples();
-    }
-    pt.broken = broken;
-    pt.read_once = true;
-    img.set_word(ops_.tr.area, offset(ops_.tr, k), static_cast<std::uint16_t>(reading));
+    const int reading = sample_point(ctx.image, static_cast<int>(ops_.tp),
+                                     static_cast<int>(ops_.pl), p, point(k), s);
+    ctx.image.set_word(ops_.tr.area, offset(ops_.tr, k), static_cast<std::uint16_t>(reading));
 }
 
 void ModuleCycle::run(engine::ScanContext& ctx, bool en) noexcept {
@@ -262,7 +195,9 @@ void ModuleCycle::run(engine::ScanContext& ctx, bool en) noexcept {
     const engine::SensorSample s =
         modules != nullptr ? modules->sense(p) : engine::SensorSample{true, 0.0, 0.0};
     // AR, the module's third input, shows the selected point; inputs 1 and 2 read 0 here.
-    img.set_word(Area::R, ops_.ar.index, static_cast<std::uint16_t>(module_raw(img, selected_, s)));
+    img.set_word(Area::R, ops_.ar.index,
+                 static_cast<std::uint16_t>(
+                     module_raw(img, static_cast<int>(ops_.tp), static_cast<int>(ops_.pl), p, s)));
     for (std::uint32_t back = 1; back <= 2; ++back) {
         if (ops_.ar.index >= kFirstInput + back) img.set_word(Area::R, ops_.ar.index - back, 0);
     }

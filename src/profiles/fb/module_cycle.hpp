@@ -73,7 +73,6 @@ public:
 
 private:
     void sample(engine::ScanContext& ctx, int k, const engine::SensorSample& s) noexcept;
-    int module_raw(const image::Image& img, int k, const engine::SensorSample& s) const noexcept;
     void stop() noexcept;
     void write_status(image::Image& img) const noexcept;
     Point& point(int k) const noexcept;

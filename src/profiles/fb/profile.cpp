@@ -10,12 +10,15 @@
 #include "profiles/fatek/naming.hpp"
 #include "profiles/fb/map.hpp"
 #include "profiles/fb/model.hpp"
+#include "profiles/fb/program_checks.hpp"
 #include "profiles/fb/services.hpp"
 #include "profiles/fb/special_registers.hpp"
 #include "profiles/fb/specials.hpp"
 #include "profiles/fb/temperature_config.hpp"
 #include "profiles/fb/temperature_modules.hpp"
 #include "profiles/fb/tp4.hpp"
+#include "profiles/fb/tpctl.hpp"
+#include "profiles/fb/tpsns.hpp"
 #include "profiles/fb/tstc.hpp"
 
 namespace plcemu::profiles::fb {
@@ -51,15 +54,17 @@ public:
     }
 
     std::vector<std::string_view> sections() const override { return {"temperature"}; }
-    void check(const config::Config& config) const override { temperature_config(config); }
+    void check(const config::Config& config) const override {
+        temperature_config(config);
+        check_temperature_program(config);
+    }
 
     const modbus::AddressMap& map() const override { return fb::map(); }
 
     const instructions::Table& instructions() const override {
         static const instructions::Table kTable{
-            {"MOV", &instructions::make_mov},
-            {"TP4", &make_tp4},
-            {"TSTC", &make_tstc},
+            {"MOV", &instructions::make_mov}, {"TP4", &make_tp4},   {"TPCTL", &make_tpctl},
+            {"TPSNS", &make_tpsns},           {"TSTC", &make_tstc},
         };
         return kTable;
     }

@@ -49,10 +49,6 @@ std::optional<TemperatureModule> module(std::string_view s) {
     return multiplexed(s);
 }
 
-std::string at(const config::Position& p) {
-    return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column);
-}
-
 void read(const config::Reader& r, const config::Node& n, TemperatureConfig& t) {
     r.check_keys(n, "temperature", {"modules", "table", "scan_rate"});
     // The FBs configuration table and its conversion rate: an FB measures with instructions.
@@ -83,7 +79,7 @@ void read(const config::Reader& r, const config::Node& n, TemperatureConfig& t) 
         for (const auto& other : t.modules) {
             if (other.multiplexed || m->multiplexed) {
                 r.fail(e, "temperature.modules: " + s + " cannot be used together with the " +
-                              other.name + " at " + at(other.pos) +
+                              other.name + " at " + position_text(other.pos) +
                               " (an FB-4AJ(K)xx is used alone, without FB-2A…4 modules)");
             }
         }
@@ -95,6 +91,19 @@ void read(const config::Reader& r, const config::Node& n, TemperatureConfig& t) 
 }
 
 }  // namespace
+
+const TemperatureModule* multiplexed_module(const std::vector<TemperatureModule>& modules) {
+    for (const auto& m : modules) {
+        if (m.multiplexed) return &m;
+    }
+    return nullptr;
+}
+
+std::string position_text(const config::Position& p) {
+    return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column);
+}
+
+std::string declared_at(const TemperatureModule& module) { return position_text(module.pos); }
 
 TemperatureConfig temperature_config(const config::Config& config) {
     TemperatureConfig t;

@@ -24,6 +24,15 @@ struct TemperatureConfig {
     std::vector<TemperatureModule> modules;  ///< in chain order; empty: what the program says
 };
 
+/// The FB-4AJ(K)xx of a chain, or null (a chain with one has nothing else).
+const TemperatureModule* multiplexed_module(const std::vector<TemperatureModule>& modules);
+
+/// "file:line:col" of a position.
+std::string position_text(const config::Position& pos);
+
+/// "file:line:col" of a module's entry.
+std::string declared_at(const TemperatureModule& module);
+
 /// The `temperature:` section of a config (empty when it has none). Throws config::ConfigError
 /// at the faulty node.
 TemperatureConfig temperature_config(const config::Config& config);

@@ -1,6 +1,5 @@
 #include "profiles/fb/tstc.hpp"
 
-#include <array>
 #include <optional>
 #include <string>
 #include <utility>
@@ -9,38 +8,11 @@
 #include "instructions/operands.hpp"
 #include "profiles/fatek/operands.hpp"
 #include "profiles/fatek/temperature_loop.hpp"
-#include "profiles/fb/conversion.hpp"
+#include "profiles/fb/control_loop.hpp"
 #include "profiles/fb/module_cycle.hpp"
 #include "profiles/fb/services.hpp"
-#include "profiles/fb/special_registers.hpp"
 
 namespace plcemu::profiles::fb {
-
-namespace tstc {
-
-std::uint16_t default_kc(int sensor, int pl) {
-    // FB manual FUN73: "0~10V … 60", "0~5V … 30", "-10~10V … 120", "-5~5V … 60". The RTD
-    // modules are bipolar: 120 on a 10 V span, 60 on a 5 V one.
-    static constexpr std::array<std::uint16_t, 4> kThermocouple{60, 30, 120, 60};
-    if (thermocouple(sensor)) return kThermocouple[static_cast<std::size_t>(pl)];
-    return pl == 0 || pl == 2 ? 120 : 60;
-}
-
-double full_scale(int sensor, int pl, bool fahrenheit, bool jis) {
-    // Pb = 100 % / Kc of the converter's full scale: 1000/500/2000/1000 °C for thermocouples,
-    // the measuring range in 0.1 °C for RTDs (docs/profile-fb.md, "FUN73 TSTC").
-    static constexpr std::array<double, 4> kThermocouple{1000.0, 500.0, 2000.0, 1000.0};
-    double fs = 0.0;
-    if (thermocouple(sensor)) {
-        fs = kThermocouple[static_cast<std::size_t>(pl)];
-    } else {
-        const RtdRange r = rtd_range(sensor, pl, jis);
-        fs = (r.hi - r.lo) * 10.0;
-    }
-    return fahrenheit ? fs * 1.8 : fs;
-}
-
-}  // namespace tstc
 
 namespace {
 
@@ -49,12 +21,6 @@ using image::Device;
 using instructions::BitSource;
 using instructions::Operands;
 using namespace tstc;
-
-// The FB's figures for the FATEK loop (FB manual FUN73): OR 0–4095, Kc/Ti/Td up to 999, R4007
-// from 300 s, R4008 whole degrees from 50, R4005 codes 0 → 2 s, 1 → 4 s, 2 → 8 s, ≥ 3 → 1 s; a
-// broken point's reading is a temperature that counts for over-temperature; Os < 0 is never in
-// zone.
-const fatek::LoopRules kRules{kFullScale, kGainCeiling, 300, 50, {2, 4, 8, 1}, true, true};
 
 struct Bound {
     BitSource en;
@@ -118,7 +84,7 @@ public:
           points_(points),
           claims_(std::move(claims)),
           cycle_(b_.m, std::move(points)),
-          loop_(&kRules, loop_blocks(b_), 1.0, false, 1) {}
+          loop_(loop_blocks(b_)) {}
 
     void declare(engine::Declarations& out) const override {
         for (const auto& c : claims_) out.claims.push_back(c);
@@ -134,8 +100,7 @@ public:
         image::Image& img = ctx.image;
         if (ctx.first_scan) {
             cycle_.reset();
-            loop_ = fatek::TemperatureLoop(&kRules, loop_blocks(b_), 1.0, false, 1);
-            prev_en_ = false;
+            loop_.reset();
         }
         if (!b_.valid) {
             // Tp, Pl, Sm, Sh or Zh out of range: not executed, ERR ON (FB manual FUN73).
@@ -144,38 +109,13 @@ public:
         }
         write_bit(img, b_.err, false);
         const bool en = b_.en.read(img);
-        const bool rising = en && !prev_en_;
-        prev_en_ = en;
         cycle_.run(ctx, en);
         write_bit(img, b_.ao0, cycle_.broken_bits() != 0);
-        // R4005 is read when EN rises: a change while EN = 1 waits for the next (note 1).
-        if (rising) loop_.latch_timing(img);
-        if (!en) {
-            stop(img);
-            return;
-        }
-        // "At the first execution the system gives every point the default Kc, Ti and Td":
-        // the points whose PR is still 0.
-        const int tp = static_cast<int>(b_.m.tp);
-        const int pl = static_cast<int>(b_.m.pl);
-        loop_.first_execution(img, {default_kc(tp, pl), kDefaultTi, kDefaultTd});
-        // "PID only really starts once every point has been measured."
-        std::array<fatek::LoopInput, fatek::kLoopMaxPoints> in{};
-        for (int i = 0; i < b_.points; ++i) {
-            const int p = static_cast<int>(b_.sh) + i;
-            const Point& pt = points_->at[static_cast<std::size_t>(p)];
-            if (!pt.read_once) {
-                stop(img);
-                return;
-            }
-            // The PV of point p is TR + (p − Sm): the readings are contiguous.
-            const auto at = b_.m.tr.index + static_cast<std::uint32_t>(p - b_.m.sm);
-            in[static_cast<std::size_t>(i)] = {
-                static_cast<std::int16_t>(img.word(b_.m.tr.area, at)), pt.broken};
-        }
-        const Factors f = Factors::read(img);
-        loop_.set_gain(kFullScale / full_scale(tp, pl, f.fahrenheit, f.jis));
-        write_bit(img, b_.ao1, loop_.run(ctx, b_.hc.read(img), in));
+        // The PV of point p is TR + (p − Sm): the readings are contiguous.
+        Device pv = b_.m.tr;
+        pv.index += static_cast<std::uint32_t>(b_.sh - b_.m.sm);
+        const LoopSource src{pv, static_cast<int>(b_.m.tp), static_cast<int>(b_.m.pl), true};
+        write_bit(img, b_.ao1, loop_.run(ctx, en, b_.hc.read(img), *points_, src));
     }
 
     std::string_view mnemonic() const noexcept override { return "TSTC"; }
@@ -185,17 +125,11 @@ private:
         if (d) img.write_bit(*d, v);
     }
 
-    void stop(image::Image& img) {
-        loop_.stop(img);
-        write_bit(img, b_.ao1, false);
-    }
-
     Bound b_;
     std::shared_ptr<Points> points_;
     std::vector<engine::Claim> claims_;
     ModuleCycle cycle_;
-    fatek::TemperatureLoop loop_;
-    bool prev_en_ = false;
+    ControlLoop loop_;
 };
 
 }  // namespace
@@ -215,7 +149,10 @@ std::unique_ptr<engine::Instruction> make_tstc(const instructions::Entry& ic,
         for (const auto& c : mine) claims.push_back(c.second);
     }
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
-    if (b.valid && fs != nullptr) fs->contiguity->controlled(ops, b.m, b.sh, b.zh, b.where);
+    if (b.valid && fs != nullptr) {
+        fs->contiguity->controlled(ops, b.m, b.sh, b.zh, b.where);
+        fs->controlled->claim(ops, "sh", "TSTC", b.sh, b.zh, b.where);
+    }
     auto points = fs != nullptr ? fs->points : std::make_shared<Points>();
     return std::make_unique<Tstc>(std::move(b), std::move(points), std::move(claims));
 }

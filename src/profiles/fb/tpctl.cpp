@@ -1,0 +1,173 @@
+#include "profiles/fb/tpctl.hpp"
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "instructions/operands.hpp"
+#include "profiles/fatek/operands.hpp"
+#include "profiles/fb/control_loop.hpp"
+#include "profiles/fb/module_cycle.hpp"
+#include "profiles/fb/services.hpp"
+
+namespace plcemu::profiles::fb {
+
+namespace {
+
+using image::Area;
+using image::Device;
+using instructions::BitSource;
+using instructions::Operands;
+using namespace tpctl;
+
+struct Bound {
+    BitSource en;
+    BitSource hc;
+    long long sn = 0;
+    long long zn = 0;
+    bool valid = false;  // Sn 0–23, Zn 1–24, Sn + Zn ≤ 24: the instruction runs
+    int points = 0;      // Zn when valid
+    Device yn;
+    Device wr;
+    fatek::LoopBlocks l;  // sv, os, pr, ir, dr, or
+    std::optional<Device> err, alm;
+    std::string where;
+};
+
+// Sn + Zn within the instruction's range but past the installed FB-4AJ(K)xx's points: the chain
+// is known at load.
+void check_module(Operands& ops, const Bound& b) {
+    const auto* fs = dynamic_cast<const Services*>(&ops.context().services);
+    if (fs == nullptr || !b.valid) return;
+    const TemperatureModule* m = multiplexed_module(fs->modules);
+    if (m == nullptr || b.sn + b.zn <= m->points) return;
+    ops.fail("zn", "sn " + std::to_string(b.sn) + " + zn " + std::to_string(b.zn) +
+                       " reaches point " + std::to_string(b.sn + b.zn - 1) + ", but the " +
+                       m->name + " at " + declared_at(*m) + " has points 0-" +
+                       std::to_string(m->points - 1));
+}
+
+Bound bind(const instructions::Entry& ic, const instructions::BindContext& ctx) {
+    constexpr long long kAny = 2147483647LL;
+    Operands ops(ic, ctx);
+    Bound b;
+    b.where = ic.where.text();
+    if (ops.has("md")) {
+        ops.fail("md",
+                 "not an operand of the FB's FUN86 TPCTL: it has no Md, its integral always "
+                 "accumulates (md belongs to the FBs TPCTL, profile fbs)");
+    }
+    b.en = ops.bit_source("en", true);
+    b.hc = ops.bit_source("hc", true);
+    // Sn/Zn: any integer here; out of range the instruction reports ERR at run time.
+    b.sn = ops.integer("sn", -kAny, kAny);
+    b.zn = ops.integer("zn", -kAny, kAny);
+    b.valid = b.sn >= 0 && b.sn <= kMaxPoints - 1 && b.zn >= 1 && b.zn <= kMaxPoints &&
+              b.sn + b.zn <= kMaxPoints;
+    b.points = b.valid ? static_cast<int>(b.zn) : 0;
+    const auto span = static_cast<std::uint32_t>(b.points > 0 ? b.points : 1);
+    b.yn = ops.device("yn", span, {Area::Y});
+    fatek::bind_point_blocks(ops, span, b.l);
+    b.wr = fatek::register_block(ops, "wr", kWorkingWords);
+    if (ops.has("err")) b.err = ops.bit_output("err");
+    if (ops.has("alm")) b.alm = ops.bit_output("alm");
+    ops.finish();
+    ops.refuse_reserved("yn", {Area::Y, b.yn.index, span});
+    if (b.err) ops.refuse_reserved("err", {b.err->area, b.err->index, 1});
+    if (b.alm) ops.refuse_reserved("alm", {b.alm->area, b.alm->index, 1});
+    check_module(ops, b);
+    return b;
+}
+
+fatek::LoopBlocks loop_blocks(const Bound& b) {
+    fatek::LoopBlocks l = b.l;
+    l.y = b.yn;
+    l.status = b.wr;
+    l.first = static_cast<int>(b.sn);
+    l.points = b.points;
+    return l;
+}
+
+class Tpctl final : public engine::Instruction {
+public:
+    Tpctl(Bound b,
+          std::shared_ptr<Points> points,
+          std::shared_ptr<TpsnsLink> tpsns,
+          std::vector<engine::Claim> claims)
+        : b_(std::move(b)),
+          points_(std::move(points)),
+          tpsns_(std::move(tpsns)),
+          claims_(std::move(claims)),
+          loop_(loop_blocks(b_)) {}
+
+    void declare(engine::Declarations& out) const override {
+        for (const auto& c : claims_) out.claims.push_back(c);
+        // Y(yn + i) switches the heater of temperature channel sn + i (TPSNS point sn + i).
+        for (int i = 0; i < b_.points; ++i) {
+            Device y = b_.yn;
+            y.index += static_cast<std::uint32_t>(i);
+            out.actuators.push_back({static_cast<int>(b_.sn) + i, y});
+        }
+    }
+
+    void execute(engine::ScanContext& ctx) noexcept override {
+        image::Image& img = ctx.image;
+        if (ctx.first_scan) loop_.reset();
+        if (!b_.valid) {
+            // Sn or Zn out of range: not executed, ERR ON (FB manual FUN86).
+            write_bit(img, b_.err, true);
+            write_bit(img, b_.alm, false);
+            return;
+        }
+        write_bit(img, b_.err, false);
+        // The PV of point i is TPSNS's TR + Sn + i; PID waits for TPSNS's EN ("it must be
+        // enabled, then, can the FUN86 start working").
+        Device pv = tpsns_->tr;
+        pv.index += static_cast<std::uint32_t>(b_.sn);
+        const LoopSource src{pv, tpsns_->sensor, tpsns_->pl, tpsns_->running};
+        const bool alarm = loop_.run(ctx, b_.en.read(img), b_.hc.read(img), *points_, src);
+        write_bit(img, b_.alm, alarm);
+    }
+
+    std::string_view mnemonic() const noexcept override { return "TPCTL"; }
+
+private:
+    static void write_bit(image::Image& img, const std::optional<Device>& d, bool v) {
+        if (d) img.write_bit(*d, v);
+    }
+
+    Bound b_;
+    std::shared_ptr<Points> points_;
+    std::shared_ptr<TpsnsLink> tpsns_;
+    std::vector<engine::Claim> claims_;
+    ControlLoop loop_;
+};
+
+}  // namespace
+
+std::unique_ptr<engine::Instruction> make_tpctl(const instructions::Entry& ic,
+                                                const instructions::BindContext& ctx) {
+    Bound b = bind(ic, ctx);
+    Operands ops(ic, ctx);
+    std::vector<engine::Claim> claims;
+    if (b.valid) {
+        using engine::ClaimKind;
+        const auto n = static_cast<std::uint32_t>(b.points);
+        const std::vector<std::pair<const char*, engine::Claim>> mine = {
+            {"wr", {{b.wr.area, b.wr.index, kWorkingWords}, ClaimKind::Working, "TPCTL", b.where}},
+            {"or", {{b.l.out.area, b.l.out.index, n}, ClaimKind::Output, "TPCTL", b.where}},
+            {"yn", {{Area::Y, b.yn.index, n}, ClaimKind::Pwm, "TPCTL", b.where}},
+        };
+        refuse_shared(ops, mine);
+        for (const auto& c : mine) claims.push_back(c.second);
+    }
+    const auto* fs = dynamic_cast<const Services*>(&ctx.services);
+    if (b.valid && fs != nullptr) fs->controlled->claim(ops, "sn", "TPCTL", b.sn, b.zn, b.where);
+    auto points = fs != nullptr ? fs->points : std::make_shared<Points>();
+    auto tpsns = fs != nullptr ? fs->tpsns : std::make_shared<TpsnsLink>();
+    return std::make_unique<Tpctl>(std::move(b), std::move(points), std::move(tpsns),
+                                   std::move(claims));
+}
+
+}  // namespace plcemu::profiles::fb
