@@ -618,11 +618,11 @@ void check_units(const Reader& r,
 void check_tcp_agrees(const Reader& r, const Node& entry, const Config& c, const Config& o) {
     const TcpConfig& a = c.modbus.tcp;
     const TcpConfig& b = o.modbus.tcp;
-    const char* key = a.bind != b.bind                       ? "bind"
-                      : a.unknown_unit != b.unknown_unit     ? "unknown_unit"
-                      : a.allow != b.allow                   ? "allow"
-                      : a.max_clients != b.max_clients       ? "max_clients"
-                      : a.idle_timeout_s != b.idle_timeout_s ? "idle_timeout_s"
+    const char* key = a.bind != b.bind                           ? "bind"
+                      : a.unknown_unit != b.unknown_unit         ? "unknown_unit"
+                      : a.allow != b.allow                       ? "allow"
+                      : a.max_clients != b.max_clients           ? "max_clients"
+                      : a.idle_timeout_s != b.idle_timeout_s     ? "idle_timeout_s"
                       : a.frame_timeout_ms != b.frame_timeout_ms ? "frame_timeout_ms"
                                                                  : nullptr;
     if (key == nullptr) return;
@@ -667,14 +667,13 @@ void check_shared(const Reader& r,
         }
         if (same_port(c.modbus.tcp, o.modbus.tcp)) {
             check_tcp_agrees(r, entry, c, o);
-            check_units(r, entry, c, o,
-                        "tcp listener " + c.modbus.tcp.bind + ":" +
-                            std::to_string(c.modbus.tcp.port));
+            check_units(
+                r, entry, c, o,
+                "tcp listener " + c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port));
         }
         if (c.modbus.rtu && o.modbus.rtu && c.modbus.rtu->device == o.modbus.rtu->device) {
             check_rtu_agrees(r, entry, c, o);
-            check_units(r, entry, c, o,
-                        "serial line '" + excerpt(c.modbus.rtu->device) + "'");
+            check_units(r, entry, c, o, "serial line '" + excerpt(c.modbus.rtu->device) + "'");
         }
         if (c.persistence.enabled && o.persistence.enabled &&
             default_state_file(c) == default_state_file(o)) {

@@ -36,12 +36,21 @@ namespace {
 // new Plc beside the running one and swaps it in only when it validated.
 class Host {
 public:
-    Host(asio::io_context& io, ScanTimer& timer, Notifier& notify, config::Config loaded)
+    Host(asio::io_context& io,
+         ScanTimer& timer,
+         SyncThread& syncs,
+         Notifier& notify,
+         config::Config loaded)
         : io_(io),
           timer_(timer),
+          syncs_(syncs),
           notify_(notify),
           cfg_(std::make_shared<const config::Config>(std::move(loaded))),
           prefix_(cfg_->label.empty() ? "" : cfg_->label + ": ") {}
+    // A start that failed half-way: the sync thread must not outlive the state file it syncs.
+    ~Host() {
+        if (sync_id_ != 0) syncs_.remove(sync_id_);
+    }
     Host(const Host&) = delete;
     Host& operator=(const Host&) = delete;
 
@@ -64,8 +73,7 @@ public:
                     spdlog::info("{}{}", prefix_, n.text);
                 }
             }
-            sync_ = std::make_unique<SyncThread>(
-                *state_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
+            sync_id_ = syncs_.add(*state_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
             if (state_->retained()) start = Start::Retained;
         } else {
             spdlog::info("{}persistence disabled: nothing is retained across restarts", prefix_);
@@ -73,7 +81,7 @@ public:
         }
         plc_ = std::make_unique<Plc>(cfg_, storage(), start);
         open_master(true);
-        start_scanning();
+        start_scanning(false);
 
         spdlog::info("{}plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
                      prefix_, version(), cfg_->profile, cfg_->model, int(cfg_->station),
@@ -87,6 +95,8 @@ public:
     }
 
     bool frozen() const { return driver_ && driver_->frozen(); }
+    // The first scan, once every PLC and listener of the process is open.
+    void start() { driver_->start(); }
 
     // After the loop ended: what ran, and the state file closed.
     void close() {
@@ -103,7 +113,8 @@ public:
         sim_.reset();
         driver_.reset();
         plc_.reset();
-        sync_.reset();
+        if (sync_id_ != 0) syncs_.remove(sync_id_);
+        sync_id_ = 0;
         if (state_) {
             state_->close();
             spdlog::info("{}state file {} closed", prefix_, state_->path());
@@ -167,7 +178,9 @@ public:
         }
         start_scanning();
         if (state_) state_->set_retentive(plc_layout(*cfg_).retentive);
-        if (sync_) sync_->set_period(std::chrono::milliseconds(cfg_->persistence.sync_ms));
+        if (sync_id_ != 0) {
+            syncs_.set_period(sync_id_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
+        }
 
         if (changes.empty())
             spdlog::info("reload: {}no setting changed; program restarted", prefix_);
@@ -191,7 +204,9 @@ private:
         spdlog::info("{}mbus: master via {}", prefix_, master_->description());
     }
 
-    void start_scanning() {
+    // `now`: false at start, where the Runtime starts every PLC's scans at once when all are
+    // open, so that opening the later ones does not make the first ones' first scans late.
+    void start_scanning(bool now = true) {
         // A frozen simulation stays frozen across a reload, with the steps it was asked for.
         const bool frozen = driver_ && driver_->frozen();
         const std::uint64_t steps = driver_ ? driver_->pending_steps() : 0;
@@ -205,17 +220,18 @@ private:
                                          static_cast<std::uint8_t>(cfg_->simulator.unit));
         // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
         driver_->on_scan([this] { notify_.watchdog(Notifier::Clock::now()); });
-        driver_->start();
+        if (now) driver_->start();
         if (steps > 0) driver_->step(steps);
     }
 
     asio::io_context& io_;
     ScanTimer& timer_;
+    SyncThread& syncs_;
     Notifier& notify_;
     std::shared_ptr<const config::Config> cfg_;  // shared with the running Plc
     std::string prefix_;                         // "plcs[1] (kiln): " in log lines
     std::unique_ptr<image::StateFile> state_;
-    std::unique_ptr<SyncThread> sync_;
+    SyncThread::Id sync_id_ = 0;   // 0 = persistence disabled
     std::vector<std::byte> heap_;  // the image when persistence is disabled
     std::unique_ptr<Plc> plc_;
     std::unique_ptr<MasterLink> master_;
@@ -243,10 +259,12 @@ public:
         // Everything the config can get wrong, found before any file or port is touched.
         for (const auto& c : loaded) probe(c);
         for (auto& c : loaded) {
-            hosts_.push_back(std::make_unique<Host>(io_, scan_timer_, notify_, std::move(c)));
+            hosts_.push_back(
+                std::make_unique<Host>(io_, scan_timer_, syncs_, notify_, std::move(c)));
         }
         for (auto& h : hosts_) h->open();
         listeners_.open(members());
+        for (auto& h : hosts_) h->start();
 
         arm_signals();
         arm_watchdog_timer();
@@ -419,6 +437,7 @@ private:
     Notifier notify_;
     Retirer<Plc> retirer_;
     ScanTimer scan_timer_{io_};
+    SyncThread syncs_;  // every PLC's state file, on one thread
     std::vector<std::unique_ptr<Host>> hosts_;
     Listeners listeners_{io_};
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};

@@ -101,7 +101,8 @@ struct Listeners::Staged {
     std::unique_ptr<Tcp> fresh;  // a new listener
 };
 
-Listeners::Listeners(asio::io_context& io) : io_(io) {}
+Listeners::Listeners(asio::io_context& io)
+    : io_(io) {}
 
 Listeners::~Listeners() { stop(); }
 
@@ -132,9 +133,8 @@ void log_listening(const std::string& what,
 void Listeners::open(const std::vector<ListenerMember>& plcs) {
     labels_.clear();
     for (const auto& m : plcs) labels_.push_back(m.config->label);
-    for (auto& g : group(plcs, [](const ListenerMember& m, std::size_t i) {
-             return tcp_key(*m.config, i);
-         })) {
+    for (auto& g :
+         group(plcs, [](const ListenerMember&m, std::size_t i) { return tcp_key(*m.config, i); })) {
         auto t = std::make_unique<Tcp>();
         t->key = std::move(g.key);
         t->members = std::move(g.members);
@@ -149,9 +149,8 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
 }
 
 void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start) {
-    for (auto& g : group(plcs, [](const ListenerMember& m, std::size_t i) {
-             return rtu_key(*m.config, i);
-         })) {
+    for (auto& g :
+         group(plcs, [](const ListenerMember&m, std::size_t i) { return rtu_key(*m.config, i); })) {
         auto r = std::make_unique<Rtu>();
         r->key = std::move(g.key);
         r->members = std::move(g.members);
@@ -192,6 +191,7 @@ void Listeners::raise_fd_limit(std::size_t plcs) const {
 std::string Listeners::refusal(const std::vector<config::Config>& next) const {
     auto old_groups = [](const auto& list) {
         std::vector<Group> out;
+        out.reserve(list.size());
         for (const auto& l : list) out.push_back({l->key, l->members});
         return out;
     };
@@ -253,8 +253,7 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
         // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the port, so it
         // goes first; if the new one still fails, the old one comes back.
         spdlog::info("reload: {}closing tcp {} to listen on {}:{}", prefix,
-                     (*running)->server->endpoint(), s.fresh->options.bind,
-                     s.fresh->options.port);
+                     (*running)->server->endpoint(), s.fresh->options.bind, s.fresh->options.port);
         (*running)->server->stop();
         (*running)->server.reset();
         stopped_for_stage_.push_back(static_cast<std::size_t>(running - tcp_.begin()));

@@ -21,7 +21,7 @@ modbus::TcpOptions tcp_options(const config::Config& c);
 
 /// One PLC as the listeners see it.
 struct ListenerMember {
-    const config::Config* config;     ///< its config (listener settings, label)
+    const config::Config* config;    ///< its config (listener settings, label)
     modbus::Dispatcher* dispatcher;  ///< where its requests go
 };
 

@@ -5,7 +5,8 @@
 
 namespace plcemu::daemon {
 
-ScanTimer::ScanTimer(asio::io_context& io) : timer_(io) {}
+ScanTimer::ScanTimer(asio::io_context& io)
+    : timer_(io) {}
 
 ScanTimer::Slot ScanTimer::add(Scheduled& s) {
     Slot slot = 0;

@@ -68,7 +68,7 @@ private:
     asio::steady_timer timer_;
     std::vector<Member> members_;
     std::vector<Slot> free_;
-    std::vector<Entry> heap_;  // a min-heap on deadline; stale entries are dropped lazily
+    std::vector<Entry> heap_;    // a min-heap on deadline; stale entries are dropped lazily
     std::vector<Entry> firing_;  // the entries due at this wake-up
     bool firing_now_ = false;
     Clock::time_point armed_ = Clock::time_point::max();

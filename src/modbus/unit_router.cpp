@@ -15,9 +15,7 @@ constexpr std::size_t kRtuMin = 4;
 
 }  // namespace
 
-void UnitRouter::add(Dispatcher& d) {
-    members_.push_back(&d);
-}
+void UnitRouter::add(Dispatcher& d) { members_.push_back(&d); }
 
 void UnitRouter::replace(const Dispatcher& old, Dispatcher& now) {
     std::replace_if(

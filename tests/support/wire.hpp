@@ -1,6 +1,6 @@
 #pragma once
-// Test support: drives a Dispatcher (or a router) the way the TCP and RTU transports do, and returns the
-// reply bytes.
+// Test support: drives a Dispatcher (or a router) the way the TCP and RTU transports do, and
+// returns the reply bytes.
 
 #include <array>
 #include <cstdint>

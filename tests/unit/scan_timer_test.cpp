@@ -19,7 +19,10 @@ using Clock = ScanTimer::Clock;
 
 // Records when it ran, and schedules itself again `again` later that many times.
 struct Driver final : Scheduled {
-    Driver(ScanTimer& t, std::string n, std::vector<std::string>& l) : timer(t), name(n), log(l) {
+    Driver(ScanTimer& t, std::string n, std::vector<std::string>& l)
+        : timer(t),
+          name(n),
+          log(l) {
         slot = timer.add(*this);
     }
     void due() override {

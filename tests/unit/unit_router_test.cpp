@@ -31,7 +31,8 @@ constexpr std::uint16_t kD0 = 6000;  // fbs: holding 6000 is D0
 
 // One PLC: its image, unit and dispatcher, and a wire straight to the dispatcher to look at it.
 struct Station {
-    explicit Station(std::uint8_t s) : station(s) {}
+    explicit Station(std::uint8_t s)
+        : station(s) {}
     image::Image img{test::fbs_layout()};
     PlcUnit unit{img, test::fbs().map(), {}};
     std::uint8_t station;
@@ -46,9 +47,8 @@ protected:
     SharedLine() {
         for (auto& s : plcs_) router_.add(s->disp);
     }
-    std::array<std::unique_ptr<Station>, 3> plcs_{std::make_unique<Station>(1),
-                                                  std::make_unique<Station>(2),
-                                                  std::make_unique<Station>(3)};
+    std::array<std::unique_ptr<Station>, 3> plcs_{
+        std::make_unique<Station>(1), std::make_unique<Station>(2), std::make_unique<Station>(3)};
     UnitRouter router_;
     Wire wire_{router_};
 };
