@@ -570,14 +570,93 @@ bool valid_entry_name(const std::string& s) {
 }
 
 // Two listeners clash on one port when either takes every address or both take the same one.
-bool same_listener(const TcpConfig& a, const TcpConfig& b) {
+bool same_port(const TcpConfig& a, const TcpConfig& b) {
     if (!a.enabled || !b.enabled || a.port == 0 || a.port != b.port) return false;
     auto any = [](const std::string& s) { return s == "0.0.0.0" || s == "::"; };
     return a.bind == b.bind || any(a.bind) || any(b.bind);
 }
 
-// The devices and files an entry takes for itself, checked against the earlier entries: two PLCs
-// cannot listen on one port, drive one serial line or write one state file.
+// The node of `key` under `at`, or the nearest ancestor written: where an error points.
+const Node& where(const Node& entry, std::initializer_list<const char*> path) {
+    const Node* n = &entry;
+    for (const char* k : path) {
+        const Node& next = (*n)[k];
+        if (!next) return *n;
+        n = &next;
+    }
+    return *n;
+}
+
+// PLCs on one listener are told apart by unit ID: each needs a station and a simulator unit of
+// its own there (docs/configuration.md, "Sharing a listener").
+void check_units(const Reader& r,
+                 const Node& entry,
+                 const Config& c,
+                 const Config& o,
+                 const std::string& listener) {
+    const std::string shared = " on the shared " + listener;
+    if (c.station == o.station) {
+        r.fail(where(entry, {"station"}), "station: " + std::to_string(c.station) + " is also " +
+                                              o.label + "'s" + shared +
+                                              " (each PLC there needs a station of its own)");
+    }
+    const int sim = c.simulator.unit;
+    const int other_sim = o.simulator.unit;
+    if (sim != 0 && (sim == other_sim || sim == o.station)) {
+        r.fail(where(entry, {"simulator", "unit"}),
+               "simulator.unit: " + std::to_string(sim) + " is also " + o.label + "'s " +
+                   (sim == other_sim ? "simulator unit" : "station") + shared +
+                   " (give each PLC there a simulator unit of its own, or 0 for none)");
+    }
+    if (other_sim != 0 && c.station == other_sim) {
+        r.fail(where(entry, {"station"}), "station: " + std::to_string(c.station) + " is " +
+                                              o.label + "'s simulator unit" + shared);
+    }
+}
+
+// PLCs behind one TCP listener share its settings: they must say the same.
+void check_tcp_agrees(const Reader& r, const Node& entry, const Config& c, const Config& o) {
+    const TcpConfig& a = c.modbus.tcp;
+    const TcpConfig& b = o.modbus.tcp;
+    const char* key = a.bind != b.bind                           ? "bind"
+                      : a.unknown_unit != b.unknown_unit         ? "unknown_unit"
+                      : a.allow != b.allow                       ? "allow"
+                      : a.max_clients != b.max_clients           ? "max_clients"
+                      : a.idle_timeout_s != b.idle_timeout_s     ? "idle_timeout_s"
+                      : a.frame_timeout_ms != b.frame_timeout_ms ? "frame_timeout_ms"
+                                                                 : nullptr;
+    if (key == nullptr) return;
+    const std::string what = std::string("modbus.tcp.") + key;
+    if (std::string(key) == "bind") {
+        r.fail(where(entry, {"modbus", "tcp", "port"}),
+               "modbus.tcp.port: " + std::to_string(a.port) + " is also " + o.label +
+                   "'s on another address (PLCs share a port only with the same modbus.tcp.bind)");
+    }
+    r.fail(where(entry, {"modbus", "tcp", key}),
+           what + ": differs from " + o.label + "'s, which shares the tcp listener " + a.bind +
+               ":" + std::to_string(a.port) + " (PLCs sharing a listener need the same " + what +
+               ")");
+}
+
+// PLCs on one serial line share its settings.
+void check_rtu_agrees(const Reader& r, const Node& entry, const Config& c, const Config& o) {
+    const RtuConfig& a = *c.modbus.rtu;
+    const RtuConfig& b = *o.modbus.rtu;
+    const char* key = a.baud != b.baud             ? "baud"
+                      : a.parity != b.parity       ? "parity"
+                      : a.data_bits != b.data_bits ? "data_bits"
+                      : a.stop_bits != b.stop_bits ? "stop_bits"
+                                                   : nullptr;
+    if (key == nullptr) return;
+    const std::string what = std::string("modbus.rtu.") + key;
+    r.fail(where(entry, {"modbus", "rtu", key}),
+           what + ": differs from " + o.label + "'s, which shares the serial line '" +
+               excerpt(a.device) + "' (PLCs on one line need the same " + what + ")");
+}
+
+// The devices and files an entry takes, checked against the earlier entries: PLCs may share a TCP
+// listener (same bind and port) or a serial line (same device) when they agree on its settings
+// and answer to different unit IDs; they cannot write one state file.
 void check_shared(const Reader& r,
                   const Node& entry,
                   const Config& c,
@@ -586,16 +665,15 @@ void check_shared(const Reader& r,
         if (!c.name.empty() && c.name == o.name) {
             r.fail(entry["name"], "name: '" + c.name + "' is also " + o.label + "'s");
         }
-        if (same_listener(c.modbus.tcp, o.modbus.tcp)) {
-            const Node& port = entry["modbus"]["tcp"]["port"];
-            r.fail(port ? port : entry, "modbus.tcp.port: " + std::to_string(c.modbus.tcp.port) +
-                                            " is also " + o.label +
-                                            "'s (each PLC needs a listener of its own)");
+        if (same_port(c.modbus.tcp, o.modbus.tcp)) {
+            check_tcp_agrees(r, entry, c, o);
+            check_units(
+                r, entry, c, o,
+                "tcp listener " + c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port));
         }
         if (c.modbus.rtu && o.modbus.rtu && c.modbus.rtu->device == o.modbus.rtu->device) {
-            r.fail(entry["modbus"]["rtu"]["device"], "modbus.rtu.device: '" +
-                                                         excerpt(c.modbus.rtu->device) +
-                                                         "' is also " + o.label + "'s");
+            check_rtu_agrees(r, entry, c, o);
+            check_units(r, entry, c, o, "serial line '" + excerpt(c.modbus.rtu->device) + "'");
         }
         if (c.persistence.enabled && o.persistence.enabled &&
             default_state_file(c) == default_state_file(o)) {

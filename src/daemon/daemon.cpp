@@ -9,19 +9,18 @@
 #include <memory>
 #include <thread>
 
-#include "daemon/fd_limit.hpp"
+#include "daemon/listeners.hpp"
 #include "daemon/master_link.hpp"
 #include "daemon/notify.hpp"
 #include "daemon/retirer.hpp"
 #include "daemon/persistence.hpp"
 #include "daemon/reload.hpp"
 #include "daemon/scan_driver.hpp"
+#include "daemon/scan_timer.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/image/state_file.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "simulator/simulator_unit.hpp"
-#include "modbus/rtu_server.hpp"
-#include "modbus/tcp_server.hpp"
 
 namespace plcemu::daemon {
 
@@ -32,41 +31,34 @@ void apply_overrides(config::Config& config, const Overrides& o) {
 
 namespace {
 
-modbus::TcpOptions tcp_options(const config::Config& c) {
-    modbus::TcpOptions o;
-    o.bind = c.modbus.tcp.bind;
-    o.port = c.modbus.tcp.port;
-    o.max_clients = c.modbus.tcp.max_clients;
-    o.idle_timeout_s = c.modbus.tcp.idle_timeout_s;
-    o.frame_timeout_ms = c.modbus.tcp.frame_timeout_ms;
-    for (const auto& a : c.modbus.tcp.allow) {
-        modbus::Cidr cidr;
-        if (!modbus::Cidr::parse(a, cidr)) {
-            throw config::ConfigError({c.path, 0, 0},
-                                      "modbus.tcp.allow: bad CIDR '" + config::excerpt(a) + "'");
-        }
-        o.allow.push_back(cidr);
-    }
-    return o;
-}
-
-// One PLC of the process: its state file, its Plc, its transports and its scan driver, on the
-// event loop the Runtime owns. A reload builds the new Plc beside the running one and swaps it in
-// only when it validated (docs/architecture.md).
+// One PLC of the process: its state file, its Plc, its master port and its scan driver, on the
+// event loop the Runtime owns (which also owns the listeners, shared or not). A reload builds the
+// new Plc beside the running one and swaps it in only when it validated.
 class Host {
 public:
-    Host(asio::io_context& io, Notifier& notify, Retirer<Plc>& retirer, config::Config loaded)
+    Host(asio::io_context& io,
+         ScanTimer& timer,
+         SyncThread& syncs,
+         Notifier& notify,
+         config::Config loaded)
         : io_(io),
+          timer_(timer),
+          syncs_(syncs),
           notify_(notify),
-          retirer_(retirer),
           cfg_(std::make_shared<const config::Config>(std::move(loaded))),
           prefix_(cfg_->label.empty() ? "" : cfg_->label + ": ") {}
+    // A start that failed half-way: the sync thread must not outlive the state file it syncs.
+    ~Host() {
+        if (sync_id_ != 0) syncs_.remove(sync_id_);
+    }
     Host(const Host&) = delete;
     Host& operator=(const Host&) = delete;
 
     const config::Config& config() const { return *cfg_; }
+    modbus::Dispatcher& dispatcher() { return plc_->dispatcher(); }
 
-    // Opens the state file, builds the Plc and opens its listeners; throws when one cannot.
+    // Opens the state file, builds the Plc and its master port and starts scanning; throws when
+    // one cannot. The Runtime opens the listeners.
     void open() {
         Start start = Start::Fresh;
         if (cfg_->persistence.enabled) {
@@ -81,38 +73,30 @@ public:
                     spdlog::info("{}{}", prefix_, n.text);
                 }
             }
-            sync_ = std::make_unique<SyncThread>(
-                *state_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
+            sync_id_ = syncs_.add(*state_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
             if (state_->retained()) start = Start::Retained;
         } else {
             spdlog::info("{}persistence disabled: nothing is retained across restarts", prefix_);
             heap_.assign(image::Image::storage_size(plc_layout(*cfg_)), std::byte{0});
         }
         plc_ = std::make_unique<Plc>(cfg_, storage(), start);
-
-        if (cfg_->modbus.tcp.enabled) {
-            ensure_fd_limit(cfg_->modbus.tcp.max_clients);
-            tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(*cfg_));
-        }
-        open_rtu();
         open_master(true);
-        start_scanning();
+        start_scanning(false);
 
         spdlog::info("{}plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
                      prefix_, version(), cfg_->profile, cfg_->model, int(cfg_->station),
                      cfg_->scan_ms, cfg_->time_scale);
         spdlog::info("{}program: {} instruction(s)", prefix_, cfg_->program.size());
-        if (tcp_) spdlog::info("{}listening on tcp {}", prefix_, tcp_->endpoint());
     }
 
     void stop() {
         if (driver_) driver_->stop();
-        if (tcp_) tcp_->stop();
-        if (rtu_) rtu_->stop();
         master_.reset();
     }
 
     bool frozen() const { return driver_ && driver_->frozen(); }
+    // The first scan, once every PLC and listener of the process is open.
+    void start() { driver_->start(); }
 
     // After the loop ended: what ran, and the state file closed.
     void close() {
@@ -125,23 +109,21 @@ public:
                          std::chrono::duration_cast<std::chrono::microseconds>(l.max).count(),
                          l.over_1ms);
         }
-        tcp_.reset();
-        rtu_.reset();
         master_.reset();
         sim_.reset();
         driver_.reset();
         plc_.reset();
-        sync_.reset();
+        if (sync_id_ != 0) syncs_.remove(sync_id_);
+        sync_id_ = 0;
         if (state_) {
             state_->close();
             spdlog::info("{}state file {} closed", prefix_, state_->path());
         }
     }
 
-    std::string status_line() const {
-        std::string s = prefix_ + "station " + std::to_string(plc_->engine().station());
-        if (tcp_) s += ", tcp " + tcp_->endpoint();
-        if (rtu_) s += ", rtu " + rtu_->description();
+    // `listeners`: ", tcp ADDR:PORT, rtu DEVICE" as Listeners::describe() says.
+    std::string status_line(const std::string& listeners) const {
+        std::string s = prefix_ + "station " + std::to_string(plc_->engine().station()) + listeners;
         if (state_) s += ", state " + state_->path();
         return s;
     }
@@ -154,53 +136,10 @@ public:
         return {};
     }
 
-    // A reload's first half: the new listener, when the config asks for another one, opened
-    // before anything changes, so a port in use rejects the reload. False (and said) when it
-    // cannot be had; then nothing changed.
-    bool stage(const config::Config& next) {
-        new_tcp_.reset();
-        old_tcp_stopped_ = false;
-        staged_listener_ = tcp_listener_changed(*cfg_, next);
-        if (!staged_listener_ || !next.modbus.tcp.enabled) return true;
-        try {
-            new_tcp_ =
-                std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(next));
-            return true;
-        } catch (const std::exception& e) {
-            // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
-            if (!tcp_ || next.modbus.tcp.port == 0 ||
-                next.modbus.tcp.port != cfg_->modbus.tcp.port) {
-                spdlog::error("reload: {}{}", prefix_, e.what());
-                return false;
-            }
-        }
-        // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the port, so it
-        // goes first; if the new one still fails, the old one comes back.
-        spdlog::info("reload: {}closing tcp {} to listen on {}:{}", prefix_, tcp_->endpoint(),
-                     next.modbus.tcp.bind, next.modbus.tcp.port);
-        tcp_->stop();
-        old_tcp_stopped_ = true;
-        try {
-            new_tcp_ =
-                std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(next));
-            return true;
-        } catch (const std::exception& e) {
-            spdlog::error("reload: {}{}", prefix_, e.what());
-            unstage();
-            return false;
-        }
-    }
-
-    // Undoes stage(): another PLC's listener could not be had.
-    void unstage() {
-        if (new_tcp_) new_tcp_->stop();
-        new_tcp_.reset();
-        if (old_tcp_stopped_) listen_again();
-        old_tcp_stopped_ = false;
-    }
-
-    // A reload's second half: applies a validated, staged config on the loop.
-    void apply(config::Config next, engine::Program program) {
+    // A reload's second half: applies a validated config on the loop (the Runtime staged the
+    // listeners). Returns the previous Plc, for the Runtime to retire once no listener routes to
+    // its dispatcher; null when the new one could not be built and the previous one runs on.
+    std::unique_ptr<Plc> apply(config::Config next, engine::Program program) {
         if (next.persistence.enabled != cfg_->persistence.enabled ||
             next.persistence.file != cfg_->persistence.file) {
             spdlog::warn(
@@ -217,43 +156,19 @@ public:
         // Moved, not copied: a program of 100,000 instructions costs a second to copy.
         auto applied = std::make_shared<const config::Config>(std::move(next));
         driver_->stop();
-        if (rtu_) rtu_->stop();
-        rtu_.reset();
         std::unique_ptr<Plc> plc;
         try {
             plc = std::make_unique<Plc>(applied, storage(), Start::Reload, std::move(program));
         } catch (const std::exception& e) {
             spdlog::error("reload: {}{}; still running its previous configuration", prefix_,
                           e.what());
-            unstage();
-            try {
-                open_rtu();
-            } catch (const std::exception& re) {
-                spdlog::error("{}rtu: {}", prefix_, re.what());
-            }
             driver_->start();
-            return;
+            return nullptr;
         }
         plc->plant().continue_from(plc_->plant());
         std::unique_ptr<Plc> old = std::move(plc_);
         plc_ = std::move(plc);
         cfg_ = std::move(applied);
-
-        if (staged_listener_) {
-            if (tcp_) tcp_->stop();
-            tcp_ = std::move(new_tcp_);
-            if (tcp_) spdlog::info("{}listening on tcp {}", prefix_, tcp_->endpoint());
-        } else if (tcp_) {
-            tcp_->set_limits(tcp_options(*cfg_));
-        }
-        old_tcp_stopped_ = false;
-        if (tcp_) ensure_fd_limit(cfg_->modbus.tcp.max_clients);
-        if (tcp_) tcp_->set_dispatcher(plc_->dispatcher());
-        try {
-            open_rtu();
-        } catch (const std::exception& e) {
-            spdlog::error("reload: {}rtu: {}; serving without the serial port", prefix_, e.what());
-        }
         // The new program's MBUS starts afresh on a new port; the old one's request is dropped.
         master_.reset();
         try {
@@ -263,30 +178,20 @@ public:
         }
         start_scanning();
         if (state_) state_->set_retentive(plc_layout(*cfg_).retentive);
-        if (sync_) sync_->set_period(std::chrono::milliseconds(cfg_->persistence.sync_ms));
+        if (sync_id_ != 0) {
+            syncs_.set_period(sync_id_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
+        }
 
         if (changes.empty())
             spdlog::info("reload: {}no setting changed; program restarted", prefix_);
         for (const auto& c : changes) spdlog::info("reload: {}{}", prefix_, c);
         spdlog::info("reload: {}done; station {}, image kept", prefix_,
                      int(plc_->engine().station()));
-        // The previous PLC is freed off the loop (its program may be large); nothing on the loop
-        // refers to it any more: transports, scan driver and simulator unit were replaced.
-        retirer_.retire(std::move(old));
+        return old;
     }
 
 private:
     std::span<std::byte> storage() { return state_ ? state_->storage() : std::span(heap_); }
-
-    // The serial slave shares the loop and the dispatcher: both transports see one image.
-    void open_rtu() {
-        if (!cfg_->modbus.rtu) return;
-        const config::RtuConfig& r = *cfg_->modbus.rtu;
-        rtu_ = std::make_unique<modbus::RtuServer>(
-            io_, plc_->dispatcher(),
-            modbus::RtuOptions{r.device, r.baud, r.parity, r.data_bits, r.stop_bits});
-        spdlog::info("{}listening on rtu {}", prefix_, rtu_->description());
-    }
 
     // The master port the program polls other devices through (VB MBUS), on the same loop:
     // its completions wait for the next scan, which never waits for them. A serial device that
@@ -299,11 +204,13 @@ private:
         spdlog::info("{}mbus: master via {}", prefix_, master_->description());
     }
 
-    void start_scanning() {
+    // `now`: false at start, where the Runtime starts every PLC's scans at once when all are
+    // open, so that opening the later ones does not make the first ones' first scans late.
+    void start_scanning(bool now = true) {
         // A frozen simulation stays frozen across a reload, with the steps it was asked for.
         const bool frozen = driver_ && driver_->frozen();
         const std::uint64_t steps = driver_ ? driver_->pending_steps() : 0;
-        driver_ = std::make_unique<ScanDriver>(io_, plc_->engine(), cfg_->time_scale);
+        driver_ = std::make_unique<ScanDriver>(io_, timer_, plc_->engine(), cfg_->time_scale);
         if (frozen) driver_->set_frozen(true);
         // The simulator-control unit, on the same listeners as the PLC; a read-only gateway
         // keeps it read-only too unless simulator.writable says otherwise.
@@ -313,43 +220,29 @@ private:
                                          static_cast<std::uint8_t>(cfg_->simulator.unit));
         // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
         driver_->on_scan([this] { notify_.watchdog(Notifier::Clock::now()); });
-        driver_->start();
+        if (now) driver_->start();
         if (steps > 0) driver_->step(steps);
     }
 
-    // The previous listener again, after a reload that had to close it failed.
-    void listen_again() {
-        try {
-            tcp_ = std::make_unique<modbus::TcpServer>(io_, plc_->dispatcher(), tcp_options(*cfg_));
-        } catch (const std::exception& e) {
-            tcp_.reset();
-            spdlog::error("{}tcp: cannot listen again: {}; serving no TCP", prefix_, e.what());
-        }
-    }
-
     asio::io_context& io_;
+    ScanTimer& timer_;
+    SyncThread& syncs_;
     Notifier& notify_;
-    Retirer<Plc>& retirer_;
     std::shared_ptr<const config::Config> cfg_;  // shared with the running Plc
     std::string prefix_;                         // "plcs[1] (kiln): " in log lines
     std::unique_ptr<image::StateFile> state_;
-    std::unique_ptr<SyncThread> sync_;
+    SyncThread::Id sync_id_ = 0;   // 0 = persistence disabled
     std::vector<std::byte> heap_;  // the image when persistence is disabled
     std::unique_ptr<Plc> plc_;
-    std::unique_ptr<modbus::TcpServer> tcp_;
-    std::unique_ptr<modbus::RtuServer> rtu_;
     std::unique_ptr<MasterLink> master_;
     std::unique_ptr<ScanDriver> driver_;
     std::unique_ptr<simulator::SimulatorUnit> sim_;
-    // What stage() prepared for apply().
-    bool staged_listener_ = false;
-    std::unique_ptr<modbus::TcpServer> new_tcp_;
-    bool old_tcp_stopped_ = false;
 };
 
 // The running daemon: one event loop for every PLC of the config (a `plcs:` list or the one PLC
-// of a plain config), and what a signal does to them. Each PLC keeps a scan driver of its own,
-// a timer on this loop: PLCs scan at periods and time scales of their own.
+// of a plain config), their listeners (shared where the config says so), and what a signal does
+// to them. One scan timer wakes every PLC's scan driver; each keeps its own deadlines, since PLCs
+// scan at periods and time scales of their own and the simulator unit freezes one PLC.
 class Runtime {
 public:
     Runtime(std::string config_path, Overrides overrides)
@@ -366,9 +259,12 @@ public:
         // Everything the config can get wrong, found before any file or port is touched.
         for (const auto& c : loaded) probe(c);
         for (auto& c : loaded) {
-            hosts_.push_back(std::make_unique<Host>(io_, notify_, retirer_, std::move(c)));
+            hosts_.push_back(
+                std::make_unique<Host>(io_, scan_timer_, syncs_, notify_, std::move(c)));
         }
         for (auto& h : hosts_) h->open();
+        listeners_.open(members());
+        for (auto& h : hosts_) h->start();
 
         arm_signals();
         arm_watchdog_timer();
@@ -390,6 +286,14 @@ private:
                                       "--port: a config with plcs: sets each PLC's port itself");
         }
         for (auto& c : v) apply_overrides(c, overrides_);
+        return v;
+    }
+
+    // Every PLC's config and dispatcher, in `plcs:` order, for the listeners.
+    std::vector<ListenerMember> members() const {
+        std::vector<ListenerMember> v;
+        v.reserve(hosts_.size());
+        for (const auto& h : hosts_) v.push_back({&h->config(), &h->dispatcher()});
         return v;
     }
 
@@ -420,14 +324,18 @@ private:
             spdlog::info("signal {}: stopping", sig == SIGINT ? "SIGINT" : "SIGTERM");
             notify_.stopping();
             watchdog_timer_.cancel();
+            listeners_.stop();
             for (auto& h : hosts_) h->stop();
+            scan_timer_.stop();
             io_.stop();
         });
     }
 
     std::string status_line() const {
         std::string s;
-        for (const auto& h : hosts_) s += (s.empty() ? "" : "; ") + h->status_line();
+        for (std::size_t i = 0; i < hosts_.size(); ++i) {
+            s += (s.empty() ? "" : "; ") + hosts_[i]->status_line(listeners_.describe(i));
+        }
         return s;
     }
 
@@ -507,14 +415,17 @@ private:
             }
             if (auto why = hosts_[i]->refusal(p.configs[i]); !why.empty()) return why;
         }
+        if (auto why = listeners_.refusal(p.configs); !why.empty()) return why;
+        if (!listeners_.stage(p.configs)) return "a listener could not be opened";
+        std::vector<std::unique_ptr<Plc>> replaced;
         for (std::size_t i = 0; i < hosts_.size(); ++i) {
-            if (!hosts_[i]->stage(p.configs[i])) {
-                for (std::size_t j = 0; j < i; ++j) hosts_[j]->unstage();
-                return "a listener could not be opened";
-            }
+            replaced.push_back(hosts_[i]->apply(std::move(p.configs[i]), std::move(p.programs[i])));
         }
-        for (std::size_t i = 0; i < hosts_.size(); ++i) {
-            hosts_[i]->apply(std::move(p.configs[i]), std::move(p.programs[i]));
+        listeners_.apply(members());
+        // The previous PLCs are freed off the loop (a program may be large); nothing on the loop
+        // refers to them any more: routers, scan drivers and simulator units were replaced.
+        for (auto& old : replaced) {
+            if (old) retirer_.retire(std::move(old));
         }
         spdlog::set_level(spdlog::level::from_str(hosts_.front()->config().log.level));
         return {};
@@ -525,7 +436,10 @@ private:
     asio::io_context io_{1};
     Notifier notify_;
     Retirer<Plc> retirer_;
+    ScanTimer scan_timer_{io_};
+    SyncThread syncs_;  // every PLC's state file, on one thread
     std::vector<std::unique_ptr<Host>> hosts_;
+    Listeners listeners_{io_};
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
     std::thread reload_thread_;
     bool reloading_ = false;

@@ -1,5 +1,7 @@
 #include "persistence.hpp"
 
+#include <algorithm>
+
 namespace plcemu::daemon {
 
 std::string state_file_path(const config::Config& config, const std::string& state_directory) {
@@ -21,24 +23,48 @@ std::string state_file_path(const config::Config& config, const std::string& sta
     return dir;
 }
 
-SyncThread::SyncThread(image::StateFile& file, std::chrono::milliseconds period)
-    : file_(file),
-      period_(period),
-      thread_([this] { run(); }) {}
-
 SyncThread::~SyncThread() {
     {
         std::lock_guard lock(mutex_);
         stop_ = true;
     }
     cv_.notify_all();
-    thread_.join();
+    if (thread_.joinable()) thread_.join();
 }
 
-void SyncThread::set_period(std::chrono::milliseconds period) {
+SyncThread::Id SyncThread::add(image::StateFile& file, std::chrono::milliseconds period) {
+    Id id = 0;
     {
         std::lock_guard lock(mutex_);
-        period_ = period;
+        id = next_++;
+        entries_.push_back({id, &file, period, Clock::now() + period});
+        changed_ = true;
+    }
+    cv_.notify_all();
+    if (!thread_.joinable()) thread_ = std::thread([this] { run(); });
+    return id;
+}
+
+void SyncThread::set_period(Id id, std::chrono::milliseconds period) {
+    {
+        std::lock_guard lock(mutex_);
+        for (auto& e : entries_) {
+            if (e.id == id && e.period != period) {
+                e.period = period;
+                e.due = Clock::now() + period;
+            }
+        }
+        changed_ = true;
+    }
+    cv_.notify_all();
+}
+
+void SyncThread::remove(Id id) {
+    {
+        std::unique_lock lock(mutex_);
+        cv_.wait(lock, [&] { return syncing_ != id; });
+        std::erase_if(entries_, [id](const Entry& e) { return e.id == id; });
+        changed_ = true;
     }
     cv_.notify_all();
 }
@@ -46,11 +72,38 @@ void SyncThread::set_period(std::chrono::milliseconds period) {
 void SyncThread::run() {
     std::unique_lock lock(mutex_);
     while (!stop_) {
-        const auto period = period_;
-        if (cv_.wait_for(lock, period, [&] { return stop_ || period_ != period; })) continue;
-        lock.unlock();
-        file_.sync();
-        lock.lock();
+        changed_ = false;
+        if (entries_.empty()) {
+            cv_.wait(lock, [&] { return stop_ || changed_; });
+            continue;
+        }
+        const auto next =
+            std::min_element(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
+                return a.due < b.due;
+            })->due;
+        if (cv_.wait_until(lock, next, [&] { return stop_ || changed_; })) continue;
+        // Every file due now, one at a time with the lock released: a slow disk holds up only
+        // this thread, and remove() waits for the one file it names.
+        const auto now = Clock::now();
+        std::vector<Id> due;
+        for (auto& e : entries_) {
+            if (e.due <= now) {
+                due.push_back(e.id);
+                e.due = now + e.period;
+            }
+        }
+        for (const Id id : due) {
+            auto it = std::find_if(entries_.begin(), entries_.end(),
+                                   [id](const Entry& e) { return e.id == id; });
+            if (it == entries_.end() || stop_) continue;
+            image::StateFile* file = it->file;
+            syncing_ = id;
+            lock.unlock();
+            file->sync();
+            lock.lock();
+            syncing_ = 0;
+            cv_.notify_all();
+        }
     }
 }
 

@@ -3,9 +3,11 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/image/state_file.hpp"
@@ -17,27 +19,43 @@ namespace plcemu::daemon {
 /// `state_directory` is the value of STATE_DIRECTORY ("" = unset; the first of a list counts).
 std::string state_file_path(const config::Config& config, const std::string& state_directory);
 
-/// Syncs a state file every period on its own thread: msync may wait for the disk, and the scan
-/// loop must not.
+/// Syncs the state files of every PLC of the process, each every period of its own, on one
+/// thread: msync may wait for the disk, and the scan loop must not (and 500 PLCs need not 500
+/// threads). The thread starts with the first file.
 class SyncThread {
 public:
-    /// Starts syncing `file` every `period`.
-    SyncThread(image::StateFile& file, std::chrono::milliseconds period);
-    /// Stops (a last sync is the owner's close()).
+    /// A file's place on the thread.
+    using Id = std::uint64_t;
+
+    SyncThread() = default;
+    /// Stops (a last sync is each owner's close()).
     ~SyncThread();
     SyncThread(const SyncThread&) = delete;
     SyncThread& operator=(const SyncThread&) = delete;
 
-    /// Changes the period (reload).
-    void set_period(std::chrono::milliseconds period);
+    /// Starts syncing `file` every `period`.
+    Id add(image::StateFile& file, std::chrono::milliseconds period);
+    /// Changes a file's period (reload).
+    void set_period(Id id, std::chrono::milliseconds period);
+    /// Stops syncing the file (waiting for a sync of it under way); it may be closed afterwards.
+    void remove(Id id);
 
 private:
+    using Clock = std::chrono::steady_clock;
+    struct Entry {
+        Id id;
+        image::StateFile* file;
+        std::chrono::milliseconds period;
+        Clock::time_point due;
+    };
     void run();
 
-    image::StateFile& file_;
     std::mutex mutex_;
     std::condition_variable cv_;
-    std::chrono::milliseconds period_;
+    std::vector<Entry> entries_;
+    Id next_ = 1;
+    Id syncing_ = 0;  // the file being synced now, 0 = none
+    bool changed_ = false;
     bool stop_ = false;
     std::thread thread_;
 };

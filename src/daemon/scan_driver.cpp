@@ -42,11 +42,17 @@ std::chrono::microseconds LatenessStats::percentile(double fraction) const noexc
     return std::chrono::duration_cast<std::chrono::microseconds>(max);
 }
 
-ScanDriver::ScanDriver(asio::io_context& io, engine::Engine& engine, double time_scale)
+ScanDriver::ScanDriver(asio::io_context& io,
+                       ScanTimer& timer,
+                       engine::Engine& engine,
+                       double time_scale)
     : io_(io),
-      timer_(io),
+      timer_(timer),
+      slot_(timer.add(*this)),
       engine_(engine),
       scale_(time_scale) {}
+
+ScanDriver::~ScanDriver() { timer_.remove(slot_); }
 
 void ScanDriver::start() {
     running_ = true;
@@ -57,7 +63,7 @@ void ScanDriver::start() {
 
 void ScanDriver::stop() {
     running_ = false;
-    timer_.cancel();
+    timer_.cancel(slot_);
 }
 
 void ScanDriver::rebase(Clock::time_point real_now) {
@@ -81,7 +87,7 @@ void ScanDriver::set_frozen(bool frozen) noexcept {
     if (frozen == frozen_) return;
     frozen_ = frozen;
     if (frozen_) {
-        timer_.cancel();
+        timer_.cancel(slot_);
     } else {
         rebase(Clock::now());
         if (running_) arm();
@@ -135,12 +141,11 @@ void ScanDriver::run_one(engine::Duration sim) {
 
 void ScanDriver::arm() {
     if (!running_ || frozen_) return;
-    timer_.expires_at(deadline(next_sim_));
-    timer_.async_wait([this, alive = std::weak_ptr<char>(alive_)](const asio::error_code& ec) {
-        // A wait that completed before stop() or a newer arm() may still be queued.
-        if (ec || alive.expired() || !running_ || frozen_) return;
-        tick();
-    });
+    timer_.schedule(slot_, deadline(next_sim_));
+}
+
+void ScanDriver::due() {
+    if (running_ && !frozen_) tick();
 }
 
 void ScanDriver::tick() {

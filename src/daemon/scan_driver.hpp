@@ -11,6 +11,7 @@
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/time_control.hpp"
+#include "scan_timer.hpp"
 
 namespace plcemu::daemon {
 
@@ -31,16 +32,19 @@ struct LatenessStats {
     std::chrono::microseconds percentile(double fraction) const noexcept;
 };
 
-/// The real-time scan loop.
-class ScanDriver final : public engine::TimeControl {
+/// The real-time scan loop of one PLC, woken by the process's one ScanTimer.
+class ScanDriver final : public engine::TimeControl, private Scheduled {
 public:
     using Clock = std::chrono::steady_clock;
 
-    ScanDriver(asio::io_context& io, engine::Engine& engine, double time_scale);
+    ScanDriver(asio::io_context& io, ScanTimer& timer, engine::Engine& engine, double time_scale);
+    ~ScanDriver() override;
+    ScanDriver(const ScanDriver&) = delete;
+    ScanDriver& operator=(const ScanDriver&) = delete;
 
     /// Starts scanning now.
     void start();
-    /// Stops the timer.
+    /// Stops scanning.
     void stop();
     /// Changes the time scale without a jump in simulated time.
     void set_time_scale(double scale) noexcept override;
@@ -66,6 +70,7 @@ public:
 
 private:
     void arm();
+    void due() override;
     void tick();
     void run_steps();
     Clock::time_point deadline(engine::Duration sim) const;
@@ -73,9 +78,10 @@ private:
     void rebase(Clock::time_point real_now);
 
     asio::io_context& io_;
-    asio::steady_timer timer_;
+    ScanTimer& timer_;
+    ScanTimer::Slot slot_;
     engine::Engine& engine_;
-    // Completions hold a weak reference: one already queued when the driver is destroyed (a
+    // Queued steps hold a weak reference: one already queued when the driver is destroyed (a
     // reload swaps engines) finds it expired instead of running on a freed engine.
     std::shared_ptr<char> alive_ = std::make_shared<char>();
     std::uint64_t pending_steps_ = 0;

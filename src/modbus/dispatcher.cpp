@@ -66,6 +66,18 @@ std::size_t frame_pdu(Transport t,
 
 }  // namespace
 
+std::size_t exception_reply(Transport t,
+                            std::span<const std::uint8_t> adu,
+                            Status s,
+                            ReplyBuffer out) noexcept {
+    const std::size_t header = t == Transport::Tcp ? 7 : 1;
+    // Set the high bit rather than add 80h as modbus_reply_exception does, which would wrap
+    // a function code of 80h or more to a normal-looking reply.
+    const std::array<std::uint8_t, 2> e{static_cast<std::uint8_t>(adu[header] | 0x80),
+                                        static_cast<std::uint8_t>(s)};
+    return frame_pdu(t, adu.data(), e.data(), e.size(), out);
+}
+
 std::size_t Dispatcher::serve(Transport t,
                               std::span<const std::uint8_t> adu,
                               ReplyBuffer reply) noexcept {
@@ -88,11 +100,7 @@ std::size_t Dispatcher::serve(Transport t,
                       static_cast<unsigned>(s), broadcast ? " (broadcast, not sent)" : "");
         if (broadcast) return 0;  // a broadcast is never answered
         ++stats_.exceptions;
-        // Set the high bit rather than add 80h as modbus_reply_exception does, which would wrap
-        // a function code of 80h or more to a normal-looking reply.
-        const std::array<std::uint8_t, 2> e{static_cast<std::uint8_t>(fc | 0x80),
-                                            static_cast<std::uint8_t>(s)};
-        return frame_pdu(t, req, e.data(), e.size(), reply);
+        return exception_reply(t, adu, s, reply);
     };
 
     Unit* target = nullptr;

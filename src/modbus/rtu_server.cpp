@@ -42,7 +42,7 @@ const char* verdict_name(RtuVerdict v) {
 }  // namespace
 
 struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
-    State(asio::io_context& io, Dispatcher& d, RtuOptions o)
+    State(asio::io_context& io, Responder& d, RtuOptions o)
         : dispatcher(d),
           options(std::move(o)),
           line(io),
@@ -162,7 +162,7 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
         spdlog::info("rtu: {}: reopened", options.device);
     }
 
-    Dispatcher& dispatcher;
+    Responder& dispatcher;
     RtuOptions options;
     asio::posix::stream_descriptor line;
     asio::steady_timer frame_end;
@@ -180,7 +180,7 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
     bool stopped = false;
 };
 
-RtuServer::RtuServer(asio::io_context& io, Dispatcher& dispatcher, RtuOptions options)
+RtuServer::RtuServer(asio::io_context& io, Responder& dispatcher, RtuOptions options)
     : state_(std::make_shared<State>(io, dispatcher, std::move(options))) {
     state_->line.assign(open_serial_line(state_->options));
     state_->read();

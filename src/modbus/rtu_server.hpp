@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "plcemu/modbus/dispatcher.hpp"
+#include "plcemu/modbus/responder.hpp"
 #include "rtu_framer.hpp"
 #include "serial_line.hpp"
 
@@ -21,7 +21,7 @@ class RtuServer {
 public:
     /// Opens and configures the device (raw, baud, parity, data and stop bits) and starts
     /// reading; throws std::system_error when it cannot.
-    RtuServer(asio::io_context& io, Dispatcher& dispatcher, RtuOptions options);
+    RtuServer(asio::io_context& io, Responder& dispatcher, RtuOptions options);
     ~RtuServer();
     RtuServer(const RtuServer&) = delete;
     RtuServer& operator=(const RtuServer&) = delete;

@@ -108,7 +108,7 @@ bool Cidr::contains(const asio::ip::address& a) const {
 class Connection;
 
 struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
-    State(asio::io_context& io_, Dispatcher& d, TcpOptions o)
+    State(asio::io_context& io_, Responder& d, TcpOptions o)
         : io(io_),
           dispatcher(&d),
           options(std::move(o)),
@@ -133,7 +133,7 @@ struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
     }
 
     asio::io_context& io;
-    Dispatcher* dispatcher;  // replaced on reload; connections keep going
+    Responder* dispatcher;  // the PLC, or the router of a shared listener
     TcpOptions options;
     tcp::acceptor acceptor;
     asio::steady_timer sweep;
@@ -455,7 +455,7 @@ void TcpServer::State::arm_sweep() {
     });
 }
 
-TcpServer::TcpServer(asio::io_context& io, Dispatcher& dispatcher, TcpOptions options)
+TcpServer::TcpServer(asio::io_context& io, Responder& dispatcher, TcpOptions options)
     : state_(std::make_shared<State>(io, dispatcher, std::move(options))) {
     // The error names the endpoint: "bind: Address already in use" alone does not say which.
     const std::string where =
@@ -502,8 +502,6 @@ void TcpServer::set_limits(const TcpOptions& o) {
     }
     for (const auto& c : refused) c->close("no longer in modbus.tcp.allow");
 }
-
-void TcpServer::set_dispatcher(Dispatcher& dispatcher) { state_->dispatcher = &dispatcher; }
 
 void TcpServer::stop() {
     if (state_->stopped) return;

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "plcemu/modbus/dispatcher.hpp"
+#include "plcemu/modbus/responder.hpp"
 
 namespace plcemu::modbus {
 
@@ -38,7 +38,7 @@ struct TcpOptions {
 class TcpServer {
 public:
     /// Opens the listener; throws std::system_error when the address cannot be bound.
-    TcpServer(asio::io_context& io, Dispatcher& dispatcher, TcpOptions options);
+    TcpServer(asio::io_context& io, Responder& dispatcher, TcpOptions options);
     ~TcpServer();
     TcpServer(const TcpServer&) = delete;
     TcpServer& operator=(const TcpServer&) = delete;
@@ -52,8 +52,6 @@ public:
     /// Takes the limits of `options` that need no new listener (max_clients, timeouts, allow:
     /// a reload); open connections from peers no longer allowed are closed, the others kept.
     void set_limits(const TcpOptions& options);
-    /// Serves every later request with `dispatcher` (reload: a new PLC, same connections).
-    void set_dispatcher(Dispatcher& dispatcher);
     /// Closes the listener and every connection.
     void stop();
 

@@ -6,7 +6,7 @@
 
 namespace plcemu::testing {
 
-Wire::Wire(modbus::Dispatcher& d)
+Wire::Wire(modbus::Responder& d)
     : d_(d) {}
 
 std::vector<std::uint8_t> Wire::reply(std::size_t n) const {

@@ -1,6 +1,6 @@
 #pragma once
-// Test support: drives a Dispatcher the way the TCP and RTU transports do, and returns the
-// reply bytes.
+// Test support: drives a Dispatcher (or a router) the way the TCP and RTU transports do, and
+// returns the reply bytes.
 
 #include <array>
 #include <cstdint>
@@ -14,7 +14,7 @@ namespace plcemu::testing {
 /// Sends requests to a dispatcher and reads what it writes back.
 class Wire {
 public:
-    explicit Wire(modbus::Dispatcher& d);
+    explicit Wire(modbus::Responder& d);
 
     /// Serves a TCP request with unit `unit` and PDU `pdu`; returns the reply PDU (without
     /// MBAP), empty when nothing was sent. Checks the MBAP header of the reply.
@@ -26,7 +26,7 @@ public:
 private:
     std::vector<std::uint8_t> reply(std::size_t n) const;
 
-    modbus::Dispatcher& d_;
+    modbus::Responder& d_;
     std::array<std::uint8_t, modbus::kMaxReplyAdu> out_{};
     std::uint16_t tid_ = 0x1234;
 };

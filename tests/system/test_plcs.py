@@ -1,6 +1,7 @@
 """Several PLCs in one process: a config with `plcs:` (README, "Several PLCs in one process";
-docs/configuration.md, "Several PLCs"). Each PLC has its own listener, image, state file and
-program; one event loop serves them all."""
+docs/configuration.md, "Several PLCs" and "Sharing a listener"). Each PLC has its own image,
+state file and program, on a listener of its own or shared with others (stations on one serial
+line, stations behind one TCP port); one event loop serves them all."""
 
 import os
 import signal
@@ -11,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from conftest import PLCEMUD, Daemon, free_port, port_open, run_plcemud
+from rtu_pty import PtyPair, RawLine, frame as frame_of
 
 D0 = 6000  # fbs: holding 6000 is D0 (retentive by default)
 VB_D200 = 200  # vb: holding 200 is D200 (latched)
@@ -158,10 +160,42 @@ def test_check_config_and_print_map_name_each_plc(tmp_path, ports):
 @pytest.mark.parametrize(
     "text, where, message",
     [
-        # Two PLCs on one port.
+        # Two PLCs on one port, one on every address and one on 127.0.0.1: no shared listener.
         ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}}\n"
-         "  - {profile: vb, modbus: {tcp: {port: 1502}}}\n",
-         ":3:40:", "plcs[1]: modbus.tcp.port: 1502 is also plcs[0]'s"),
+         "  - {profile: vb, modbus: {tcp: {bind: 127.0.0.1, port: 1502}}}\n",
+         ":3:57:", "plcs[1]: modbus.tcp.port: 1502 is also plcs[0]'s on another address"),
+        # Two PLCs behind one listener with one station (both 1 by default).
+        ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}}\n"
+         "  - {profile: vb, simulator: {unit: 0}, modbus: {tcp: {port: 1502}}}\n",
+         ":3:5:", "plcs[1]: station: 1 is also plcs[0]'s on the shared tcp listener 0.0.0.0:1502"),
+        # ... or one simulator unit (247 by default).
+        ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}}\n"
+         "  - {profile: fbs, station: 2, modbus: {tcp: {port: 1502}}}\n",
+         ":3:5:", "plcs[1]: simulator.unit: 247 is also plcs[0]'s simulator unit on the shared "
+         "tcp listener 0.0.0.0:1502"),
+        # ... or a station that is the other's simulator unit.
+        ("plcs:\n  - {profile: fbs, simulator: {unit: 2}, modbus: {tcp: {port: 1502}}}\n"
+         "  - {profile: fbs, station: 2, simulator: {unit: 0}, modbus: {tcp: {port: 1502}}}\n",
+         ":3:29:", "plcs[1]: station: 2 is plcs[0]'s simulator unit on the shared tcp listener"),
+        # PLCs behind one listener must agree on its settings.
+        ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {port: 1502}}}\n"
+         "  - {profile: fbs, station: 2, simulator: {unit: 0},\n"
+         "     modbus: {tcp: {port: 1502, unknown_unit: silent}}}\n",
+         ":4:47:", "plcs[1]: modbus.tcp.unknown_unit: differs from plcs[0]'s, which shares the "
+         "tcp listener 0.0.0.0:1502"),
+        # Stations on one serial line must agree on its settings ...
+        ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {port: 1502},\n"
+         "     rtu: {device: /dev/ttyS9}}}\n"
+         "  - {name: b, profile: fbs, station: 2, simulator: {unit: 0}, modbus: {tcp: {port: 1503},\n"
+         "     rtu: {device: /dev/ttyS9, baud: 19200}}}\n",
+         ":5:38:", "plcs[1] (b): modbus.rtu.baud: differs from plcs[0]'s, which shares the serial "
+         "line '/dev/ttyS9'"),
+        # ... and have stations of their own.
+        ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {port: 1502},\n"
+         "     rtu: {device: /dev/ttyS9}}}\n"
+         "  - {profile: fbs, station: 1, simulator: {unit: 0}, modbus: {tcp: {port: 1503},\n"
+         "     rtu: {device: /dev/ttyS9}}}\n",
+         ":4:29:", "plcs[1]: station: 1 is also plcs[0]'s on the shared serial line '/dev/ttyS9'"),
         # One state file for two.
         ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}, persistence: {file: x.state}}\n"
          "  - {profile: fbs, modbus: {tcp: {port: 1503}}, persistence: {file: x.state}}\n",
@@ -194,3 +228,145 @@ def test_port_override_is_refused_with_plcs(tmp_path):
     r = run_plcemud("-c", path, "--port", free_port(), timeout=10)
     assert r.returncode == 2
     assert "--port: a config with plcs: sets each PLC's port itself" in r.stderr
+
+
+# --- Shared listeners (docs/configuration.md, "Sharing a listener") ---
+
+FC06 = 0x06
+FC03 = 0x03
+
+
+def fc06(addr, value):
+    return bytes([FC06, addr >> 8, addr & 0xFF, value >> 8, value & 0xFF])
+
+
+def fc03(addr, n=1):
+    return bytes([FC03, addr >> 8, addr & 0xFF, 0, n])
+
+
+def multidrop_config(device, port):
+    """Three stations on one serial line; the first also has a TCP port of its own."""
+    rtu = f"rtu: {{device: {device}, baud: 38400}}"
+    return f"""\
+plcs:
+  - {{name: st1, profile: fbs, station: 1, simulator: {{unit: 201}},
+     modbus: {{tcp: {{bind: 127.0.0.1, port: {port}}}, {rtu}}}}}
+  - {{name: st2, profile: fbs, station: 2, simulator: {{unit: 202}},
+     modbus: {{tcp: {{enabled: false}}, {rtu}}}}}
+  - {{name: st3, profile: vb, station: 3, simulator: {{unit: 203}},
+     modbus: {{tcp: {{enabled: false}}, {rtu}}}}}
+"""
+
+
+def test_three_stations_on_one_serial_line(tmp_path):
+    pair = PtyPair(tmp_path)
+    port = free_port()
+    d = spawn(tmp_path, multidrop_config(pair.slave, port), [port])
+    line = RawLine(pair.master)
+    try:
+        assert d.wait_log(f"listening on rtu {pair.slave}"), d.log_text()
+        assert "for plcs[0] (st1), plcs[1] (st2), plcs[2] (st3)" in d.log_text()
+        # Each station answers its own frames; writes stay in the PLC they were sent to.
+        for unit in (1, 2, 3):
+            assert line.request(unit, fc06(D0, 100 * unit), 8) == fc06(D0, 100 * unit)
+        for unit in (1, 2, 3):
+            assert line.request(unit, fc03(D0), 7)[2:] == (100 * unit).to_bytes(2, "big")
+        # A broadcast write reaches all three, and none of them answers it.
+        line.send(frame_of(0, fc06(100, 4242)))
+        assert line.silent(0.3)
+        for unit in (1, 2, 3):
+            assert line.request(unit, fc03(100), 7)[2:] == (4242).to_bytes(2, "big")
+        # A station nobody on the line has: silence, as on a real RS-485 line.
+        line.send(frame_of(9, fc03(D0)))
+        assert line.silent(0.3)
+        # Each PLC's simulator unit is on the line too: freeze st2 alone.
+        freeze = 1  # docs/simulator-and-plant.md: 1 = scans stopped
+        assert line.request(202, fc06(freeze, 1), 8) == fc06(freeze, 1)
+        assert line.request(202, fc03(freeze), 7)[2:] == (1).to_bytes(2, "big")
+        assert line.request(201, fc03(freeze), 7)[2:] == (0).to_bytes(2, "big")
+        # st1 also has a TCP port of its own: the same image behind both.
+        c = client_on(d, port)
+        assert reg(c, D0) == 100
+    finally:
+        line.close()
+        assert d.stop() == 0
+        pair.stop()
+
+
+def shared_tcp_config(shared, own, b_dest="R1", shared_b=None):
+    shared_b = shared if shared_b is None else shared_b
+    return f"""\
+plcs:
+  - {{name: a, profile: fbs, station: 1, simulator: {{unit: 201}},
+     modbus: {{tcp: {{bind: 127.0.0.1, port: {shared}}}}}}}
+  - name: b
+    profile: fbs
+    station: 2
+    simulator: {{unit: 202}}
+    modbus: {{tcp: {{bind: 127.0.0.1, port: {shared_b}}}}}
+    program:
+      - MOV: {{en: M1926, s: R0, d: {b_dest}}}
+  - {{name: own, profile: fbs, modbus: {{tcp: {{bind: 127.0.0.1, port: {own}}}}}}}
+"""
+
+
+def exception_code(r):
+    assert r.isError(), r
+    return r.exception_code
+
+
+def test_two_stations_behind_one_listener_and_one_on_its_own(tmp_path):
+    shared, own = free_port(), free_port()
+    d = spawn(tmp_path, shared_tcp_config(shared, own), [shared, own])
+    try:
+        assert d.wait_log(f"listening on tcp 127.0.0.1:{shared} for plcs[0] (a), plcs[1] (b)")
+        s, o = client_on(d, shared), client_on(d, own)
+        # Routed by unit ID; writes isolated between the PLCs.
+        assert not s.write_register(D0, 11, slave=1).isError()
+        assert not s.write_register(D0, 22, slave=2).isError()
+        assert not o.write_register(D0, 33, slave=1).isError()
+        assert reg(s, D0, unit=1) == 11
+        assert reg(s, D0, unit=2) == 22
+        assert reg(o, D0, unit=1) == 33
+        # Units nobody has behind the shared listener, 0 and 255 included: exception 0Bh.
+        for unit in (3, 0, 255):
+            assert exception_code(s.read_holding_registers(D0, 1, slave=unit)) == 0x0B, unit
+        # The PLC alone on its port keeps the single-PLC rule: 0 and 255 are the device itself.
+        assert reg(o, D0, unit=0) == 33
+        assert reg(o, D0, unit=255) == 33
+        # Each simulator unit goes to its PLC: freezing b leaves a scanning.
+        freeze = 1  # docs/simulator-and-plant.md: 1 = scans stopped
+        assert not s.write_register(freeze, 1, slave=202).isError()
+        assert reg(s, freeze, unit=202) == 1
+        assert reg(s, freeze, unit=201) == 0
+
+        # SIGHUP: b's program changes and the shared listener moves to a new port, both PLCs
+        # alike; the routes follow b's new PLC.
+        moved = free_port()
+        Path(d.config_path).write_text(shared_tcp_config(moved, own, b_dest="R2"))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: plcs[2] (own): done"), d.log_text()
+        assert d.wait_log(f"listening on tcp 127.0.0.1:{moved}"), d.log_text()
+        assert not port_open(shared)
+        m = client_on(d, moved)
+        assert reg(m, D0, unit=1) == 11 and reg(m, D0, unit=2) == 22
+        assert not m.write_register(0, 5, slave=2).isError()
+        assert reg(m, freeze, unit=202) == 1  # still frozen: no scan copied R0 yet
+        time.sleep(0.1)
+        assert reg(m, 2, unit=2) == 0
+        assert not m.write_register(freeze, 0, slave=202).isError()  # b scans again
+        time.sleep(0.2)
+        assert reg(m, 2, unit=2) == 5
+        assert reg(m, 1, unit=2) == 0  # the old program's destination
+        assert reg(m, 0, unit=1) == 0
+
+        # A reload that splits the shared listener is refused; everything stays as it was.
+        Path(d.config_path).write_text(shared_tcp_config(moved, own, shared_b=free_port()))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("configuration rejected"), d.log_text()
+        assert ("reload: plcs[0] (a): the PLCs sharing its tcp listener changed; restart "
+                "plcemud to apply it") in d.log_text()
+        assert reg(m, D0, unit=2) == 22
+        assert d.proc.poll() is None
+    finally:
+        assert d.stop() == 0

@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 
+#include "plcemu/modbus/responder.hpp"
 #include "plcemu/modbus/unit.hpp"
 
 namespace plcemu::modbus {
@@ -42,18 +43,21 @@ struct FunctionReply;
 /// One function code's handler (plcemu/modbus/function_handler.hpp).
 using FunctionHandler = FunctionReply (*)(const FunctionRequest&, PduBuffer out) noexcept;
 
-/// Largest reply ADU: MBAP header (7) + PDU (253); an RTU reply (1 + 253 + 2) is shorter.
-inline constexpr std::size_t kMaxReplyAdu = 260;
-/// Where a reply is built; the transport writes it (the dispatcher never touches a socket).
-using ReplyBuffer = std::span<std::uint8_t, kMaxReplyAdu>;
+/// The exception reply to `adu` (a TCP ADU or an RTU frame) with code `s`, framed like the
+/// request, into `out`. Returns its length.
+std::size_t exception_reply(Transport t,
+                            std::span<const std::uint8_t> adu,
+                            Status s,
+                            ReplyBuffer out) noexcept;
 
-/// Turns complete request frames into reply frames in a buffer the transport owns.
-class Dispatcher {
+/// One PLC's side of the protocol: its station (and the simulator unit beside it), the function
+/// codes, the reply.
+class Dispatcher final : public Responder {
 public:
     /// `plc` and `station` must outlive the dispatcher; `station` is read on every request
     /// (it changes when a master writes 55xxh to R4055).
     Dispatcher(Unit& plc, const std::uint8_t& station, Identity identity);
-    ~Dispatcher();
+    ~Dispatcher() override;
     Dispatcher(const Dispatcher&) = delete;
     Dispatcher& operator=(const Dispatcher&) = delete;
 
@@ -65,13 +69,19 @@ public:
     void set_function(std::uint8_t fc, FunctionHandler handler);
     /// Sets the TCP policy for unknown unit IDs.
     void set_unknown_unit_policy(UnknownUnitPolicy p) { unknown_unit_ = p; }
+    /// The TCP policy for unknown unit IDs.
+    UnknownUnitPolicy unknown_unit_policy() const { return unknown_unit_; }
+    /// The station now (R4055 may have changed it since the start).
+    std::uint8_t station() const { return station_; }
+    /// The simulator-control unit's ID, 0 when there is none.
+    std::uint8_t simulator_unit() const { return sim_ != nullptr ? sim_unit_ : 0; }
 
     /// Serves one complete TCP ADU (MBAP header + PDU); the reply ADU goes to `out`. Returns its
     /// length, 0 when nothing is to be sent.
-    std::size_t serve_tcp(std::span<const std::uint8_t> adu, ReplyBuffer out) noexcept;
+    std::size_t serve_tcp(std::span<const std::uint8_t> adu, ReplyBuffer out) noexcept override;
     /// Serves one complete RTU frame (address, PDU, CRC already checked); the reply frame with
     /// its CRC goes to `out`. Returns its length, 0 when nothing is to be sent (broadcasts).
-    std::size_t serve_rtu(std::span<const std::uint8_t> frame, ReplyBuffer out) noexcept;
+    std::size_t serve_rtu(std::span<const std::uint8_t> frame, ReplyBuffer out) noexcept override;
 
     /// Counters since start.
     const DispatchStats& stats() const { return stats_; }

@@ -1,0 +1,346 @@
+#include "listeners.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <utility>
+
+#include "daemon/fd_limit.hpp"
+
+namespace plcemu::daemon {
+
+modbus::TcpOptions tcp_options(const config::Config& c) {
+    modbus::TcpOptions o;
+    o.bind = c.modbus.tcp.bind;
+    o.port = c.modbus.tcp.port;
+    o.max_clients = c.modbus.tcp.max_clients;
+    o.idle_timeout_s = c.modbus.tcp.idle_timeout_s;
+    o.frame_timeout_ms = c.modbus.tcp.frame_timeout_ms;
+    for (const auto& a : c.modbus.tcp.allow) {
+        modbus::Cidr cidr;
+        if (!modbus::Cidr::parse(a, cidr)) {
+            throw config::ConfigError({c.path, 0, 0},
+                                      "modbus.tcp.allow: bad CIDR '" + config::excerpt(a) + "'");
+        }
+        o.allow.push_back(cidr);
+    }
+    return o;
+}
+
+namespace {
+
+// Descriptors a PLC needs besides its clients: its state file, a serial line, a master port.
+constexpr int kPerPlc = 4;
+
+// What a PLC listens on: "ADDR:PORT" (each PLC on port 0 gets a port of its own), the serial
+// device; empty for none. PLCs with one key share that listener (the config loader made sure
+// they agree on its settings).
+std::string tcp_key(const config::Config& c, std::size_t index) {
+    if (!c.modbus.tcp.enabled) return {};
+    if (c.modbus.tcp.port == 0) return "#" + std::to_string(index);
+    return c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port);
+}
+
+std::string rtu_key(const config::Config& c, std::size_t) {
+    return c.modbus.rtu ? c.modbus.rtu->device : std::string();
+}
+
+struct Group {
+    std::string key;
+    std::vector<std::size_t> members;
+};
+
+template <typename Config, typename Key>
+std::vector<Group> group(const std::vector<Config>& plcs, Key key) {
+    std::vector<Group> out;
+    for (std::size_t i = 0; i < plcs.size(); ++i) {
+        const std::string k = key(plcs[i], i);
+        if (k.empty()) continue;
+        auto it = std::find_if(out.begin(), out.end(), [&](const Group& g) { return g.key == k; });
+        if (it == out.end()) {
+            out.push_back({k, {i}});
+        } else {
+            it->members.push_back(i);
+        }
+    }
+    return out;
+}
+
+std::vector<std::size_t> members_with(const std::vector<Group>& groups, std::size_t plc) {
+    for (const auto& g : groups) {
+        if (std::find(g.members.begin(), g.members.end(), plc) != g.members.end()) return g.members;
+    }
+    return {};
+}
+
+modbus::UnknownUnitPolicy policy(const config::Config& c) {
+    return c.modbus.tcp.unknown_unit == config::UnknownUnit::Silent
+               ? modbus::UnknownUnitPolicy::Silent
+               : modbus::UnknownUnitPolicy::Exception;
+}
+
+}  // namespace
+
+struct Listeners::Tcp {
+    std::string key;
+    std::vector<std::size_t> members;
+    modbus::TcpOptions options;
+    modbus::UnitRouter router;  // the server holds it: a Tcp never moves
+    std::unique_ptr<modbus::TcpServer> server;
+};
+
+struct Listeners::Rtu {
+    std::string key;
+    std::vector<std::size_t> members;
+    modbus::UnitRouter router;
+    std::unique_ptr<modbus::RtuServer> server;
+};
+
+struct Listeners::Staged {
+    std::size_t kept = 0;        // index into tcp_ when `fresh` is null
+    std::unique_ptr<Tcp> fresh;  // a new listener
+};
+
+Listeners::Listeners(asio::io_context& io)
+    : io_(io) {}
+
+Listeners::~Listeners() { stop(); }
+
+namespace {
+
+// "plcs[0] (a), plcs[1]" for a shared listener's log line.
+std::string names(const std::vector<std::size_t>& members, const std::vector<std::string>& labels) {
+    std::string s;
+    for (std::size_t i : members) s += (s.empty() ? "" : ", ") + labels[i];
+    return s;
+}
+
+// "listening on tcp ADDR:PORT", after the PLC's label, or naming the PLCs that share it.
+void log_listening(const std::string& what,
+                   const std::string& where,
+                   const std::vector<std::size_t>& members,
+                   const std::vector<std::string>& labels) {
+    if (members.size() == 1) {
+        const std::string& label = labels[members.front()];
+        spdlog::info("{}listening on {} {}", label.empty() ? "" : label + ": ", what, where);
+    } else {
+        spdlog::info("listening on {} {} for {}", what, where, names(members, labels));
+    }
+}
+
+}  // namespace
+
+void Listeners::open(const std::vector<ListenerMember>& plcs) {
+    labels_.clear();
+    for (const auto& m : plcs) labels_.push_back(m.config->label);
+    for (auto& g :
+         group(plcs, [](const ListenerMember&m, std::size_t i) { return tcp_key(*m.config, i); })) {
+        auto t = std::make_unique<Tcp>();
+        t->key = std::move(g.key);
+        t->members = std::move(g.members);
+        t->options = tcp_options(*plcs[t->members.front()].config);
+        t->server = std::make_unique<modbus::TcpServer>(io_, t->router, t->options);
+        tcp_.push_back(std::move(t));
+    }
+    route(plcs);
+    raise_fd_limit(plcs.size());
+    for (const auto& t : tcp_) log_listening("tcp", t->server->endpoint(), t->members, labels_);
+    open_rtu(plcs, true);
+}
+
+void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start) {
+    for (auto& g :
+         group(plcs, [](const ListenerMember&m, std::size_t i) { return rtu_key(*m.config, i); })) {
+        auto r = std::make_unique<Rtu>();
+        r->key = std::move(g.key);
+        r->members = std::move(g.members);
+        for (std::size_t i : r->members) r->router.add(*plcs[i].dispatcher);
+        const config::RtuConfig& c = *plcs[r->members.front()].config->modbus.rtu;
+        const std::string& label = labels_[r->members.front()];
+        const std::string prefix = r->members.size() == 1 && !label.empty() ? label + ": " : "";
+        try {
+            r->server = std::make_unique<modbus::RtuServer>(
+                io_, r->router,
+                modbus::RtuOptions{c.device, c.baud, c.parity, c.data_bits, c.stop_bits});
+        } catch (const std::exception& e) {
+            if (at_start) throw;
+            spdlog::error("reload: {}rtu: {}; serving without the serial port", prefix, e.what());
+            continue;
+        }
+        log_listening("rtu", r->server->description(), r->members, labels_);
+        rtu_.push_back(std::move(r));
+    }
+}
+
+void Listeners::route(const std::vector<ListenerMember>& plcs) {
+    for (auto& t : tcp_) {
+        t->router.clear();
+        for (std::size_t i : t->members) t->router.add(*plcs[i].dispatcher);
+        t->router.set_unknown_unit_policy(policy(*plcs[t->members.front()].config));
+    }
+}
+
+void Listeners::raise_fd_limit(std::size_t plcs) const {
+    if (tcp_.empty()) return;
+    // One descriptor per client of every listener, and the few each further PLC holds.
+    int clients = 0;
+    for (const auto& t : tcp_) clients += t->options.max_clients;
+    ensure_fd_limit(clients + kPerPlc * static_cast<int>(plcs - 1));
+}
+
+std::string Listeners::refusal(const std::vector<config::Config>& next) const {
+    auto old_groups = [](const auto& list) {
+        std::vector<Group> out;
+        out.reserve(list.size());
+        for (const auto& l : list) out.push_back({l->key, l->members});
+        return out;
+    };
+    const std::vector<Group> tcp_before = old_groups(tcp_);
+    const std::vector<Group> rtu_before = old_groups(rtu_);
+    const std::vector<Group> tcp_after = group(next, tcp_key);
+    const std::vector<Group> rtu_after = group(next, rtu_key);
+    for (std::size_t i = 0; i < next.size(); ++i) {
+        for (const auto& [before, after, what] :
+             {std::tuple{&tcp_before, &tcp_after, "tcp listener"},
+              std::tuple{&rtu_before, &rtu_after, "serial line"}}) {
+            const auto was = members_with(*before, i);
+            const auto now = members_with(*after, i);
+            if ((was.size() > 1 || now.size() > 1) && was != now) {
+                return next[i].label + ": the PLCs sharing its " + what +
+                       " changed; restart plcemud to apply it";
+            }
+        }
+    }
+    return {};
+}
+
+bool Listeners::stage(const std::vector<config::Config>& next) {
+    staged_.clear();
+    stopped_for_stage_.clear();
+    for (auto& g : group(next, tcp_key)) {
+        // The running listener of the same PLCs, if any (refusal() made sure the members are
+        // the same ones when shared).
+        const std::size_t first = g.members.front();
+        auto running = std::find_if(tcp_.begin(), tcp_.end(), [&](const auto& t) {
+            return std::find(t->members.begin(), t->members.end(), first) != t->members.end();
+        });
+        Staged s;
+        if (running != tcp_.end() && (*running)->key == g.key) {
+            s.kept = static_cast<std::size_t>(running - tcp_.begin());
+            staged_.push_back(std::move(s));
+            continue;
+        }
+        s.fresh = std::make_unique<Tcp>();
+        s.fresh->key = g.key;
+        s.fresh->members = g.members;
+        s.fresh->options = tcp_options(next[first]);
+        const std::string& label = next[first].label;
+        const std::string prefix = label.empty() ? "" : label + ": ";
+        try {
+            s.fresh->server =
+                std::make_unique<modbus::TcpServer>(io_, s.fresh->router, s.fresh->options);
+            staged_.push_back(std::move(s));
+            continue;
+        } catch (const std::exception& e) {
+            // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
+            if (running == tcp_.end() || s.fresh->options.port == 0 ||
+                s.fresh->options.port != (*running)->options.port || !(*running)->server) {
+                spdlog::error("reload: {}{}", prefix, e.what());
+                unstage();
+                return false;
+            }
+        }
+        // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the port, so it
+        // goes first; if the new one still fails, the old one comes back.
+        spdlog::info("reload: {}closing tcp {} to listen on {}:{}", prefix,
+                     (*running)->server->endpoint(), s.fresh->options.bind, s.fresh->options.port);
+        (*running)->server->stop();
+        (*running)->server.reset();
+        stopped_for_stage_.push_back(static_cast<std::size_t>(running - tcp_.begin()));
+        try {
+            s.fresh->server =
+                std::make_unique<modbus::TcpServer>(io_, s.fresh->router, s.fresh->options);
+            staged_.push_back(std::move(s));
+        } catch (const std::exception& e) {
+            spdlog::error("reload: {}{}", prefix, e.what());
+            unstage();
+            return false;
+        }
+    }
+    return true;
+}
+
+void Listeners::unstage() {
+    for (auto& s : staged_) {
+        if (s.fresh && s.fresh->server) s.fresh->server->stop();
+    }
+    staged_.clear();
+    // The previous listeners again, after a reload that had to close them failed.
+    for (std::size_t i : stopped_for_stage_) {
+        Tcp& t = *tcp_[i];
+        try {
+            t.server = std::make_unique<modbus::TcpServer>(io_, t.router, t.options);
+        } catch (const std::exception& e) {
+            spdlog::error("tcp: cannot listen on {} again: {}; serving no TCP there", t.key,
+                          e.what());
+        }
+    }
+    stopped_for_stage_.clear();
+}
+
+void Listeners::apply(const std::vector<ListenerMember>& plcs) {
+    std::vector<std::unique_ptr<Tcp>> now;
+    for (auto& s : staged_) {
+        if (s.fresh) {
+            now.push_back(std::move(s.fresh));
+            log_listening("tcp", now.back()->server->endpoint(), now.back()->members, labels_);
+            continue;
+        }
+        auto kept = std::move(tcp_[s.kept]);
+        kept->options = tcp_options(*plcs[kept->members.front()].config);
+        if (kept->server) kept->server->set_limits(kept->options);
+        now.push_back(std::move(kept));
+    }
+    staged_.clear();
+    stopped_for_stage_.clear();
+    for (auto& t : tcp_) {
+        if (t && t->server) t->server->stop();  // not kept: its PLCs left it
+    }
+    tcp_ = std::move(now);
+    route(plcs);
+    raise_fd_limit(plcs.size());
+    // Serial lines are reopened with their new settings (and a device that came back is tried).
+    for (auto& r : rtu_) {
+        if (r->server) r->server->stop();
+    }
+    rtu_.clear();
+    open_rtu(plcs, false);
+}
+
+void Listeners::stop() {
+    for (auto& t : tcp_) {
+        if (t && t->server) t->server->stop();
+    }
+    for (auto& s : staged_) {
+        if (s.fresh && s.fresh->server) s.fresh->server->stop();
+    }
+    for (auto& r : rtu_) {
+        if (r->server) r->server->stop();
+    }
+}
+
+std::string Listeners::describe(std::size_t index) const {
+    std::string s;
+    auto has = [index](const auto& l) {
+        return std::find(l->members.begin(), l->members.end(), index) != l->members.end();
+    };
+    for (const auto& t : tcp_) {
+        if (has(t) && t->server) s += ", tcp " + t->server->endpoint();
+    }
+    for (const auto& r : rtu_) {
+        if (has(r) && r->server) s += ", rtu " + r->server->description();
+    }
+    return s;
+}
+
+}  // namespace plcemu::daemon

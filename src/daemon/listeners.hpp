@@ -1,0 +1,77 @@
+#pragma once
+// The process's listeners, keyed by what they listen on: one TCP listener per bind address and
+// port, one serial slave per device, each with a router to the PLCs that share it
+// (docs/configuration.md, "Sharing a listener"). The Runtime owns it; the PLCs' dispatchers are
+// registered in `plcs:` order.
+
+#include <asio.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "modbus/rtu_server.hpp"
+#include "modbus/tcp_server.hpp"
+#include "modbus/unit_router.hpp"
+#include "plcemu/config/config.hpp"
+
+namespace plcemu::daemon {
+
+/// The TCP listener settings of a config; throws ConfigError on a bad modbus.tcp.allow entry.
+modbus::TcpOptions tcp_options(const config::Config& c);
+
+/// One PLC as the listeners see it.
+struct ListenerMember {
+    const config::Config* config;    ///< its config (listener settings, label)
+    modbus::Dispatcher* dispatcher;  ///< where its requests go
+};
+
+/// Every listener of the process.
+class Listeners {
+public:
+    explicit Listeners(asio::io_context& io);
+    ~Listeners();
+    Listeners(const Listeners&) = delete;
+    Listeners& operator=(const Listeners&) = delete;
+
+    /// Opens every listener the PLCs name; throws when one cannot be had.
+    void open(const std::vector<ListenerMember>& plcs);
+
+    /// Why the configs `next` cannot be applied without a restart (they change which PLCs share a
+    /// listener), or empty.
+    std::string refusal(const std::vector<config::Config>& next) const;
+    /// A reload's first half: opens the TCP listeners `next` asks for and the running ones do
+    /// not provide, before anything changes. False (and logged) when one cannot be had; then
+    /// nothing changed.
+    bool stage(const std::vector<config::Config>& next);
+    /// Undoes stage().
+    void unstage();
+    /// A reload's second half, after the PLCs took their new configs: the staged listeners
+    /// replace the old ones, kept ones take the new limits, serial lines are reopened with their
+    /// new settings, and every router learns the PLCs' new dispatchers.
+    void apply(const std::vector<ListenerMember>& plcs);
+
+    /// Closes every listener.
+    void stop();
+    /// ", tcp ADDR:PORT, rtu DEVICE ..." for the PLC at `index`, for the status line.
+    std::string describe(std::size_t index) const;
+
+    struct Tcp;
+    struct Rtu;
+
+private:
+    void open_rtu(const std::vector<ListenerMember>& plcs, bool at_start);
+    void route(const std::vector<ListenerMember>& plcs);
+    void raise_fd_limit(std::size_t plcs) const;
+
+    asio::io_context& io_;
+    std::vector<std::unique_ptr<Tcp>> tcp_;
+    std::vector<std::unique_ptr<Rtu>> rtu_;
+    std::vector<std::string> labels_;  // "plcs[1] (kiln)", by index
+    // What stage() prepared for apply(): per new TCP listener, the running one it keeps (index
+    // into tcp_) or a new one.
+    struct Staged;
+    std::vector<Staged> staged_;
+    std::vector<std::size_t> stopped_for_stage_;  // running listeners closed to free their port
+};
+
+}  // namespace plcemu::daemon
