@@ -95,8 +95,13 @@ public:
     }
 
     bool frozen() const { return driver_ && driver_->frozen(); }
-    // The first scan, once every PLC and listener of the process is open.
-    void start() { driver_->start(); }
+    // The first scan, once every PLC and listener of the process is open, `phase` later.
+    void start(ScanDriver::Clock::duration phase) { driver_->start(phase); }
+    // One scan period in real time.
+    ScanDriver::Clock::duration scan_period() const {
+        return std::chrono::duration_cast<ScanDriver::Clock::duration>(
+            std::chrono::duration<double, std::milli>(cfg_->scan_ms / cfg_->time_scale));
+    }
 
     // After the loop ended: what ran, and the state file closed.
     void close() {
@@ -264,7 +269,13 @@ public:
         }
         for (auto& h : hosts_) h->open();
         listeners_.open(members());
-        for (auto& h : hosts_) h->start();
+        // PLC i of n starts i/n of its scan period late, as PLCs powered up one by one drift
+        // apart: 500 PLCs of one scan_ms then wake the loop spread over the period instead of
+        // all at one deadline, where the last would wait for the 499 scans before it.
+        for (std::size_t i = 0; i < hosts_.size(); ++i) {
+            hosts_[i]->start(hosts_[i]->scan_period() * static_cast<std::int64_t>(i) /
+                             static_cast<std::int64_t>(hosts_.size()));
+        }
 
         arm_signals();
         arm_watchdog_timer();

@@ -54,10 +54,10 @@ ScanDriver::ScanDriver(asio::io_context& io,
 
 ScanDriver::~ScanDriver() { timer_.remove(slot_); }
 
-void ScanDriver::start() {
+void ScanDriver::start(Clock::duration phase) {
     running_ = true;
     next_sim_ = engine_.scans() == 0 ? engine::Duration{0} : engine_.now() + engine_.scan_period();
-    rebase(Clock::now());
+    rebase(Clock::now() + phase);
     arm();
 }
 

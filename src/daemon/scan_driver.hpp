@@ -42,8 +42,8 @@ public:
     ScanDriver(const ScanDriver&) = delete;
     ScanDriver& operator=(const ScanDriver&) = delete;
 
-    /// Starts scanning now.
-    void start();
+    /// Starts scanning: the first scan `phase` from now (real time), then every scan period.
+    void start(Clock::duration phase = Clock::duration::zero());
     /// Stops scanning.
     void stop();
     /// Changes the time scale without a jump in simulated time.
