@@ -7,34 +7,41 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh test
 
+# Each step says how long it took, so a slow one shows in CI's log.
+step_start=$SECONDS
+step() {
+    echo "== $1 (the step before took $((SECONDS - step_start)) s)"
+    step_start=$SECONDS
+}
+
 build=build-test
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLCEMU_SANITIZE=ON -DPLCEMU_WERROR=ON \
     -DPLCEMU_TESTS=ON >/dev/null
 cmake --build "$build" -j"$(nproc)"
 
-echo "== style"
+step "style"
 # clang-format over the tree and clang-tidy over src/ (using $build/compile_commands.json).
 scripts/style.sh "$build"
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-echo "== unit tests"
+step "unit tests"
 (cd "$build" && ctest --output-on-failure -j"$(nproc)" --timeout 300)
 
 if [[ ${PLCEMU_TEST_PACKAGE:-1} == 1 ]]; then
     # Builds the .deb (Release, incrementally in build-package/), runs lintian (errors fail),
     # installs, runs and purges it on this machine. A cold build-package/ takes minutes;
     # PLCEMU_TEST_PACKAGE=0 skips it.
-    echo "== package"
+    step "package"
     scripts/test-package.sh --reuse-build
 fi
 
 if [[ -x scripts/fuzz.sh && -d tests/fuzz ]] && ls tests/fuzz/*.cpp >/dev/null 2>&1; then
-    echo "== fuzz (short)"
+    step "fuzz (short)"
     scripts/fuzz.sh "${PLCEMU_FUZZ_SECONDS:-20}"
 fi
 
-echo "== system tests"
+step "system tests"
 # Debian's pytest and pymodbus belong to /usr/bin/python3.
 PLCEMUD="$PWD/$build/plcemud" /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/system
