@@ -95,8 +95,8 @@ public:
     }
 
     bool frozen() const { return driver_ && driver_->frozen(); }
-    // The first scan, once every PLC and listener of the process is open, `phase` later.
-    void start(ScanDriver::Clock::duration phase) { driver_->start(phase); }
+    // The first scan, at `first`, once every PLC and listener of the process is open.
+    void start(ScanDriver::Clock::time_point first) { driver_->start_at(first); }
     // One scan period in real time.
     ScanDriver::Clock::duration scan_period() const {
         return std::chrono::duration_cast<ScanDriver::Clock::duration>(
@@ -269,12 +269,16 @@ public:
         }
         for (auto& h : hosts_) h->open();
         listeners_.open(members());
-        // PLC i of n starts i/n of its scan period late, as PLCs powered up one by one drift
-        // apart: 500 PLCs of one scan_ms then wake the loop spread over the period instead of
-        // all at one deadline, where the last would wait for the 499 scans before it.
+        // PLCs start their scans spread over the scan period in slots of 1 ms, as PLCs powered
+        // up one by one drift apart: 500 PLCs of 10 ms scans then wake the loop ten times a
+        // period, 50 scans each, instead of once with 500 (where the last would wait for the 499
+        // scans before it) or 500 times (a timer wake-up costs more than a scan).
+        // The PLCs of one slot share one deadline to the nanosecond, so one wake-up runs them.
+        const auto now = ScanDriver::Clock::now();
         for (std::size_t i = 0; i < hosts_.size(); ++i) {
-            hosts_[i]->start(hosts_[i]->scan_period() * static_cast<std::int64_t>(i) /
-                             static_cast<std::int64_t>(hosts_.size()));
+            const auto period = hosts_[i]->scan_period();
+            const auto slots = std::max<std::int64_t>(1, period / std::chrono::milliseconds(1));
+            hosts_[i]->start(now + period * (static_cast<std::int64_t>(i) % slots) / slots);
         }
 
         arm_signals();

@@ -54,10 +54,10 @@ ScanDriver::ScanDriver(asio::io_context& io,
 
 ScanDriver::~ScanDriver() { timer_.remove(slot_); }
 
-void ScanDriver::start(Clock::duration phase) {
+void ScanDriver::start_at(Clock::time_point first) {
     running_ = true;
     next_sim_ = engine_.scans() == 0 ? engine::Duration{0} : engine_.now() + engine_.scan_period();
-    rebase(Clock::now() + phase);
+    rebase(first);
     arm();
 }
 

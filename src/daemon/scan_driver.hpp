@@ -42,8 +42,10 @@ public:
     ScanDriver(const ScanDriver&) = delete;
     ScanDriver& operator=(const ScanDriver&) = delete;
 
-    /// Starts scanning: the first scan `phase` from now (real time), then every scan period.
-    void start(Clock::duration phase = Clock::duration::zero());
+    /// Starts scanning now.
+    void start() { start_at(Clock::now()); }
+    /// Starts scanning: the first scan at `first` (real time), then every scan period.
+    void start_at(Clock::time_point first);
     /// Stops scanning.
     void stop();
     /// Changes the time scale without a jump in simulated time.
