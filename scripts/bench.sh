@@ -255,7 +255,8 @@ bench_many_plcs() {
         return 0
     fi
     mkdir -p "$dir"
-    base=$((20000 + RANDOM % 20000))
+    # Below the ephemeral range (32768 on), where clients' own ports come from.
+    base=$((10000 + RANDOM % 20000))
     if ! cfg=$("$PY" bench/many_plcs.py --count "$n" --port "$base" --dir "$dir"); then
         note "plcs: no $n free ports from $base; skipped"
         return 0
