@@ -112,8 +112,8 @@ Options parse(int argc, char** argv) {
             usage(argv[0]);
         }
     }
-    if (o.connections < 1 || o.quantity < 1 || o.quantity > 125 || o.seconds <= 0 ||
-        o.ports < 1 || o.interval_ms < 0) {
+    if (o.connections < 1 || o.quantity < 1 || o.quantity > 125 || o.seconds <= 0 || o.ports < 1 ||
+        o.interval_ms < 0) {
         usage(argv[0]);
     }
     if (o.label.empty()) o.label = "load.c" + std::to_string(o.connections);
@@ -250,8 +250,8 @@ int main(int argc, char** argv) {
         const int port = o.port + static_cast<int>(i % static_cast<size_t>(o.ports));
         conns[i].fd = connect_to(o, port);
         if (conns[i].fd < 0) {
-            std::fprintf(stderr, "load_client: cannot connect to %s:%d: %s\n", o.host.c_str(),
-                         port, std::strerror(errno));
+            std::fprintf(stderr, "load_client: cannot connect to %s:%d: %s\n", o.host.c_str(), port,
+                         std::strerror(errno));
             return 1;
         }
     }
@@ -280,8 +280,8 @@ int main(int argc, char** argv) {
     if (paced) {
         // Phases spread evenly over the period, as independent pollers drift apart.
         for (size_t i = 0; i < conns.size(); ++i) {
-            conns[i].next = start + period * static_cast<int64_t>(i) /
-                                        static_cast<int64_t>(conns.size());
+            conns[i].next =
+                start + period * static_cast<int64_t>(i) / static_cast<int64_t>(conns.size());
         }
     } else {
         alive = 0;
