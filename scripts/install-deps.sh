@@ -15,7 +15,7 @@ for what in "${@:-run}"; do
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
                      python3-serial python3-yaml python3-matplotlib mbpoll socat clang-14
                      libclang-rt-14-dev systemd
-                     iproute2 util-linux man-db groff-base) ;;
+                     iproute2 util-linux man-db groff-base ccache) ;;
         # CPack's DEB generator needs dpkg-shlibdeps (dpkg-dev) and file; lintian checks the result.
         package) want+=(dpkg-dev file lintian) ;;
         # scripts/style.sh: the versions CI checks style with.
