@@ -7,8 +7,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh test
 
-# The three builds below (sanitized, the package's Release, the fuzzers') go through ccache, keyed on paths relative to the checkout, so a second run or
-# another clone on the same machine compiles only what changed. CMake reads these variables
+# The three builds below (sanitized, the package's Release, the fuzzers') go through ccache,
+# keyed on paths relative to the checkout, so a second run or another clone on the same
+# machine compiles only what changed. CMake reads these variables
 # when it configures a build directory.
 if command -v ccache >/dev/null; then
     export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
