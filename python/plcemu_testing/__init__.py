@@ -13,11 +13,13 @@ registers it. The API is in docs/testing.md.
 """
 
 from .errors import DaemonError, DeviceError, ModbusError, PlcemuError
-from .plc import Plc, find_plcemud
+from .plc import Plc, PlcApi
+from .plcs import PlcEntry, Plcs
+from .process import find_plcemud
 from .wire_map import WireMap, parse_device
 
-__all__ = ["DaemonError", "DeviceError", "ModbusError", "PlcemuError", "Plc", "WireMap",
-           "find_plcemud", "parse_device", "plcemud"]
+__all__ = ["DaemonError", "DeviceError", "ModbusError", "PlcemuError", "Plc", "PlcApi",
+           "PlcEntry", "Plcs", "WireMap", "find_plcemud", "parse_device", "plcemud"]
 
 try:
     import pytest  # noqa: F401

@@ -1,15 +1,12 @@
-"""One plcemud daemon under test: start, stop, restart, reload; devices by name; the simulator.
+"""One PLC under test: devices by name, its tag export and its simulator unit (PlcApi), and
+Plc, a plcemud process holding one PLC.
 
 Plc needs no pytest: the `plcemud` fixture (plugin.py) creates them and stops them at teardown.
+A `plcs:` config gives a Plcs instead (plcs.py), whose PLCs have the same PlcApi.
 """
 
 import json
-import os
 import re
-import shutil
-import signal
-import socket
-import subprocess
 import time
 from collections.abc import Mapping
 from pathlib import Path
@@ -19,12 +16,10 @@ from pymodbus.exceptions import ModbusException
 from pymodbus.pdu import ExceptionResponse
 
 from .errors import DaemonError, DeviceError, ModbusError
+from .process import Process, free_port
 from .tags import FUNCTIONS, WIDTH, from_registers, read_tags, to_registers
 from .wire_map import BIT_TABLES, WORD_TABLES, WireMap, parse_device, width
 
-START_TIMEOUT_S = 10.0
-STOP_TIMEOUT_S = 5.0
-RELOAD_TIMEOUT_S = 30.0
 # Largest quantities of one request (FC03/04 125, FC16 123, FC01/02 2000, FC15 1968 by the
 # protocol), rounded down.
 MAX_WORDS = 120
@@ -37,38 +32,21 @@ PLANT_PARAMS = {"ambient": ("ambient", 10, True), "k": ("k", 10, False),
                 "noise": ("noise", 100, False), "lead_resistance": ("lead_resistance", 100, False)}
 
 
-def free_port():
-    """A TCP port on 127.0.0.1 that nothing listens on at the moment of the call."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def find_plcemud(*roots):
-    """The plcemud binary: $PLCEMUD, else `plcemud` on PATH, else the newest build*/plcemud
-    under one of `roots` (a source tree)."""
-    env = os.environ.get("PLCEMUD")
-    if env:
-        if not os.access(env, os.X_OK):
-            raise DaemonError(f"PLCEMUD={env} is not an executable file")
-        return str(Path(env).resolve())
-    on_path = shutil.which("plcemud")
-    if on_path:
-        return on_path
-    built = [p for root in roots if root for p in Path(root).glob("build*/plcemud")
-             if os.access(p, os.X_OK)]
-    if built:
-        return str(max(built, key=lambda p: p.stat().st_mtime))
-    raise DaemonError("plcemud not found: set PLCEMUD to the binary, put it on PATH, or build it "
-                      "in the source tree (build*/plcemud)")
-
-
 def _to_signed(value, bits):
     return value - (1 << bits) if value >> (bits - 1) & 1 else value
 
 
+def connect(port):
+    """A connected client of plcemud on 127.0.0.1:`port`."""
+    client = ModbusTcpClient("127.0.0.1", port=port, timeout=5, retries=1)
+    if not client.connect():
+        raise DaemonError(f"cannot connect to plcemud on port {port}")
+    return client
+
+
 def _settings(config):
-    """(scan_ms, station) of a config given as a dict or as YAML text."""
+    """(scan_ms, station) of a config (one PLC, or an entry of `plcs:`) given as a dict or as
+    YAML text."""
     if not isinstance(config, Mapping):
         try:
             import yaml  # optional: the top-level keys are also found without it
@@ -102,147 +80,21 @@ def config_text(config):
         raise DaemonError(f"cannot read the config {path}: {e}") from e
 
 
-class Plc:
-    """A running plcemud on 127.0.0.1:`port`, with its config, state file and log in `workdir`.
+class PlcApi:
+    """What a test does with one PLC: device methods take names as the profile writes them
+    (D100, R4005, M0, X17, TMR5, CN200, WM800) and translate them through the daemon's own
+    --print-map; the tag export; the simulator unit.
 
-    Device methods take names as the profile writes them (D100, R4005, M0, X17, TMR5, CN200,
-    WM800) and translate them through the daemon's own --print-map."""
-
-    def __init__(self, binary, workdir, config, name="plc"):
-        self.binary = str(binary)
-        self.workdir = Path(workdir)
-        self.workdir.mkdir(parents=True, exist_ok=True)
-        self.config_path = self.workdir / f"{name}.yaml"
-        self.log_path = self.workdir / f"{name}.log"
-        self.proc = None
-        self.client = None
-        self._tags = None
-        self.exit_code = None
-        self.port = free_port()
-        self._set_config(config)
-        self.map = WireMap(self.binary, self.config_path)
-        self._start()
-
-    # --- the daemon -----------------------------------------------------------------------
-
-    def _set_config(self, config):
-        text = config_text(config)
-        self.config_path.write_text(text)
-        self.scan_ms, self.station = _settings(config if isinstance(config, Mapping) else text)
-
-    def _start(self):
-        env = {k: v for k, v in os.environ.items() if k != "STATE_DIRECTORY"}
-        args = [self.binary, "-c", str(self.config_path), "--port", str(self.port)]
-        with open(self.log_path, "ab") as log:  # appended across restarts
-            self.proc = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=log,
-                                         stderr=subprocess.STDOUT, cwd=self.workdir, env=env)
-        self.exit_code = None
-        deadline = time.monotonic() + START_TIMEOUT_S
-        while True:
-            if self.proc.poll() is not None:
-                raise DaemonError(f"plcemud exited with {self.proc.returncode} before listening "
-                                  f"on port {self.port}\nargs: {args}\n--- log ---\n{self.log}")
-            try:
-                socket.create_connection(("127.0.0.1", self.port), timeout=0.2).close()
-                break
-            except OSError:
-                pass
-            if time.monotonic() > deadline:
-                self.stop(kill=True)
-                raise DaemonError(f"plcemud did not listen on port {self.port} within "
-                                  f"{START_TIMEOUT_S} s\n--- log ---\n{self.log}")
-            time.sleep(0.05)
-        self.client = ModbusTcpClient("127.0.0.1", port=self.port, timeout=5, retries=1)
-        if not self.client.connect():
-            raise DaemonError(f"cannot connect to plcemud on port {self.port}\n{self.log}")
-
-    @property
-    def log(self):
-        """Everything the daemon wrote (stdout and stderr) so far, across restarts."""
-        try:
-            return self.log_path.read_text(errors="replace")
-        except FileNotFoundError:
-            return ""
-
-    @property
-    def running(self):
-        return self.proc is not None and self.proc.poll() is None
-
-    def stop(self, kill=False):
-        """SIGTERM (SIGKILL with kill=True), up to 5 s, then SIGKILL; returns the exit code."""
-        if self.client is not None:
-            self.client.close()
-            self.client = None
-        if self.proc is None:
-            return self.exit_code
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGKILL if kill else signal.SIGTERM)
-            try:
-                self.proc.wait(timeout=STOP_TIMEOUT_S)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
-        self.exit_code = self.proc.returncode
-        self.proc = None
-        return self.exit_code
-
-    def restart(self, kill=False):
-        """Stops the daemon (SIGTERM, or SIGKILL with kill=True) and starts it again with the
-        same config and state file, on the same port if it is still free. Returns the first
-        daemon's exit code; `client` is a new connected client."""
-        code = self.stop(kill=kill)
-        try:
-            self._start()
-        except DaemonError:
-            if self.proc is not None and self.proc.poll() is None:
-                raise
-            self.proc = None
-            self.port = free_port()  # someone took the port in between
-            self._start()
-        return code
-
-    def reload(self, config=None):
-        """Writes `config` (if given) over the daemon's config file, sends SIGHUP and waits for
-        "reload: done" in the log. A rejected config raises DaemonError with the daemon's
-        reasons (the daemon goes on with the previous one, and so does this object)."""
-        if not self.running:
-            raise DaemonError("reload: plcemud is not running")
-        previous = self.config_path.read_text(), self.scan_ms, self.station
-        if config is not None:
-            self._set_config(config)
-        try:
-            self._reload()
-        except DaemonError:
-            self.config_path.write_text(previous[0])
-            self.scan_ms, self.station = previous[1:]
-            raise
-        self.map = WireMap(self.binary, self.config_path)
-        self._tags = None
-
-    def _reload(self):
-        start = self.log_path.stat().st_size
-        self.proc.send_signal(signal.SIGHUP)
-        deadline = time.monotonic() + RELOAD_TIMEOUT_S
-        while True:
-            with open(self.log_path, "rb") as f:
-                f.seek(start)
-                new = f.read().decode(errors="replace")
-            if "reload: done" in new:
-                break
-            if "still running the previous" in new or not self.running:
-                raise DaemonError(f"reload rejected:\n{new}")
-            if time.monotonic() > deadline:
-                raise DaemonError(f"no 'reload: done' within {RELOAD_TIMEOUT_S} s:\n{new}")
-            time.sleep(0.02)
-
-    def __repr__(self):
-        return f"<Plc {self.config_path} on 127.0.0.1:{self.port}, station {self.station}>"
+    A subclass provides `client` (connected to the PLC's listener), `port`, `station`, `map`
+    (its WireMap), `scan_ms`, `tags` (its rows of the export), `config_path` and `log`."""
 
     # --- Modbus requests ------------------------------------------------------------------
 
     def _call(self, operation, device, function, *args, unit=None):
         if self.client is None:
-            raise DaemonError(f"{operation} {device}: plcemud is not running")
+            raise DaemonError(f"{operation} {device}: plcemud is not running"
+                              if self.port else f"{operation} {device}: the PLC has no TCP "
+                              "listener (modbus.tcp.enabled: false)")
         try:
             r = function(*args, slave=self.station if unit is None else unit)
         except ModbusException as e:
@@ -374,18 +226,11 @@ class Plc:
 
     # --- the tag export -------------------------------------------------------------------
 
-    @property
-    def tags(self):
-        """The config's tag export (`--export-tags json`): a list of dicts, one per device the
-        configuration gives meaning to, and the simulator unit's registers."""
-        if self._tags is None:
-            self._tags = read_tags(self.binary, self.config_path)
-        return self._tags
-
     def tag(self, name):
-        """The exported tag named `name` ("R100", "CN200", "sim.ch0.ambient")."""
+        """The exported tag named `name` ("R100", "CN200", "sim.ch0.ambient"; a PLC of `plcs:`
+        takes the name with or without its prefix, "kiln.R100" or "R100")."""
         for t in self.tags:
-            if t["name"] == name:
+            if t["name"] in (name, f"{t.get('plc')}.{name}"):
                 return t
         raise KeyError(f"{name}: no such tag in the export of {self.config_path}")
 
@@ -532,3 +377,60 @@ class Plc:
     def heater_power(self, channel):
         """The power the plant received on a channel, %, mean of the last 8 s."""
         return self._sim_read("heater_power", channel)[0] / 10
+
+
+class Plc(Process, PlcApi):
+    """A running plcemud holding one PLC, on 127.0.0.1:`port`, with its config, state file and
+    log in `workdir`."""
+
+    def __init__(self, binary, workdir, config, name="plc"):
+        super().__init__(binary, workdir, name)
+        self.client = None
+        self._tags = None
+        self.port = free_port()
+        self._set_config(config)
+        self.map = WireMap(self.binary, self.config_path)
+        self._start()
+
+    def _set_config(self, config):
+        text = config_text(config)
+        self.config_path.write_text(text)
+        self.scan_ms, self.station = _settings(config if isinstance(config, Mapping) else text)
+
+    def _args(self):
+        return ["--port", str(self.port)]
+
+    def _ports(self):
+        return [self.port]
+
+    def _connect(self):
+        self.client = connect(self.port)
+
+    def _disconnect(self):
+        if self.client is not None:
+            self.client.close()
+            self.client = None
+
+    def _new_ports(self):
+        self.port = free_port()
+
+    def _snapshot(self):
+        return self.scan_ms, self.station
+
+    def _restore(self, snapshot):
+        self.scan_ms, self.station = snapshot
+
+    def _reloaded(self):
+        self.map = WireMap(self.binary, self.config_path)
+        self._tags = None
+
+    def __repr__(self):
+        return f"<Plc {self.config_path} on 127.0.0.1:{self.port}, station {self.station}>"
+
+    @property
+    def tags(self):
+        """The config's tag export (`--export-tags json`): a list of dicts, one per device the
+        configuration gives meaning to, and the simulator unit's registers."""
+        if self._tags is None:
+            self._tags = read_tags(self.binary, self.config_path)
+        return self._tags

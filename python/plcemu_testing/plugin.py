@@ -5,7 +5,9 @@ from pathlib import Path
 import pytest
 
 from .errors import DaemonError
-from .plc import Plc, find_plcemud
+from .plc import Plc
+from .plcs import Plcs, plcs_of
+from .process import find_plcemud
 
 _PLCS = pytest.StashKey[list]()
 LOG_TAIL = 20000  # characters of each daemon's log shown with a failure
@@ -14,8 +16,10 @@ LOG_TAIL = 20000  # characters of each daemon's log shown with a failure
 @pytest.fixture
 def plcemud(request, tmp_path):
     """A factory: plcemud(config) -> Plc, a daemon on a free port of 127.0.0.1 with its own
-    state file in tmp_path; `config` is a dict, a path or YAML text. Every daemon still running
-    at teardown is stopped with SIGTERM, and one that did not exit with 0 fails the test."""
+    state file in tmp_path; `config` is a dict, a path or YAML text. A `plcs:` config gives a
+    Plcs instead: a free port per listener, a state file per PLC, `plcs["kiln"]` or `plcs[1]`
+    a Plc-like PlcEntry. Every daemon still running at teardown is stopped with SIGTERM, and one
+    that did not exit with 0 fails the test."""
     plcs = request.node.stash.setdefault(_PLCS, [])
     try:
         binary = find_plcemud(request.config.rootpath, Path(__file__).resolve().parents[2])
@@ -23,7 +27,8 @@ def plcemud(request, tmp_path):
         pytest.fail(str(e), pytrace=False)
 
     def start(config, name=None):
-        plc = Plc(binary, tmp_path / (name or f"plcemud-{len(plcs)}"), config)
+        kind = Plc if plcs_of(config) is None else Plcs
+        plc = kind(binary, tmp_path / (name or f"plcemud-{len(plcs)}"), config)
         plcs.append(plc)
         return plc
 

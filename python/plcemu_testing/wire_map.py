@@ -87,21 +87,29 @@ def _base_of(table, area, first, last, count, packed):
     return None
 
 
+def _print_map(plcemud, config_path):
+    """The rows of `plcemud -c CONFIG --print-map --format csv`."""
+    try:
+        r = subprocess.run([str(plcemud), "-c", str(config_path), "--print-map", "--format",
+                            "csv"], capture_output=True, text=True, timeout=30)
+    except OSError as e:
+        raise DaemonError(f"cannot run {plcemud}: {e}") from e
+    if r.returncode != 0:
+        raise DaemonError(f"plcemud --print-map failed on {config_path}:\n{r.stderr}")
+    return list(csv.reader(r.stdout.splitlines()))
+
+
 class WireMap:
     """Device -> (table, wire address), and the simulator unit, from `plcemud --print-map
     --format csv` on the config: the daemon's own map, whatever the profile or modbus.map."""
 
     ROW = re.compile(r"^([A-Z]+)(\d+)-([A-Z]+)(\d+)\b")
 
-    def __init__(self, plcemud, config_path):
-        try:
-            r = subprocess.run([str(plcemud), "-c", str(config_path), "--print-map", "--format",
-                                "csv"], capture_output=True, text=True, timeout=30)
-        except OSError as e:
-            raise DaemonError(f"cannot run {plcemud}: {e}") from e
-        if r.returncode != 0:
-            raise DaemonError(f"plcemud --print-map failed on {config_path}:\n{r.stderr}")
-        rows = list(csv.reader(r.stdout.splitlines()))
+    def __init__(self, plcemud, config_path, rows=None):
+        """The map of a config holding one PLC; `rows`: its csv rows (header first) when
+        already read."""
+        if rows is None:
+            rows = _print_map(plcemud, config_path)
         self.vendor = rows[0][4] if rows and len(rows[0]) > 4 else ""
         self.aliases = ALIASES.get(self.vendor, {})
         self.rows = []
@@ -111,6 +119,20 @@ class WireMap:
         for row in rows[1:]:
             self._add(row)
         self.power = self.sim.get("heater_power")  # (first wire, stride) of the heater power
+
+    @classmethod
+    def per_plc(cls, plcemud, config_path):
+        """{plc: WireMap} of a `plcs:` config, by the `plc` column of --print-map --format csv
+        ("kiln", "plcs[2]"): each PLC's rows follow a header of their own after that column."""
+        maps, header = {}, None
+        for row in _print_map(plcemud, config_path):
+            if not row:
+                continue
+            if row[0] == "plc":
+                header = row[1:]
+                continue
+            maps.setdefault(row[0], [header]).append(row[1:])
+        return {plc: cls(plcemud, config_path, rows) for plc, rows in maps.items()}
 
     def _add(self, row):
         table, wire_text, label, access = row[0], row[3], row[4], row[-1]

@@ -768,6 +768,11 @@ std::string read_file(const std::string& path) {
 
 }  // namespace
 
+std::string plc_id(const Config& config) {
+    if (config.index < 0) return "";
+    return config.name.empty() ? "plcs[" + std::to_string(config.index) + "]" : config.name;
+}
+
 std::string default_state_file(const Config& config) {
     if (!config.persistence.file.empty()) return config.persistence.file;
     const auto slash = config.path.rfind('/');

@@ -126,7 +126,7 @@ void simulator_rows(const config::Config& config, std::vector<TagRow>& rows) {
     if (config.simulator.unit == 0) return;
     const bool writable = config.simulator.writable.value_or(!config.modbus.read_only);
     for (const auto& r : simulator::register_tags()) {
-        rows.push_back({r.name, "", config.simulator.unit, Table::HoldingRegisters, r.wire,
+        rows.push_back({"", "", r.name, "", config.simulator.unit, Table::HoldingRegisters, r.wire,
                         r.is_signed ? "int16" : "uint16",
                         writable && simulator::SimulatorUnit::writable(r.wire), r.description});
     }
@@ -217,7 +217,7 @@ TagExport export_tags(const config::Config& config) {
         } else if (!image::is_bit_area(area)) {
             type = m.is_unsigned ? "uint16" : "int16";
         }
-        out.rows.push_back({device, device, config.station, table, address, type,
+        out.rows.push_back({"", "", device, device, config.station, table, address, type,
                             served(plc, table, address, n, area, index, true), description});
     }
     simulator_rows(config, out.rows);
@@ -229,36 +229,87 @@ TagExport export_tags(const config::Config& config) {
     return out;
 }
 
-void write_tags(std::ostream& out, const std::vector<TagRow>& rows, bool as_json) {
-    const char* const keys[] = {"name",           "device", "unit",   "table",      "address",
-                                "address_1based", "type",   "access", "description"};
-    if (!as_json) {
-        for (std::size_t k = 0; k < std::size(keys); ++k) out << (k ? "," : "") << keys[k];
-        out << '\n';
-    } else {
-        out << "[";
-    }
-    bool first = true;
-    for (const auto& r : rows) {
-        const std::string unit = std::to_string(r.unit);
-        const std::string address = std::to_string(r.address);
-        const std::string one_based = std::to_string(r.address + 1);
-        const std::string access = r.writable ? "read-write" : "read";
-        if (!as_json) {
-            out << csv(r.name) << ',' << csv(r.device) << ',' << unit << ',' << table_key(r.table)
-                << ',' << address << ',' << one_based << ',' << r.type << ',' << access << ','
-                << csv(r.description) << '\n';
-            continue;
+TagExport export_tags(const std::vector<config::Config>& plcs) {
+    TagExport out;
+    for (const auto& config : plcs) {
+        TagExport e = export_tags(config);
+        const std::string id = config::plc_id(config);
+        if (!id.empty()) {
+            const std::string endpoint = endpoint_of(config);
+            for (auto& r : e.rows) {
+                r.plc = id;
+                r.endpoint = endpoint;
+                r.name.insert(0, id + ".");
+            }
+            for (auto& u : e.unreachable) u.insert(0, id + ".");
         }
-        out << (first ? "\n" : ",\n") << "  {\"name\": " << json(r.name)
-            << ", \"device\": " << json(r.device) << ", \"unit\": " << unit
-            << ", \"table\": " << json(table_key(r.table)) << ", \"address\": " << address
-            << ", \"address_1based\": " << one_based << ", \"type\": " << json(r.type)
-            << ", \"access\": " << json(access) << ", \"description\": " << json(r.description)
-            << "}";
-        first = false;
+        std::move(e.rows.begin(), e.rows.end(), std::back_inserter(out.rows));
+        std::move(e.unreachable.begin(), e.unreachable.end(), std::back_inserter(out.unreachable));
     }
-    if (as_json) out << (first ? "]\n" : "\n]\n");
+    return out;
+}
+
+std::string endpoint_of(const config::Config& config) {
+    std::string s;
+    const config::TcpConfig& tcp = config.modbus.tcp;
+    if (tcp.enabled) {
+        // An IPv6 address in brackets, as in a URL (RFC 3986 §3.2.2): its colons are not the
+        // port's.
+        const bool v6 = tcp.bind.find(':') != std::string::npos;
+        s = "tcp:" + (v6 ? "[" + tcp.bind + "]" : tcp.bind) + ":" + std::to_string(tcp.port);
+    }
+    if (config.modbus.rtu) s += (s.empty() ? "rtu:" : " rtu:") + config.modbus.rtu->device;
+    return s;
+}
+
+void write_tags(std::ostream& out, const std::vector<TagRow>& rows, bool as_json) {
+    // The columns: `plc` and `endpoint` only when the rows are of `plcs:` entries, so that a
+    // file holding one PLC exports as it always did.
+    const bool several =
+        std::any_of(rows.begin(), rows.end(), [](const TagRow& r) { return !r.plc.empty(); });
+    struct Field {
+        const char* key;
+        std::string value;
+        bool number;
+    };
+    auto fields = [several](const TagRow& r) {
+        std::vector<Field> f;
+        if (several) f.push_back({"plc", r.plc, false});
+        f.push_back({"name", r.name, false});
+        f.push_back({"device", r.device, false});
+        if (several) f.push_back({"endpoint", r.endpoint, false});
+        f.push_back({"unit", std::to_string(r.unit), true});
+        f.push_back({"table", table_key(r.table), false});
+        f.push_back({"address", std::to_string(r.address), true});
+        f.push_back({"address_1based", std::to_string(r.address + 1), true});
+        f.push_back({"type", r.type, false});
+        f.push_back({"access", r.writable ? "read-write" : "read", false});
+        f.push_back({"description", r.description, false});
+        return f;
+    };
+    if (!as_json) {
+        const auto header = fields(TagRow{});
+        for (std::size_t k = 0; k < header.size(); ++k) out << (k ? "," : "") << header[k].key;
+        out << '\n';
+        for (const auto& r : rows) {
+            const auto f = fields(r);
+            for (std::size_t k = 0; k < f.size(); ++k)
+                out << (k ? "," : "") << (f[k].number ? f[k].value : csv(f[k].value));
+            out << '\n';
+        }
+        return;
+    }
+    out << "[";
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const auto f = fields(rows[i]);
+        out << (i ? ",\n" : "\n") << "  {";
+        for (std::size_t k = 0; k < f.size(); ++k) {
+            out << (k ? ", " : "") << '"' << f[k].key
+                << "\": " << (f[k].number ? f[k].value : json(f[k].value));
+        }
+        out << "}";
+    }
+    out << (rows.empty() ? "]\n" : "\n]\n");
 }
 
 }  // namespace plcemu::daemon

@@ -15,7 +15,15 @@ namespace plcemu::daemon {
 
 /// One exported tag.
 struct TagRow {
-    std::string name;    ///< unique in the export: the device ("R100"), or "sim.ch0.ambient"
+    /// The `plcs:` entry it belongs to ("kiln", "plcs[2]", config::plc_id); empty for a file
+    /// holding one PLC, whose export has no `plc` and `endpoint` columns.
+    std::string plc;
+    /// Where a `plcs:` entry's rows are reached: "tcp:BIND:PORT", "rtu:DEVICE", or both
+    /// separated by a space.
+    std::string endpoint;
+    /// Unique in the export: the device ("R100"), or "sim.ch0.ambient"; a `plcs:` entry's tags
+    /// are prefixed with its plc ("kiln.R100").
+    std::string name;
     std::string device;  ///< the PLC's device, as the profile writes it; empty for the simulator
     int unit = 0;        ///< the Modbus unit ID that serves it
     modbus::Table table = modbus::Table::HoldingRegisters;  ///< the table
@@ -38,8 +46,16 @@ TagExport export_tags(const config::Config& config);
 /// The table as the export writes it: coil, discrete_input, holding_register, input_register.
 const char* table_key(modbus::Table table);
 
+/// The tags of every PLC of a config, in `plcs:` order; a file holding one PLC gives exactly
+/// export_tags(config). Rows and unreachable devices of an entry are named with its plc_id as
+/// a prefix ("kiln.R100").
+TagExport export_tags(const std::vector<config::Config>& plcs);
+
+/// "tcp:127.0.0.1:1502", "tcp:[::]:502 rtu:/dev/ttyUSB0": the listeners a PLC's config opens.
+std::string endpoint_of(const config::Config& config);
+
 /// Writes `rows` as CSV (a header, then one line a row) or as a JSON array of objects with the
-/// same keys.
+/// same keys; rows of `plcs:` entries add the `plc` and `endpoint` keys.
 void write_tags(std::ostream& out, const std::vector<TagRow>& rows, bool json);
 
 }  // namespace plcemu::daemon

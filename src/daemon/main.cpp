@@ -139,7 +139,9 @@ int main(int argc, char** argv) {
                                             : "--export-tags needs a configuration file (-c FILE)");
         }
         if (!tags.empty()) {
-            const auto e = plcemu::daemon::export_tags(plcemu::config::load_config(config_path));
+            // Every PLC of a `plcs:` file, each row saying which and where (docs/configuration.md,
+            // "Tag export").
+            const auto e = plcemu::daemon::export_tags(plcemu::config::load_plcs(config_path));
             plcemu::daemon::write_tags(std::cout, e.rows, tags == "json");
             // Devices the configuration names that no Modbus address serves (a modbus.map that
             // leaves them out) are said on stderr: an import cannot reach them.

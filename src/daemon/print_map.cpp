@@ -147,13 +147,15 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
     std::string vendor(profile.vendor());
     for (char& c : vendor) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
     auto q = [](const std::string& s) { return "\"" + s + "\""; };
-    // A PLC of a `plcs:` list: its rows say which ("plcs[1] (kiln)") in a first column.
-    const bool entry = !config.label.empty();
+    // A PLC of a `plcs:` list: its rows say which ("kiln", "plcs[1]") in a first column, as
+    // --export-tags does.
+    const std::string id = config::plc_id(config);
+    const bool entry = !id.empty();
     if (csv) {
         out << (entry ? "plc," : "") << "table,modbus_5digit,modbus_6digit,wire," << vendor
             << ",function_codes,access\n";
         for (const auto& r : rows) {
-            if (entry) out << q(config.label) << ',';
+            if (entry) out << q(id) << ',';
             out << q(r.table) << ',' << r.five << ',' << r.six << ',' << r.wire << ',' << q(r.fatek)
                 << ',' << r.codes << ',' << q(r.access) << '\n';
         }

@@ -10,6 +10,7 @@ import json
 import re
 
 import pytest
+import yaml
 
 from conftest import REPO, run_plcemud
 from plcemu_testing import ModbusError
@@ -94,6 +95,20 @@ def export(path, fmt):
     return r.stdout
 
 
+def exported(config_path, keys):
+    """The csv export of a config, its header `keys`, as dicts with numbers for numbers: the
+    same as its json export."""
+    text = export(config_path, "csv")
+    assert text.splitlines()[0] == ",".join(keys)
+    rows = list(csv.DictReader(io.StringIO(text)))
+    for r in rows:
+        for k in ("unit", "address", "address_1based"):
+            r[k] = int(r[k])
+    assert rows == json.loads(export(config_path, "json"))
+    assert len({r["name"] for r in rows}) == len(rows)
+    return rows
+
+
 def by_name(plc, tag):
     """The device's value read by its name through the plugin's WireMap (--print-map)."""
     if tag["type"] == "bool":
@@ -103,7 +118,8 @@ def by_name(plc, tag):
 
 def sim_field(tag):
     """(field, channel) of a simulator unit tag: sim.time_scale, sim.ch3.ambient."""
-    m = re.fullmatch(r"sim\.(?:ch(\d+)\.)?(\w+)", tag["name"])
+    name = tag["name"].removeprefix(f"{tag['plc']}.") if "plc" in tag else tag["name"]
+    m = re.fullmatch(r"sim\.(?:ch(\d+)\.)?(\w+)", name)
     assert m, tag
     return m.group(2), None if m.group(1) is None else int(m.group(1))
 
@@ -120,14 +136,8 @@ def distinct(tag, i):
 @pytest.mark.parametrize("name", list(CONFIGS))
 def test_csv_and_json_agree(plcemud, name):
     plc = plcemud(CONFIGS[name])
-    text = export(plc.config_path, "csv")
-    assert text.splitlines()[0] == ",".join(KEYS)
-    rows = list(csv.DictReader(io.StringIO(text)))
-    for r in rows:
-        for k in ("unit", "address", "address_1based"):
-            r[k] = int(r[k])
-    assert rows == json.loads(export(plc.config_path, "json")) == plc.tags
-    assert len({r["name"] for r in rows}) == len(rows)
+    rows = exported(plc.config_path, KEYS)
+    assert rows == plc.tags
     assert len({(r["unit"], r["table"], r["address"]) for r in rows}) == len(rows)
     for r in rows:
         assert r["table"] in TABLES and r["type"] in ("bool", "int16", "uint16", "int32"), r
@@ -144,11 +154,11 @@ def test_csv_and_json_agree(plcemud, name):
     assert sum(r["unit"] == 247 for r in rows) == 5 + 8 * 32
 
 
-@pytest.mark.parametrize("name", list(CONFIGS))
-def test_every_exported_address_reads_and_writes_as_exported(plcemud, name):
-    plc = plcemud(CONFIGS[name])
-    plc.freeze()  # no scan changes a value between the reads below
-    tags = plc.tags
+def walk(plc, tags):
+    """Walks a PLC's rows of the export against it (a Plc, or one PLC of a plcs: config): every
+    address reads what the device holds by name; a distinct value written by name reads back at
+    the exported address, and one written at the address reads back by name; read-only
+    addresses refuse a write with exception 02. The PLC is frozen: no scan changes a value."""
     plc_rows = [t for t in tags if t["device"]]
     assert len(plc_rows) > 30
     # Every address reads with its table's function and shows what the device holds.
@@ -185,6 +195,56 @@ def test_every_exported_address_reads_and_writes_as_exported(plcemud, name):
         if t["access"] == "read-write" and t["type"] != "bool":
             plc.write_tag(t, distinct(t, i + 1000))
             assert plc.read(t["device"], signed=t["type"] != "uint16")[0] == distinct(t, i + 1000)
+
+
+@pytest.mark.parametrize("name", list(CONFIGS))
+def test_every_exported_address_reads_and_writes_as_exported(plcemud, name):
+    plc = plcemud(CONFIGS[name])
+    plc.freeze()  # no scan changes a value between the reads below
+    walk(plc, plc.tags)
+
+
+def plant_of_three():
+    """kiln (config/default.yaml) and press (config/vb.yaml) behind one TCP listener as stations
+    1 and 2 with simulator units 201 and 202, and an unnamed FB (config/fb-example.yaml) on a
+    port of its own (docs/configuration.md, "Sharing a listener")."""
+    def entry(path, **keys):
+        cfg = yaml.safe_load(path.read_text())
+        cfg.update(keys)
+        return cfg
+    return {"plcs": [
+        entry(CONFIGS["default"], name="kiln", station=1, simulator={"unit": 201}),
+        entry(CONFIGS["vb"], name="press", station=2, simulator={"unit": 202}),
+        entry(CONFIGS["fb-example"], modbus={"tcp": {"bind": "127.0.0.1", "port": 5021}}),
+    ]}
+
+
+def test_a_plcs_config_exports_every_plc_each_row_reaching_its_own(plcemud):
+    plcs = plcemud(plant_of_three())
+    kiln, press, fb = plcs
+    assert kiln.port == press.port != fb.port
+    rows = exported(plcs.config_path, ["plc", "name", "device", "endpoint", *KEYS[2:]])
+    assert rows == plcs.tags
+    assert len({(r["endpoint"], r["unit"], r["table"], r["address"]) for r in rows}) == len(rows)
+    assert [r["plc"] for r in rows] == sorted((r["plc"] for r in rows),
+                                              key=["kiln", "press", "plcs[2]"].index)
+    for p, sim in ((kiln, 201), (press, 202), (fb, 247)):
+        assert p.tags, p
+        for t in p.tags:
+            assert t["endpoint"] == f"tcp:127.0.0.1:{p.port}", t
+            assert t["name"] == f"{p.name}.{t['device'] or t['name'].split('.', 1)[1]}", t
+            assert t["unit"] == (p.station if t["device"] else sim), t
+    assert plcs["kiln"].tag("R100")["name"] == "kiln.R100"
+    assert plcs["plcs[2]"].tag("sim.ch0.ambient")["unit"] == 247
+
+    # Walk each PLC through its rows: each row reaches its PLC, and no other PLC changes.
+    for p in plcs:
+        p.freeze()
+    for p in plcs:
+        others = [o for o in plcs if o is not p]
+        before = [[o.read_tag(t) for t in o.tags] for o in others]
+        walk(p, p.tags)
+        assert [[o.read_tag(t) for t in o.tags] for o in others] == before, p.name
 
 
 def test_simulator_unit_tags_write_and_read_as_exported(plcemud):

@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from conftest import REPO
-from plcemu_testing import DaemonError, DeviceError, ModbusError
+from plcemu_testing import DaemonError, DeviceError, ModbusError, Plc, Plcs
 
 DEFAULT = REPO / "config" / "default.yaml"
 
@@ -239,3 +239,72 @@ def test_names_follow_a_modbus_map(plcemud):
         1, 2, 70000 & 0xFFFF, 70000 >> 16, 4, 0]
     with pytest.raises(DeviceError, match=r"M0: no M devices .*\(its areas: CN, D, WM\)"):
         plc.read_bits("M0")  # only packed in registers here: no coils
+
+
+def two_kilns(dryer_station=2):
+    """config/default.yaml twice behind one TCP listener: kiln (station 1, simulator unit 201)
+    and dryer (station 2, simulator unit 202), docs/configuration.md "Sharing a listener"."""
+    cfg = yaml.safe_load(DEFAULT.read_text())
+    return {"plcs": [dict(cfg, name="kiln", simulator={"unit": 201}),
+                     dict(cfg, name="dryer", station=dryer_station, simulator={"unit": 202})]}
+
+
+def test_two_plcs_behind_one_listener_heat_independently(plcemud):
+    plcs = plcemud(two_kilns())
+    assert isinstance(plcs, Plcs) and len(plcs) == 2 and plcs.names == ["kiln", "dryer"]
+    kiln, dryer = plcs["kiln"], plcs[1]
+    assert dryer is plcs["dryer"] and list(plcs) == [kiln, dryer]
+    assert kiln.port == dryer.port and (kiln.station, dryer.station) == (1, 2)
+    assert (f"listening on tcp 127.0.0.1:{kiln.port} for plcs[0] (kiln), plcs[1] (dryer)"
+            in plcs.log)
+    dryer.freeze()
+    start_loops(kiln)
+    t_dryer = dryer.sim_time
+    kiln.run(seconds=600)
+    # The kiln heated in its simulated time; the dryer's time stood still, its loops off.
+    assert min(kiln.read("R0", 10)) > 1000
+    assert max(dryer.read("R0", 10)) <= 300 and dryer.sim_time == t_dryer
+    assert kiln.true_temperature(0) > 100 and dryer.true_temperature(0) < 30
+    # A write to one is not seen by the other: the dryer's setpoints go to 80 °C.
+    dryer.write("R100", [800] * 10)
+    assert kiln.read("R100", 10) == [1500] * 10
+    t_kiln = kiln.sim_time
+    start_loops(dryer)
+    dryer.run(seconds=600)
+    assert kiln.sim_time == t_kiln
+    assert 60 < dryer.true_temperature(0) < 100 < kiln.true_temperature(0)
+    assert dryer.heater_power(0) < 100
+    # Faults and plant parameters go to one PLC's simulator unit only.
+    kiln.fault(0, heater_open=True)
+    assert not any(dryer.faults(0).values())
+    assert dryer.plant(1, ambient=30)["ambient"] == 30 and kiln.plant(1)["ambient"] == 25
+    # Each PLC's rows of the export, reached through its own handle.
+    assert kiln.tag("R100")["name"] == "kiln.R100" and dryer.read_tag("R100") == 800
+    assert kiln.read_tag("kiln.R100") == 1500
+    assert {t["plc"] for t in plcs.tags} == {"kiln", "dryer"}
+    with pytest.raises(ModbusError, match=r"write R3840: Modbus exception 02h"):
+        dryer.write("R3840", 1)
+
+
+def test_plcs_restart_and_reload_keep_each_plcs_state(plcemud):
+    plcs = plcemud(two_kilns())
+    kiln, dryer = plcs
+    kiln.write("D500", 11)  # D is retentive (docs/profile-fbs.md)
+    dryer.write("D500", 22)
+    assert plcs.restart(kill=True) == -9
+    assert kiln.read("D500") == [11] and dryer.read("D500") == [22]
+    for name in ("plc-kiln.state", "plc-dryer.state"):
+        assert (plcs.workdir / name).exists(), name
+    plcs.reload(two_kilns(dryer_station=3))
+    assert "reload: plcs[1] (dryer): station: 2 -> 3" in plcs.log
+    assert dryer.station == 3 and dryer.read("D500") == [22] and kiln.read("D500") == [11]
+    with pytest.raises(DaemonError, match="rejected"):
+        plcs.reload({"plcs": [dict(e, scan_ms=0) for e in two_kilns()["plcs"]]})
+    assert dryer.station == 3 and dryer.read("D500") == [22]
+    with pytest.raises(KeyError, match="oven: no such PLC .* kiln, dryer"):
+        plcs["oven"]
+
+
+def test_a_single_plc_config_still_gives_a_plc(plcemud):
+    plc = plcemud({"profile": "fbs"})
+    assert type(plc) is Plc and plc.tag("R4136")["name"] == "R4136"

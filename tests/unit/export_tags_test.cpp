@@ -27,6 +27,12 @@ const TagRow& row(const TagExport& e, const std::string& name) {
     return none;
 }
 
+std::string written(const std::vector<TagRow>& rows, bool json) {
+    std::ostringstream out;
+    write_tags(out, rows, json);
+    return out.str();
+}
+
 bool has(const TagRow& r, const std::string& text) {
     return r.description.find(text) != std::string::npos;
 }
@@ -194,21 +200,89 @@ TEST(ExportTags, NamesAreUnique) {
 
 TEST(ExportTags, CsvQuotesAndJsonEscapes) {
     std::vector<TagRow> rows{
-        {"R1", "R1", 1, Table::HoldingRegisters, 1, "int16", true, "a, \"quoted\" text"}};
-    std::ostringstream c;
-    write_tags(c, rows, false);
-    EXPECT_EQ(c.str(),
+        {"", "", "R1", "R1", 1, Table::HoldingRegisters, 1, "int16", true, "a, \"quoted\" text"}};
+    EXPECT_EQ(written(rows, false),
               "name,device,unit,table,address,address_1based,type,access,description\n"
               "R1,R1,1,holding_register,1,2,int16,read-write,\"a, \"\"quoted\"\" text\"\n");
-    std::ostringstream j;
-    write_tags(j, rows, true);
-    EXPECT_EQ(j.str(),
+    EXPECT_EQ(written(rows, true),
               "[\n  {\"name\": \"R1\", \"device\": \"R1\", \"unit\": 1, \"table\": "
               "\"holding_register\", \"address\": 1, \"address_1based\": 2, \"type\": \"int16\", "
               "\"access\": \"read-write\", \"description\": \"a, \\\"quoted\\\" text\"}\n]\n");
-    std::ostringstream empty;
-    write_tags(empty, {}, true);
-    EXPECT_EQ(empty.str(), "[]\n");
+    EXPECT_EQ(written({}, true), "[]\n");
+}
+
+// docs/configuration.md, "Tag export": a `plcs:` config exports every PLC, each row naming its
+// PLC (its name, else plcs[i], as --print-map --format csv does) and the listeners that reach it.
+TEST(ExportTags, EveryPlcOfAPlcsConfigWithItsEndpointAndUnits) {
+    const TagExport e = export_tags(config::parse_plcs(
+        "plcs:\n"
+        "  - {name: kiln, profile: fbs, simulator: {unit: 201},\n"
+        "     modbus: {tcp: {bind: 127.0.0.1, port: 1502}, rtu: {device: /dev/ttyS9}},\n"
+        "     program: [MOV: {en: M0, s: R1, d: R100}]}\n"
+        "  - {name: press, profile: fbs, station: 2, simulator: {unit: 202},\n"
+        "     modbus: {tcp: {bind: 127.0.0.1, port: 1502}},\n"
+        "     program: [MOV: {en: M0, s: R1, d: R100}]}\n"
+        "  - {profile: vb, modbus: {tcp: {bind: '::', port: 1503}}}\n"
+        "  - {name: dryer, profile: fbs, program: [MOV: {en: M0, s: R1, d: R100}],\n"
+        "     modbus: {tcp: {port: 1504}, map: [{table: holding, start: 0, device: R0, count: "
+        "10}]}}\n",
+        "p.yaml"));
+    const TagRow& kiln = row(e, "kiln.R100");
+    EXPECT_EQ(kiln.plc, "kiln");
+    EXPECT_EQ(kiln.device, "R100");
+    EXPECT_EQ(kiln.unit, 1);
+    EXPECT_EQ(kiln.endpoint, "tcp:127.0.0.1:1502 rtu:/dev/ttyS9");
+    const TagRow& press = row(e, "press.R100");
+    EXPECT_EQ(press.unit, 2);
+    EXPECT_EQ(press.address, 100);
+    EXPECT_EQ(press.endpoint, "tcp:127.0.0.1:1502");
+    EXPECT_EQ(row(e, "press.sim.freeze").unit, 202);
+    EXPECT_EQ(row(e, "kiln.sim.ch0.ambient").unit, 201);
+    const TagRow& vb = row(e, "plcs[2].sim.time_scale");
+    EXPECT_EQ(vb.plc, "plcs[2]");
+    EXPECT_EQ(vb.unit, 247);
+    EXPECT_EQ(vb.endpoint, "tcp:[::]:1503");
+    // In `plcs:` order, every row of a PLC before the next's.
+    std::set<std::string> names;
+    std::string last;
+    std::set<std::string> done;
+    for (const auto& r : e.rows) {
+        EXPECT_TRUE(names.insert(r.name).second) << r.name;
+        if (r.plc != last) {
+            EXPECT_TRUE(done.insert(r.plc).second) << r.plc << " again after " << last;
+            last = r.plc;
+        }
+    }
+    EXPECT_EQ(done, (std::set<std::string>{"kiln", "press", "plcs[2]", "dryer"}));
+    // What no address serves is said with the same prefix.
+    bool said = false;
+    for (const auto& u : e.unreachable) said = said || u.rfind("dryer.R100: MOV d", 0) == 0;
+    EXPECT_TRUE(said);
+    EXPECT_EQ(row(e, "dryer.R1").endpoint, "tcp:0.0.0.0:1504");
+}
+
+TEST(ExportTags, AFileHoldingOnePlcExportsWithoutPlcColumns) {
+    const auto plcs = config::parse_plcs("profile: fbs\n", "one.yaml");
+    const TagExport e = export_tags(plcs);
+    EXPECT_EQ(e.rows.size(), export_tags(plcs.front()).rows.size());
+    EXPECT_EQ(row(e, "R4136").plc, "");
+    const std::string csv = written(e.rows, false);
+    EXPECT_EQ(csv.substr(0, csv.find('\n')),
+              "name,device,unit,table,address,address_1based,type,access,description");
+}
+
+TEST(ExportTags, PlcAndEndpointColumnsForRowsOfPlcsEntries) {
+    std::vector<TagRow> rows{{"kiln", "tcp:127.0.0.1:1502", "kiln.R1", "R1", 1,
+                              Table::HoldingRegisters, 1, "int16", true, "x"}};
+    EXPECT_EQ(written(rows, false),
+              "plc,name,device,endpoint,unit,table,address,address_1based,type,access,"
+              "description\n"
+              "kiln,kiln.R1,R1,tcp:127.0.0.1:1502,1,holding_register,1,2,int16,read-write,x\n");
+    EXPECT_EQ(written(rows, true),
+              "[\n  {\"plc\": \"kiln\", \"name\": \"kiln.R1\", \"device\": \"R1\", "
+              "\"endpoint\": \"tcp:127.0.0.1:1502\", \"unit\": 1, \"table\": "
+              "\"holding_register\", \"address\": 1, \"address_1based\": 2, \"type\": \"int16\", "
+              "\"access\": \"read-write\", \"description\": \"x\"}\n]\n");
 }
 
 }  // namespace

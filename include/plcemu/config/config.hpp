@@ -190,6 +190,11 @@ std::vector<Config> load_plcs(const std::string& path);
 /// The same for config text; `name` is used in error positions.
 std::vector<Config> parse_plcs(const std::string& text, const std::string& name);
 
+/// How machine-readable output names a `plcs:` entry (the `plc` column of `--print-map --format
+/// csv` and of `--export-tags`, the prefix of its exported tag names): its `name:`, or "plcs[2]"
+/// without one; empty for a file holding one PLC.
+std::string plc_id(const Config& config);
+
 /// The state file's name when `persistence.file` is not given: the config file's stem, and for
 /// a `plcs:` entry its name (or index) too: "plant.state", "plant-kiln.state".
 std::string default_state_file(const Config& config);
