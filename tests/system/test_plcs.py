@@ -89,7 +89,11 @@ def test_three_plcs_keep_their_own_images_maps_state_and_programs(tmp_path, port
         assert reg(a, D0) == 111
         assert reg(b, D0, unit=2) == 222
         assert reg(v, D0) == 333
-        # Each answers with its own profile's map: vb's D9010 is its scan time (20 ms).
+        # Each answers with its own profile's map: vb's D9010 is its scan time (20 ms), once
+        # a scan has ended after the first (the PLCs start their scans a few ms apart).
+        deadline = time.monotonic() + 2
+        while reg(v, VB_D9010) == 0 and time.monotonic() < deadline:
+            time.sleep(0.01)
         assert reg(v, VB_D9010) == 200
         assert not v.write_register(VB_D200, 444, slave=1).isError()
         # line-b's program copies R0 to R1; line-a has none.
