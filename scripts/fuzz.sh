@@ -6,8 +6,9 @@
 # per harness with its number of executions. A new crash, leak or timeout input is saved under
 # tests/fuzz/regressions/<harness>/ and the script exits 1.
 # The summary line gives libFuzzer's own count of executions (stat::number_of_executed_units,
-# seeds included), the real time the run took and their ratio, executions per second, and the
-# machine's load average when the run began (the machine may be shared: compare with care).
+# seeds included), the real time the run took, executions per second of it and per CPU-second
+# (user + system time), and the machine's load average when the run began: on a shared machine
+# the first follows the load, the second hardly.
 #
 #   scripts/fuzz.sh 20                      # every harness, 20 s each
 #   scripts/fuzz.sh 600 fuzz_config         # one harness, ten minutes
@@ -120,7 +121,7 @@ for h in "${harnesses[@]}"; do
     for f in "${found[@]}"; do
         cp "$f" "$regressions/"
         echo "fuzz: $h: saved $regressions/$(basename "$f"); its replay, with full stacks:" >&2
-        "$bin" "$regressions/$(basename "$f")" 2>&1 | tail -n 60 >&2 || true
+        "$bin" -timeout=10 "$regressions/$(basename "$f")" 2>&1 | tail -n 60 >&2 || true
     done
     echo "fuzz: $h: $runs, FAILED (exit $rc," \
         "${#found[@]} input(s) saved under $regressions)"

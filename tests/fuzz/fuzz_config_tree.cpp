@@ -1,8 +1,9 @@
 // libFuzzer harness: the config loader from a config tree, without the YAML library. Input: a
 // tree in a small flow syntax → config::read_config (every section, the profile's own sections
 // and checks) → daemon::Plc (binding the program) → two scans, checked as config_support.hpp
-// says. fuzz_config covers the YAML text in front of the same loader, at a tenth of the speed:
-// the YAML library's parse is most of its time per input.
+// says. This is where the loader's rules and the PLC build are fuzzed: fuzz_config covers the
+// YAML text in front of the same loader and stops at the config, the YAML library's parse being
+// most of its time per input.
 //
 // The syntax: `{key: value, ...}` a mapping, `[a, b, ...]` a list, `"..."` a scalar as written,
 // anything else up to a newline or one of `{}[],:` a scalar (spaces around it dropped), nothing
