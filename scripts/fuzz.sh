@@ -51,7 +51,7 @@ trap 'rm -rf "$TMP"' EXIT
 export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=1"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:+$UBSAN_OPTIONS:}print_stacktrace=1:halt_on_error=1"
 # While fuzzing (not when replaying), two ASan settings that cost detection nothing an input can
-# show, measured to save 15-25 % per input (docs/development.md, "Fuzzing"):
+# show, measured to save 5-25 % per input (docs/development.md, "Fuzzing"):
 # - a 16 MB quarantine instead of 256 MB: a freed block stays poisoned while many times what
 #   one input allocates is allocated after it, so a use after free within an input is caught
 #   all the same; the big one made every reused block cold and refaulted its pages (nearly five
@@ -89,9 +89,9 @@ for h in "${harnesses[@]}"; do
     seeds=()
     find tests/fuzz/corpus/"$h" -type f 2>/dev/null | sort | paste -sd, >"$TMP/$h.seeds"
     [[ -s $TMP/$h.seeds ]] && seeds=(-seed_inputs=@"$TMP/$h.seeds")
-    # The YAML library's parse costs about half a microsecond per byte under ASan (0.2 outside
-    # it): the YAML harness gets shorter inputs, room for every YAML construct and a small config
-    # (the tree harness fuzzes the loader with configs of any length).
+    # The YAML library's parse costs 0.15 µs or more per byte under ASan: the YAML harness gets
+    # shorter inputs, room for every YAML construct and a small config (the tree harness fuzzes
+    # the loader with configs of any length).
     max_len=()
     [[ $h == fuzz_config ]] && max_len=(-max_len=1024)
     rc=0

@@ -3,7 +3,7 @@
 // config_support.hpp says: syntax errors, aliases, nesting limits and the positions of errors.
 // The YAML library's parse is most of an input's time here, so this harness stops at the
 // config: fuzz_config_tree feeds the same loader trees without the YAML library, then builds
-// the PLC and runs scans, many times faster (docs/development.md, "Fuzzing").
+// the PLC and runs scans (docs/development.md, "Fuzzing").
 
 #include <cstddef>
 #include <cstdint>
