@@ -1,7 +1,6 @@
 #include "plcemu/config/config.hpp"
 
 #include <arpa/inet.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <array>
@@ -17,6 +16,7 @@
 #include <string_view>
 #include <tuple>
 
+#include "config/yaml_tree.hpp"
 #include "plcemu/config/tree.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
@@ -30,9 +30,6 @@ namespace {
 constexpr std::array<std::string_view, 12> kCommonSections{
     "profile", "model",   "station", "scan_ms",   "time_scale",  "modbus",
     "init",    "program", "plant",   "simulator", "persistence", "log"};
-
-// The YAML library's own messages are longer but may quote a character of the file.
-constexpr std::size_t kYamlMsgChars = 200;
 
 // "duplicate device 'D07' (first at line 3 as 'D7')" for a key naming what an earlier key
 // (`first`: its text and line) already named.
@@ -405,55 +402,6 @@ void read_persistence(const Reader& r, const Node& n, PersistenceConfig& p) {
     }
 }
 
-// The YAML document as a plain tree. A YAML alias shares its node, so a few lines of anchors can
-// stand for an exponential tree: the copy stops at a node count and a depth no real config
-// reaches.
-struct TreeBuilder {
-    static constexpr std::size_t kMaxNodes = 1'000'000;
-    static constexpr int kMaxDepth = 64;
-
-    const std::string& file;
-    std::size_t nodes = 0;
-
-    Node operator()(const YAML::Node& y, int depth) {
-        Node n;
-        const YAML::Mark m = y.Mark();
-        // A node without a mark (an empty document) stands at the start of the file.
-        n.pos = m.line < 0 || m.column < 0 ? Position{file, 1, 1}
-                                           : Position{file, m.line + 1, m.column + 1};
-        if (++nodes > kMaxNodes || depth > kMaxDepth) {
-            throw ConfigError(n.pos, "the config nests too deeply or repeats too much (more than " +
-                                         std::to_string(kMaxDepth) + " levels or " +
-                                         std::to_string(kMaxNodes) + " nodes)");
-        }
-        switch (y.Type()) {
-            case YAML::NodeType::Null:
-                n.kind = Node::Kind::Null;
-                break;
-            case YAML::NodeType::Scalar:
-                n.kind = Node::Kind::Scalar;
-                n.text = y.Scalar();
-                break;
-            case YAML::NodeType::Sequence:
-                n.kind = Node::Kind::Sequence;
-                n.items.reserve(y.size());
-                for (const auto& e : y) n.items.push_back((*this)(e, depth + 1));
-                break;
-            case YAML::NodeType::Map:
-                n.kind = Node::Kind::Map;
-                n.entries.reserve(y.size());
-                for (auto it = y.begin(); it != y.end(); ++it) {
-                    Node key = (*this)(it->first, depth + 1);
-                    n.entries.push_back({std::move(key), (*this)(it->second, depth + 1)});
-                }
-                break;
-            case YAML::NodeType::Undefined:
-                break;
-        }
-        return n;
-    }
-};
-
 void read_log(const Reader& r, const Node& l, LogConfig& log) {
     r.check_keys(l, "log", {"level"});
     if (l["level"]) {
@@ -745,16 +693,6 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file) {
     return out;
 }
 
-Node parse_tree(const std::string& text, const std::string& name) {
-    try {
-        TreeBuilder build{name};
-        return build(YAML::Load(text), 0);
-    } catch (const YAML::Exception& e) {
-        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
-                          excerpt(e.msg, kYamlMsgChars));
-    }
-}
-
 std::string read_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) {
@@ -788,7 +726,7 @@ std::string default_state_file(const Config& config) {
 }
 
 Config parse_config(const std::string& text, const std::string& name) {
-    return read_config(parse_tree(text, name), name);
+    return read_config(parse_yaml_tree(text, name), name);
 }
 
 Config read_config(const Node& root, const std::string& name) {
@@ -805,7 +743,7 @@ Config read_config(const Node& root, const std::string& name) {
 Config load_config(const std::string& path) { return parse_config(read_file(path), path); }
 
 std::vector<Config> parse_plcs(const std::string& text, const std::string& name) {
-    const Node root = parse_tree(text, name);
+    const Node root = parse_yaml_tree(text, name);
     if (root.is_map() && root["plcs"]) return read_plcs(root, name);
     std::vector<Config> one;
     one.push_back(read_config(root, name));

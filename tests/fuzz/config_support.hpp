@@ -1,7 +1,7 @@
 #pragma once
-// Shared by the config harnesses (fuzz_config: YAML text; fuzz_config_tree: a config tree): a
-// config, however read, is built into a PLC that runs two scans. The only exception allowed out
-// of the loader and the build is config::ConfigError, and its message starts with
+// Shared by the config harnesses (fuzz_config: YAML text, read only; fuzz_config_tree: a config
+// tree, read, built into a PLC that runs two scans). The only exception allowed out of the
+// loader and the build is config::ConfigError, and its message starts with
 // "<name>:<line>:<col>: " (docs/configuration.md, "Configuration"); anything else, or a crash,
 // is a bug.
 
@@ -54,15 +54,12 @@ inline bool well_positioned(std::string_view m) {
     return m.substr(0, 2) == ": ";
 }
 
-/// Reads a config with `read()` (which returns a config::Config), builds the PLC (binding the
-/// program) and runs two scans, checking what comes out.
-template <class Read>
-void build_and_run(Read read) {
+/// Runs `body`, which reads a config: the only exception it may throw is a ConfigError whose
+/// message starts with "<name>:<line>:<col>: ".
+template <class Body>
+void expect_config_errors_only(Body body) {
     try {
-        // Shared, not copied: the PLC keeps the config as a reload would.
-        const auto c = std::make_shared<const config::Config>(read());
-        daemon::Plc plc(c);
-        plc.engine().run_scans(2);
+        body();
     } catch (const config::ConfigError& e) {
         if (!well_positioned(e.what())) config_fail("ConfigError without file:line:col", e.what());
         if (config_verbose()) std::fprintf(stderr, "%s\n", e.what());
@@ -71,6 +68,24 @@ void build_and_run(Read read) {
     } catch (...) {
         config_fail("an exception other than ConfigError", "not a std::exception");
     }
+}
+
+/// Reads a config with `read()` (which returns a config::Config), checking what comes out.
+template <class Read>
+void read_only(Read read) {
+    expect_config_errors_only([&] { (void)read(); });
+}
+
+/// Reads a config with `read()` (which returns a config::Config), builds the PLC (binding the
+/// program) and runs two scans, checking what comes out.
+template <class Read>
+void build_and_run(Read read) {
+    expect_config_errors_only([&] {
+        // Shared, not copied: the PLC keeps the config as a reload would.
+        const auto c = std::make_shared<const config::Config>(read());
+        daemon::Plc plc(c);
+        plc.engine().run_scans(2);
+    });
 }
 
 }  // namespace plcemu::fuzz
