@@ -52,14 +52,15 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=1"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:+$UBSAN_OPTIONS:}print_stacktrace=1:halt_on_error=1"
 # While fuzzing (not when replaying), two ASan settings that cost detection nothing an input can
 # show, measured to save 5-25 % per input (docs/development.md, "Fuzzing"):
-# - a 16 MB quarantine instead of 256 MB: a freed block stays poisoned while many times what
-#   one input allocates is allocated after it, so a use after free within an input is caught
-#   all the same; the big one made every reused block cold and refaulted its pages (nearly five
-#   page faults per input of fuzz_config_tree, one with 16 MB);
+# - a 2 MB quarantine instead of 256 MB: a freed block stays poisoned while many times what
+#   one input allocates (tens of kB) is allocated after it, so a use after free within an input
+#   is caught all the same; the big one made every reused block cold and refaulted its pages
+#   (nearly five page faults per input of fuzz_config_tree, one with 16 MB), and recycling a
+#   16 MB one was still 5 % of a YAML input;
 # - no allocation and free stacks in reports (malloc_context_size=0): unwinding and storing a
 #   stack for every allocation was 5-10 % of an input's time. The report still shows where the
 #   bad access is, and the script replays every input it saves with the full stacks.
-readonly FUZZ_ASAN_OPTIONS="$ASAN_OPTIONS:quarantine_size_mb=16:malloc_context_size=0"
+readonly FUZZ_ASAN_OPTIONS="$ASAN_OPTIONS:quarantine_size_mb=2:malloc_context_size=0"
 
 status=0
 for h in "${harnesses[@]}"; do
@@ -93,7 +94,7 @@ for h in "${harnesses[@]}"; do
     # shorter inputs, room for every YAML construct and a small config (the tree harness fuzzes
     # the loader with configs of any length).
     max_len=()
-    [[ $h == fuzz_config ]] && max_len=(-max_len=1024)
+    [[ $h == fuzz_config ]] && max_len=(-max_len=512)
     rc=0
     read -r load _ </proc/loadavg
     # -verbosity=0: no status line per new input (unbuffered, each a few write calls); crash
