@@ -3,7 +3,8 @@
 and fuzz_rtu_frame) and of the master's reply harness (fuzz_master_reply): a valid request of every function code docs/profile-fbs.md ("Modbus map")
 lists, the quantity limits, refusals, and short sequences that set up the user remap or change
 the station; and the seeds of fuzz_config_tree, each YAML seed of fuzz_config (kept as plain YAML
-files) written in that harness's flow syntax (python3-yaml). Run it after changing the seeds:
+files) and each example config under config/ written in that harness's flow syntax
+(python3-yaml). Run it after changing the seeds:
 tests/fuzz/make_corpus.py
 """
 
@@ -185,6 +186,12 @@ def write_config_trees():
         except (yaml.YAMLError, UnicodeDecodeError):
             continue  # a seed of the YAML syntax itself
         write("fuzz_config_tree", f.name, (tree_text(doc, top=True) + "\n").encode())
+    # Every example config of the repository: valid configs of every profile and instruction,
+    # so the fuzzer starts from programs that build and scan.
+    for f in sorted((HERE.parents[1] / "config").glob("*.yaml")):
+        doc = yaml.load(f.read_text(), Loader=yaml.BaseLoader)
+        write("fuzz_config_tree", "config_" + f.stem,
+              (tree_text(doc, top=True) + "\n").encode())
 
 
 def main():
