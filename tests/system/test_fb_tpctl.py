@@ -2,7 +2,8 @@
 TPCTL") through Modbus TCP against the real daemon, frozen and stepped through the simulator
 unit: the first-execution defaults by TPSNS's Pl, ERR for Sn/Zn at run time, TPSNS's EN gating
 TPCTL, the measuring round of ceil(N/4) x R4004, `md` refused, a program mixing TP4 and TPSNS
-refused naming both, and config/fb-tpctl.yaml running."""
+refused naming both, devices shared by TPSNS and TPCTL refused, and config/fb-tpctl.yaml
+running."""
 
 from test_fb_tp4 import FB, on, s16
 from test_fb_tstc import SCANS_PER_S
@@ -26,6 +27,16 @@ def start(start_plcemud, program):
     c = d.client()
     freeze(c)
     return c
+
+
+def heat_until_all_read(c):
+    """SP 300 degC on the 24 points (far above the 200 degC readings), both ENs on, 201 scans:
+    the last group is read at the last one."""
+    for i in range(24):
+        write(c, 100 + i, 300)
+    on(c, 1)
+    on(c, 0)
+    step(c, 201)
 
 
 def test_s11_first_execution_defaults_by_tpsns_pl(start_plcemud):
@@ -60,11 +71,7 @@ def test_s11_tpsns_en_off_stops_tpctl(start_plcemud):
     far above the 200 degC readings every OR is 4095; M1 OFF (TPSNS's EN) turns Y30-Y53 OFF and
     OR 0; M1 ON again restarts PID once the 24 points are read (one round, 1998 ms)."""
     c = start(start_plcemud, tpsns() + tpctl())
-    for i in range(24):
-        write(c, 100 + i, 300)
-    on(c, 1)
-    on(c, 0)
-    step(c, 201)
+    heat_until_all_read(c)
     assert regs(c, 300, 24) == [4095] * 24
     assert regs(c, 404) == [0x0202]
     assert not c.write_coil(2001, False, slave=1).isError()
@@ -74,6 +81,17 @@ def test_s11_tpsns_en_off_stops_tpctl(start_plcemud):
     assert regs(c, 404) == [0]
     on(c, 1)
     step(c, 200)
+    assert regs(c, 300) == [0]
+    step(c, 1)
+    assert regs(c, 300, 24) == [4095] * 24
+
+
+def test_s11_tpctl_before_tpsns_runs_a_scan_late(start_plcemud):
+    """docs/profile-fb.md, "FUN86 TPCTL", program order: a TPCTL ahead of its TPSNS loads and
+    runs on the readings of the scan before, so OR reaches 4095 at scan 202, one scan after the
+    last group is read (scan 201 with the TPSNS first)."""
+    c = start(start_plcemud, tpctl() + tpsns())
+    heat_until_all_read(c)
     assert regs(c, 300) == [0]
     step(c, 1)
     assert regs(c, 300, 24) == [4095] * 24
@@ -119,6 +137,26 @@ def test_s12_tp4_with_tpsns_exits_2_naming_both(tmp_path):
     p, r = check_config(tmp_path, FB + "program:\n" + tpsns() + tp4)
     assert r.returncode == 2 and f"{p}:6:5: the TP4 cannot be used with the TPSNS at {p}:5:5" \
         in r.stderr, r.stderr
+
+
+def test_s12_shared_devices_exit_2_naming_both(tmp_path):
+    """docs/profile-fb.md, "FUN86 TPCTL", checks at load: TPSNS's readings on TPCTL's setpoints
+    (TR R100 = SV R100), TPSNS's ERR on TPCTL's PWM outputs (Y30) and both ERRs on M100 each exit
+    with status 2 at the TPCTL's operand, naming the TPSNS; the TPCTL ahead of the TPSNS loads."""
+    head = FB + MODULES + "program:\n"
+    for program, col, needle in (
+            (tpsns().replace("tr: R0", "tr: R100") + tpctl(), 56,
+             "R100-R123 overlaps R100-R123 of the TPSNS at {p}:7:5 (it writes them, and this "
+             "instruction reads them as settings)"),
+            (tpsns().replace("}", ", err: Y30}") + tpctl(), 32,
+             "Y30-Y53 overlaps Y30 of the TPSNS at {p}:7:5"),
+            (tpsns().replace("}", ", err: M100}") + tpctl(), 127,
+             "M100 overlaps M100 of the TPSNS at {p}:7:5")):
+        err = expect_config_error(tmp_path, head + program, 8, col, "")
+        p = tmp_path / "vb.yaml"
+        assert needle.format(p=p) in err, err
+    p, r = check_config(tmp_path, head + tpctl() + tpsns())
+    assert r.returncode == 0, r.stderr
 
 
 def test_fb_tpctl_yaml_runs(start_plcemud):

@@ -28,6 +28,27 @@ std::string tpctl(const std::string& points = "sn: 0, zn: 24") {
            "alm: M101}\n";
 }
 
+// `text` with its first `from` replaced by `to`.
+std::string with(std::string text, const std::string& from, const std::string& to) {
+    return text.replace(text.find(from), from.size(), to);
+}
+
+// `text`, a tpctl(), with the blocks it writes moved clear of tpctl()'s (PR…WR to R500…R580,
+// Yn to Y60, ERR and ALM to M110 and M111) and its SV and OS kept.
+std::string elsewhere(std::string text) {
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"Y30", "Y60"},
+                                   {"pr: R360", "pr: R500"},
+                                   {"ir: R390", "ir: R520"},
+                                   {"dr: R420", "dr: R540"},
+                                   {"or: R450", "or: R560"},
+                                   {"wr: R480", "wr: R580"},
+                                   {"M100", "M110"},
+                                   {"M101", "M111"}}) {
+        text = with(text, from, to);
+    }
+    return text;
+}
+
 // An FB PLC with an FB-4AK24 (or `modules`) whose plant channels sit at `ambient` °C; `plant`
 // replaces the defaults line.
 struct Rig {
@@ -301,20 +322,125 @@ TEST(FbTpctl, LoadChecks) {
     EXPECT_NO_THROW(Rig(tpsns() + tpctl("sn: 4, zn: 8"), "[FB-4AK12]"));
     // Out of the instruction's own range it is ERR at run time, not a config error.
     EXPECT_NO_THROW(Rig(tpsns() + tpctl("sn: 8, zn: 20"), "[FB-4AK12]"));
-    std::string second = tpctl("sn: 10, zn: 4");
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{"Y30", "Y60"},
-                                   {"R300", "R500"},
-                                   {"R330", "R510"},
-                                   {"R360", "R520"},
-                                   {"R390", "R530"},
-                                   {"R420", "R540"},
-                                   {"R450", "R550"},
-                                   {"R480", "R560"}}) {
-        second.replace(second.find(from), from.size(), to);
-    }
+    const std::string second = elsewhere(tpctl("sn: 10, zn: 4"));
     expect_config_error(config_failure([&] { Rig rig(tpsns() + tpctl("sn: 0, zn: 12") + second); }),
                         "fb.yaml", 10, 41,
                         "point 10 is already controlled by the TPCTL at fb.yaml:9:5");
+}
+
+// Load checks, what it writes (docs/profile-fb.md, "FUN86 TPCTL"): WR, OR, PR/IR/DR (the
+// first execution's gains), Yn, ERR and ALM may not overlap a device the TPSNS writes — f19's
+// PR on TR, OR on TPSNS's WR, WR on TR, f26's Yn on TPSNS's ERR, f25's ERR on TPSNS's ERR —
+// refused at the TPCTL's operand, naming the TPSNS. ERR is written even with Sn/Zn out of
+// range, so it is checked then too.
+TEST(FbTpctl, LoadChecksWritesOverlappingTpsnsDevices) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    const std::string same = "(two instructions may not write the same devices)";
+    struct Case {
+        std::string program;
+        int col;
+        std::string needle;
+    };
+    const std::string tpsns_err =
+        "  - TPSNS: {en: M1, tp: 0, pl: 0, tr: R0, wr: R250, err: M100}\n";
+    for (const Case& c : {
+             Case{tpsns() + with(tpctl(), "pr: R360", "pr: R0"), 76,
+                  "R0-R23 overlaps R0-R23 of the TPSNS at fb.yaml:8:5 " + same},
+             Case{tpsns() + with(tpctl(), "or: R450", "or: R250"), 106,
+                  "R250-R273 overlaps R250-R253 of the TPSNS at fb.yaml:8:5 " + same},
+             Case{tpsns() + with(tpctl(), "wr: R480", "wr: R20"), 116,
+                  "R20-R28 overlaps R0-R23 of the TPSNS at fb.yaml:8:5 " + same},
+             Case{with(tpsns_err, "M100", "Y30") + tpctl(), 32,
+                  "Y30-Y53 overlaps Y30 of the TPSNS at fb.yaml:8:5 " + same},
+             Case{tpsns_err + tpctl(), 127, "M100 overlaps M100 of the TPSNS at fb.yaml:8:5"},
+             Case{tpsns_err + tpctl("sn: 20, zn: 5"), 127, "of the TPSNS at fb.yaml:8:5"},
+         }) {
+        expect_config_error(config_failure([&] { Rig rig(c.program); }), "fb.yaml", 9, c.col,
+                            c.needle);
+    }
+}
+
+// Load checks, what it reads: SV and OS are settings it only reads; refused where the TPSNS
+// writes (f27: SV on TR, so the readings would overwrite the setpoints), naming it. A MOV may
+// write them: only the temperature instructions' devices are checked.
+TEST(FbTpctl, LoadChecksSettingsTheTpsnsWrites) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    const std::string why = "(it writes them, and this instruction reads them as settings)";
+    expect_config_error(
+        config_failure([] { Rig rig(tpsns() + with(tpctl(), "sv: R300", "sv: R0")); }), "fb.yaml",
+        9, 56, "R0-R23 overlaps R0-R23 of the TPSNS at fb.yaml:8:5 " + why);
+    expect_config_error(
+        config_failure([] { Rig rig(tpsns() + with(tpctl(), "os: R330", "os: R10")); }), "fb.yaml",
+        9, 66, "R10-R33 overlaps R0-R23 of the TPSNS at fb.yaml:8:5 " + why);
+    const std::string mov = "  - MOV: {en: 1, s: 150, d: R300}\n";
+    EXPECT_NO_THROW(Rig(tpsns() + mov + tpctl()));
+    EXPECT_NO_THROW(Rig(tpsns() + tpctl() + mov));
+}
+
+// Load checks within the instruction: a block it writes may hold none of its other operands (SV
+// in its own OR, PR in its own WR, ALM on its ERR); SV and OS, both only read, may be one block.
+TEST(FbTpctl, LoadChecksItsOwnBlocks) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    expect_config_error(
+        config_failure([] { Rig rig(tpsns() + with(tpctl(), "sv: R300", "sv: R455")); }), "fb.yaml",
+        9, 56, "R455-R478 overlaps its own or R450-R473");
+    expect_config_error(
+        config_failure([] { Rig rig(tpsns() + with(tpctl(), "pr: R360", "pr: R470")); }), "fb.yaml",
+        9, 76, "R470-R493 overlaps its own wr R480-R488");
+    expect_config_error(
+        config_failure([] { Rig rig(tpsns() + with(tpctl(), "alm: M101", "alm: M100")); }),
+        "fb.yaml", 9, 138, "M100 overlaps its own err M100");
+    EXPECT_NO_THROW(Rig(tpsns() + with(tpctl(), "os: R330", "os: R300")));
+}
+
+// Load checks between TPCTLs: two may share SV and OS (settings both only read), but the later
+// one's SV may not lie in the earlier one's PR (its first execution writes the gains there), nor
+// its PR (with its own SV elsewhere) in the earlier one's SV; refused at the later entry, naming
+// the earlier.
+TEST(FbTpctl, LoadChecksBetweenTpctls) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    const std::string second = elsewhere(tpctl("sn: 12, zn: 12"));
+    const std::string first = tpsns() + tpctl("sn: 0, zn: 12");
+    EXPECT_NO_THROW(Rig(first + second));
+    expect_config_error(
+        config_failure([&] { Rig rig(first + with(second, "sv: R300", "sv: R360")); }), "fb.yaml",
+        10, 57,
+        "R360-R371 overlaps R360-R371 of the TPCTL at fb.yaml:9:5 (it writes them, "
+        "and this instruction reads them as settings)");
+    expect_config_error(
+        config_failure([&] {
+            Rig rig(first + with(with(second, "sv: R300", "sv: R600"), "pr: R500", "pr: R300"));
+        }),
+        "fb.yaml", 10, 77,
+        "R300-R311 overlaps R300-R311 of the TPCTL at fb.yaml:9:5 (it reads them "
+        "as settings, and this instruction writes them)");
+}
+
+// Program order is not a rule (the manual's "FUN85 … must be enabled" is about EN): a TPCTL
+// ahead of its TPSNS loads and runs on the readings of the scan before — PID starts one scan
+// later than with the TPSNS first (scan 202, not 201), and TPSNS's EN falling stops it one scan
+// later.
+TEST(FbTpctl, BeforeTpsnsRunsAScanLate) {
+    Rig rig(tpctl() + tpsns());
+    rig.set_block(300, 250);
+    rig.set_block(330, 5);
+    rig.set_m(0, true);
+    rig.set_m(1, true);
+    rig.scan(201);
+    EXPECT_EQ(rig.r(450), 0);
+    rig.scan();
+    EXPECT_EQ(rig.r(450), 4095);
+    EXPECT_EQ(rig.r(484), 0x0202);
+    rig.set_m(1, false);
+    rig.scan();
+    EXPECT_EQ(rig.r(450), 4095);
+    rig.scan();
+    EXPECT_EQ(rig.r(450), 0);
+    EXPECT_FALSE(rig.y(30));
 }
 
 }  // namespace

@@ -203,5 +203,43 @@ TEST(FbTpsns, LoadChecks) {
                         "lists the FB-2AK4 at fb.yaml:4:13");
 }
 
+// Load checks on what it writes (docs/profile-fb.md, "FUN85 TPSNS"): TR, WR, ERR and ALM. ALM
+// on its own ERR is refused; so, against a TPCTL ahead of it in the program (which loads: program
+// order is not a rule), TR on the TPCTL's SV (settings it only reads), TR on its OR, WR on its WR
+// and ERR on its ERR — at the TPSNS's operand, naming the TPCTL.
+TEST(FbTpsns, LoadChecksWhatItWrites) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    expect_config_error(config_failure([] { Rig rig(program_with("alm: M121", "alm: M120")); }),
+                        "fb.yaml", 10, 69, "M120 overlaps its own err M120");
+    const std::string tpctl =
+        "  - TPCTL: {en: M0, hc: 1, yn: Y30, sn: 0, zn: 24, sv: R100, os: R130, pr: R160, "
+        "ir: R190, dr: R220, or: R300, wr: R400, err: M100, alm: M101}\n";
+    const auto with = [](std::string text, const std::string& from, const std::string& to) {
+        return text.replace(text.find(from), from.size(), to);
+    };
+    EXPECT_NO_THROW(Rig(tpctl + kTpsns));
+    const std::string same = "(two instructions may not write the same devices)";
+    struct Case {
+        std::string program;
+        int col;
+        std::string needle;
+    };
+    for (const Case& c : {
+             Case{with(tpctl, "sv: R100", "sv: R0") + kTpsns, 39,
+                  "R0-R23 overlaps R0-R23 of the TPCTL at fb.yaml:10:5 (it reads them as "
+                  "settings, and this instruction writes them)"},
+             Case{with(tpctl, "or: R300", "or: R10") + kTpsns, 39,
+                  "R0-R23 overlaps R10-R33 of the TPCTL at fb.yaml:10:5 " + same},
+             Case{with(tpctl, "wr: R400", "wr: R252") + kTpsns, 47,
+                  "R250-R253 overlaps R252-R260 of the TPCTL at fb.yaml:10:5 " + same},
+             Case{with(tpctl, "err: M100", "err: M120") + kTpsns, 58,
+                  "M120 overlaps M120 of the TPCTL at fb.yaml:10:5 " + same},
+         }) {
+        expect_config_error(config_failure([&] { Rig rig(c.program); }), "fb.yaml", 11, c.col,
+                            c.needle);
+    }
+}
+
 }  // namespace
 }  // namespace plcemu::profiles::fb

@@ -1,7 +1,8 @@
 #pragma once
 // What a built program says about itself, so that other parts meet it without knowing its
 // instructions: which outputs drive which process channel (the plant attaches to them), and
-// which devices an instruction owns (a later instruction may not write into them).
+// which devices an instruction owns (a later instruction may not write into them) or reads as its
+// settings (where a profile may refuse another instruction's writes).
 
 #include <cstdint>
 #include <string>
@@ -21,11 +22,13 @@ struct Actuator {
 /// What an instruction's devices are for, when another instruction must not share them.
 enum class ClaimKind : std::uint8_t {
     Working,  ///< working registers the instruction keeps its state in
-    Output,   ///< values it writes every scan
+    Output,   ///< values it writes (every scan, or once: a loop's default gains)
     Pwm,      ///< bits it switches as time-proportioning outputs
+    Read,     ///< settings it only reads (setpoints), which another instruction's claim may
+              ///< not write
 };
 
-/// Devices an instruction owns.
+/// Devices an instruction owns, or (ClaimKind::Read) reads.
 struct Claim {
     image::Range range;         ///< the devices
     ClaimKind kind;             ///< what they are for

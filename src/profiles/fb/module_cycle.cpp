@@ -70,36 +70,6 @@ ModuleOperands bind_module(instructions::Operands& ops, std::uint32_t wr_words) 
     return m;
 }
 
-void refuse_shared(instructions::Operands& ops,
-                   const std::vector<std::pair<const char*, engine::Claim>>& mine) {
-    // Within the instruction: its own working registers may hold none of its other operands.
-    for (std::size_t i = 0; i < mine.size(); ++i) {
-        for (std::size_t j = 0; j < i; ++j) {
-            if (mine[i].second.range.overlaps(mine[j].second.range)) {
-                ops.fail(mine[i].first, ops.format(mine[i].second.range) + " overlaps its own " +
-                                            mine[j].first + " " + ops.format(mine[j].second.range));
-            }
-        }
-    }
-    // Across the program: each pair is checked once, at the later entry.
-    for (const auto& [key, claim] : mine) {
-        for (const engine::Claim& c : ops.context().earlier.claims) {
-            if (claim.range.overlaps(c.range) && std::string_view(key) == "sm") {
-                const std::uint32_t first = claim.range.start - special::kRawReadings;
-                ops.fail(key, "points " + std::to_string(first) + "-" +
-                                  std::to_string(first + cycle::kPoints - 1) +
-                                  " are already measured by the " + std::string(c.mnemonic) +
-                                  " at " + c.where);
-            }
-            if (claim.range.overlaps(c.range)) {
-                ops.fail(key, ops.format(claim.range) + " overlaps " + ops.format(c.range) +
-                                  " of the " + std::string(c.mnemonic) + " at " + c.where +
-                                  " (two instructions may not write the same devices)");
-            }
-        }
-    }
-}
-
 std::vector<std::pair<const char*, engine::Claim>> module_claims(const ModuleOperands& m,
                                                                  std::string_view mnemonic,
                                                                  std::uint32_t wr_words,

@@ -50,11 +50,6 @@ std::vector<std::pair<const char*, engine::Claim>> module_claims(const ModuleOpe
                                                                  std::uint32_t wr_words,
                                                                  const std::string& where);
 
-/// Refuses, at the operand, devices that another instruction of the program already writes:
-/// `mine` lists this instruction's claims (their operand keys in `keys`).
-void refuse_shared(instructions::Operands& ops,
-                   const std::vector<std::pair<const char*, engine::Claim>>& mine);
-
 /// The measuring cycle of one module.
 class ModuleCycle {
 public:

@@ -8,6 +8,7 @@
 #include "instructions/operands.hpp"
 #include "profiles/fb/module_cycle.hpp"
 #include "profiles/fb/services.hpp"
+#include "profiles/fb/shared_devices.hpp"
 
 namespace plcemu::profiles::fb {
 

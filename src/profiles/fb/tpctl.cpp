@@ -8,8 +8,8 @@
 #include "instructions/operands.hpp"
 #include "profiles/fatek/operands.hpp"
 #include "profiles/fb/control_loop.hpp"
-#include "profiles/fb/module_cycle.hpp"
 #include "profiles/fb/services.hpp"
+#include "profiles/fb/shared_devices.hpp"
 
 namespace plcemu::profiles::fb {
 
@@ -89,6 +89,35 @@ fatek::LoopBlocks loop_blocks(const Bound& b) {
     return l;
 }
 
+// Its devices for the load checks, each with its operand: what it writes — WR and OR every scan,
+// PR/IR/DR at its first execution, Yn, ERR and ALM — and the settings SV and OS it only reads.
+// With Sn/Zn out of range it writes ERR and ALM only.
+std::vector<std::pair<const char*, engine::Claim>> written_and_read(const Bound& b) {
+    using engine::ClaimKind;
+    const auto n = static_cast<std::uint32_t>(b.points);
+    const auto claim = [&](const Device& d, std::uint32_t count, ClaimKind kind) {
+        return engine::Claim{{d.area, d.index, count}, kind, "TPCTL", b.where};
+    };
+    std::vector<std::pair<const char*, engine::Claim>> mine;
+    if (b.valid) {
+        mine = {
+            {"wr", claim(b.wr, kWorkingWords, ClaimKind::Working)},
+            {"or", claim(b.l.out, n, ClaimKind::Output)},
+            {"yn", claim(b.yn, n, ClaimKind::Pwm)},
+            {"pr", claim(b.l.pr, n, ClaimKind::Output)},
+            {"ir", claim(b.l.ir, n, ClaimKind::Output)},
+            {"dr", claim(b.l.dr, n, ClaimKind::Output)},
+        };
+    }
+    if (b.err) mine.push_back({"err", claim(*b.err, 1, ClaimKind::Output)});
+    if (b.alm) mine.push_back({"alm", claim(*b.alm, 1, ClaimKind::Output)});
+    if (b.valid) {
+        mine.push_back({"sv", claim(b.l.sv, n, ClaimKind::Read)});
+        mine.push_back({"os", claim(b.l.os, n, ClaimKind::Read)});
+    }
+    return mine;
+}
+
 class Tpctl final : public engine::Instruction {
 public:
     Tpctl(Bound b,
@@ -150,18 +179,11 @@ std::unique_ptr<engine::Instruction> make_tpctl(const instructions::Entry& ic,
                                                 const instructions::BindContext& ctx) {
     Bound b = bind(ic, ctx);
     Operands ops(ic, ctx);
+    const auto mine = written_and_read(b);
+    refuse_shared(ops, mine);
     std::vector<engine::Claim> claims;
-    if (b.valid) {
-        using engine::ClaimKind;
-        const auto n = static_cast<std::uint32_t>(b.points);
-        const std::vector<std::pair<const char*, engine::Claim>> mine = {
-            {"wr", {{b.wr.area, b.wr.index, kWorkingWords}, ClaimKind::Working, "TPCTL", b.where}},
-            {"or", {{b.l.out.area, b.l.out.index, n}, ClaimKind::Output, "TPCTL", b.where}},
-            {"yn", {{Area::Y, b.yn.index, n}, ClaimKind::Pwm, "TPCTL", b.where}},
-        };
-        refuse_shared(ops, mine);
-        for (const auto& c : mine) claims.push_back(c.second);
-    }
+    claims.reserve(mine.size());
+    for (const auto& c : mine) claims.push_back(c.second);
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
     if (b.valid && fs != nullptr) fs->controlled->claim(ops, "sn", "TPCTL", b.sn, b.zn, b.where);
     auto points = fs != nullptr ? fs->points : std::make_shared<Points>();

@@ -21,7 +21,8 @@ inline constexpr int kMaxPoints = 24;
 
 /// `TPCTL: {en: M0, hc: 1, yn: Y30, sn: 0, zn: 24, sv: R100, os: R130, pr: R160, ir: R190,
 /// dr: R220, or: R300, wr: R260, err: M100, alm: M101}`. Throws instructions::BindError naming
-/// the operand. It owns OR…OR+Zn−1, Yn…Yn+Zn−1 and WR…WR+8, and drives channels Sn…Sn+Zn−1.
+/// the operand. It owns OR…OR+Zn−1, PR/IR/DR…+Zn−1, Yn…Yn+Zn−1, WR…WR+8, ERR and ALM, reads
+/// SV/OS…+Zn−1, and drives channels Sn…Sn+Zn−1 (the load checks: docs/profile-fb.md).
 std::unique_ptr<engine::Instruction> make_tpctl(const instructions::Entry& ic,
                                                 const instructions::BindContext& ctx);
 

@@ -9,9 +9,9 @@
 #include "instructions/operands.hpp"
 #include "profiles/fatek/operands.hpp"
 #include "profiles/fb/conversion.hpp"
-#include "profiles/fb/module_cycle.hpp"
 #include "profiles/fb/point_sample.hpp"
 #include "profiles/fb/services.hpp"
+#include "profiles/fb/shared_devices.hpp"
 #include "profiles/fb/special_registers.hpp"
 #include "profiles/fb/temperature_modules.hpp"
 
@@ -194,10 +194,15 @@ std::unique_ptr<engine::Instruction> make_tpsns(const instructions::Entry& ic,
     Operands ops(ic, ctx);
     using engine::ClaimKind;
     const auto n = static_cast<std::uint32_t>(b.points);
-    const std::vector<std::pair<const char*, engine::Claim>> mine = {
-        {"wr", {{b.wr.area, b.wr.index, kWorkingWords}, ClaimKind::Working, "TPSNS", b.where}},
-        {"tr", {{b.tr.area, b.tr.index, n}, ClaimKind::Output, "TPSNS", b.where}},
+    const auto claim = [&](image::Range r, ClaimKind kind) {
+        return engine::Claim{r, kind, "TPSNS", b.where};
     };
+    std::vector<std::pair<const char*, engine::Claim>> mine = {
+        {"wr", claim({b.wr.area, b.wr.index, kWorkingWords}, ClaimKind::Working)},
+        {"tr", claim({b.tr.area, b.tr.index, n}, ClaimKind::Output)},
+    };
+    if (b.err) mine.push_back({"err", claim({b.err->area, b.err->index, 1}, ClaimKind::Output)});
+    if (b.alm) mine.push_back({"alm", claim({b.alm->area, b.alm->index, 1}, ClaimKind::Output)});
     refuse_shared(ops, mine);
     std::vector<engine::Claim> claims;
     claims.reserve(mine.size() + 1);

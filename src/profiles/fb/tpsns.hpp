@@ -22,8 +22,8 @@ inline constexpr int kInputs = 4;
 }  // namespace tpsns
 
 /// `TPSNS: {en: M1, tp: 0, pl: 0, tr: R0, wr: R250, err: M120, alm: M121}`. Throws
-/// instructions::BindError naming the operand. It owns TR…TR+N−1, WR…WR+3 and R3968…R3968+N−1,
-/// N the module's points.
+/// instructions::BindError naming the operand. It owns TR…TR+N−1, WR…WR+3, R3968…R3968+N−1 (N
+/// the module's points), ERR and ALM; none may overlap another's (docs/profile-fb.md).
 std::unique_ptr<engine::Instruction> make_tpsns(const instructions::Entry& ic,
                                                 const instructions::BindContext& ctx);
 

@@ -11,6 +11,7 @@
 #include "profiles/fb/control_loop.hpp"
 #include "profiles/fb/module_cycle.hpp"
 #include "profiles/fb/services.hpp"
+#include "profiles/fb/shared_devices.hpp"
 
 namespace plcemu::profiles::fb {
 

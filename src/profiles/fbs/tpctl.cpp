@@ -125,6 +125,8 @@ void check_overlaps(const Bound& me, const instructions::Entry& ic, const BindCo
                     ops.fail("yn", ops.format(mine_y) + " overlaps the PWM outputs" + of);
                 }
                 break;
+            case engine::ClaimKind::Read:
+                break;  // no FBs instruction declares settings it reads
         }
     }
 }

@@ -1,0 +1,22 @@
+#pragma once
+// The devices the FB temperature instructions write and read, checked across the program at
+// load: two instructions may not write the same devices, nor one write what another reads as its
+// settings (FB manual FUN73/FUN86: WR "can't be repeated in using"; docs/profile-fb.md, the
+// "Checks at load" of TP4, TSTC, TPSNS and TPCTL).
+
+#include <utility>
+#include <vector>
+
+#include "instructions/operands.hpp"
+#include "plcemu/engine/declarations.hpp"
+
+namespace plcemu::profiles::fb {
+
+/// Refuses, at the operand of the later entry and naming the earlier one, `mine` (this
+/// instruction's claims, each with the operand key that names it) overlapping each other or the
+/// claims of the entries before it — unless both claims are ClaimKind::Read: settings may be
+/// shared, but no claim may write into another's settings.
+void refuse_shared(instructions::Operands& ops,
+                   const std::vector<std::pair<const char*, engine::Claim>>& mine);
+
+}  // namespace plcemu::profiles::fb
