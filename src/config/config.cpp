@@ -465,6 +465,22 @@ void read_log(const Reader& r, const Node& l, LogConfig& log) {
     }
 }
 
+// A PLC's station and its simulator unit are two unit IDs on its listeners: the same one would
+// leave the simulator unreachable (docs/configuration.md, "Configuration").
+void check_own_units(const Reader& r, const Node& root, const Config& c) {
+    if (c.simulator.unit == 0 || c.simulator.unit != c.station) return;
+    const std::string n = std::to_string(c.station);
+    if (const Node& unit = root["simulator"]["unit"]) {
+        r.fail(unit, "simulator.unit: " + n +
+                         " is also this PLC's station, so the simulator could never be reached "
+                         "(give it another unit, or 0 for none)");
+    }
+    r.fail(root["station"], "station: " + n +
+                                " is also this PLC's simulator unit (simulator.unit defaults to "
+                                "247), which could then never be reached: choose another "
+                                "station, or set simulator.unit (0 for none)");
+}
+
 // `entry`: a `plcs:` entry, which may have a `name:` and may not have `log:` (one process, one
 // log).
 Config read_root(Reader& r, const Node& root, bool entry = false) {
@@ -541,10 +557,18 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     if (root["plant"]) read_plant(r, root["plant"], c.plant);
     if (const auto& s = root["simulator"]) {
         r.check_keys(s, "simulator", {"unit", "writable"});
-        if (s["unit"])
+        if (s["unit"]) {
             c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
+            if (c.simulator.unit == 255) {
+                r.fail(s["unit"],
+                       "simulator.unit: 255 is \"the device itself\" over Modbus TCP (the PLC "
+                       "answers it alone on its listener, nobody behind a shared one), so the "
+                       "simulator could never be reached; use 1-254, or 0 for none");
+            }
+        }
         if (s["writable"]) c.simulator.writable = r.boolean(s["writable"], "simulator.writable");
     }
+    check_own_units(r, root, c);
     if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
     if (const auto& m = root["modbus"]) {
         check_ranges_exist(r, m["write_protect"], "modbus.write_protect entry", layout);
