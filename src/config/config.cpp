@@ -17,6 +17,7 @@
 #include <string_view>
 #include <tuple>
 
+#include "plcemu/config/listener_key.hpp"
 #include "plcemu/config/tree.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
@@ -593,11 +594,11 @@ bool valid_entry_name(const std::string& s) {
                std::string::npos;
 }
 
-// Two listeners clash on one port when either takes every address or both take the same one.
+// Two listeners clash on one port when either takes every address or both take the same one,
+// however each writes it.
 bool same_port(const TcpConfig& a, const TcpConfig& b) {
     if (!a.enabled || !b.enabled || a.port == 0 || a.port != b.port) return false;
-    auto any = [](const std::string& s) { return s == "0.0.0.0" || s == "::"; };
-    return a.bind == b.bind || any(a.bind) || any(b.bind);
+    return tcp_listener_key(a) == tcp_listener_key(b) || any_address(a.bind) || any_address(b.bind);
 }
 
 // The node of `key` under `at`, or the nearest ancestor written: where an error points.
@@ -642,7 +643,7 @@ void check_units(const Reader& r,
 void check_tcp_agrees(const Reader& r, const Node& entry, const Config& c, const Config& o) {
     const TcpConfig& a = c.modbus.tcp;
     const TcpConfig& b = o.modbus.tcp;
-    const char* key = a.bind != b.bind                           ? "bind"
+    const char* key = tcp_listener_key(a) != tcp_listener_key(b) ? "bind"
                       : a.unknown_unit != b.unknown_unit         ? "unknown_unit"
                       : a.allow != b.allow                       ? "allow"
                       : a.max_clients != b.max_clients           ? "max_clients"
@@ -695,7 +696,8 @@ void check_shared(const Reader& r,
                 r, entry, c, o,
                 "tcp listener " + c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port));
         }
-        if (c.modbus.rtu && o.modbus.rtu && c.modbus.rtu->device == o.modbus.rtu->device) {
+        if (c.modbus.rtu && o.modbus.rtu &&
+            serial_line_key(c.modbus.rtu->device) == serial_line_key(o.modbus.rtu->device)) {
             check_rtu_agrees(r, entry, c, o);
             check_units(r, entry, c, o, "serial line '" + excerpt(c.modbus.rtu->device) + "'");
         }

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "daemon/fd_limit.hpp"
+#include "plcemu/config/listener_key.hpp"
 
 namespace plcemu::daemon {
 
@@ -33,16 +34,16 @@ namespace {
 constexpr int kPerPlc = 4;
 
 // What a PLC listens on: "ADDR:PORT" (each PLC on port 0 gets a port of its own), the serial
-// device; empty for none. PLCs with one key share that listener (the config loader made sure
-// they agree on its settings).
+// device, both as the config loader compares them; empty for none. PLCs with one key share that
+// listener (the loader made sure they agree on its settings).
 std::string tcp_key(const config::Config& c, std::size_t index) {
     if (!c.modbus.tcp.enabled) return {};
     if (c.modbus.tcp.port == 0) return "#" + std::to_string(index);
-    return c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port);
+    return config::tcp_listener_key(c.modbus.tcp);
 }
 
 std::string rtu_key(const config::Config& c, std::size_t) {
-    return c.modbus.rtu ? c.modbus.rtu->device : std::string();
+    return c.modbus.rtu ? config::serial_line_key(c.modbus.rtu->device) : std::string();
 }
 
 struct Group {
