@@ -215,7 +215,8 @@ private:
         // A frozen simulation stays frozen across a reload, with the steps it was asked for.
         const bool frozen = driver_ && driver_->frozen();
         const std::uint64_t steps = driver_ ? driver_->pending_steps() : 0;
-        driver_ = std::make_unique<ScanDriver>(io_, timer_, plc_->engine(), cfg_->time_scale);
+        driver_ =
+            std::make_unique<ScanDriver>(io_, timer_, plc_->engine(), cfg_->time_scale, prefix_);
         if (frozen) driver_->set_frozen(true);
         // The simulator-control unit, on the same listeners as the PLC; a read-only gateway
         // keeps it read-only too unless simulator.writable says otherwise.
