@@ -165,7 +165,12 @@ void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start)
                 modbus::RtuOptions{c.device, c.baud, c.parity, c.data_bits, c.stop_bits});
         } catch (const std::exception& e) {
             if (at_start) throw;
-            spdlog::error("reload: {}rtu: {}; serving without the serial port", prefix, e.what());
+            // The line stays listed without a server: its PLCs keep their unit IDs there (a
+            // station change is checked against them), and the next reload tries it again.
+            // e.what() says "rtu: ..." already.
+            spdlog::error("reload: {}{}; serving without the serial port{}", prefix, e.what(),
+                          r->members.size() > 1 ? " for " + names(r->members, labels_) : "");
+            rtu_.push_back(std::move(r));
             continue;
         }
         log_listening("rtu", r->server->description(), r->members, labels_);
