@@ -134,6 +134,7 @@ void log_listening(const std::string& what,
 void Listeners::open(const std::vector<ListenerMember>& plcs) {
     labels_.clear();
     for (const auto& m : plcs) labels_.push_back(m.config->label);
+    plcs_ = plcs;
     for (auto& g :
          group(plcs, [](const ListenerMember&m, std::size_t i) { return tcp_key(*m.config, i); })) {
         auto t = std::make_unique<Tcp>();
@@ -313,6 +314,7 @@ void Listeners::apply(const std::vector<ListenerMember>& plcs) {
         if (t && t->server) t->server->stop();  // not kept: its PLCs left it
     }
     tcp_ = std::move(now);
+    plcs_ = plcs;
     route(plcs);
     raise_fd_limit(plcs.size());
     // Serial lines are reopened with their new settings (and a device that came back is tried).
@@ -333,6 +335,71 @@ void Listeners::stop() {
     for (auto& r : rtu_) {
         if (r->server) r->server->stop();
     }
+}
+
+std::string Listeners::holder(std::size_t index, std::uint8_t unit) const {
+    auto in = [index](const auto& l) {
+        return std::find(l->members.begin(), l->members.end(), index) != l->members.end();
+    };
+    auto check = [&](const auto& l, const char* what) -> std::string {
+        for (std::size_t j : l->members) {
+            const modbus::Dispatcher& d = *plcs_[j].dispatcher;
+            const std::string whose = j == index ? "its own" : labels_[j] + "'s";
+            if (j != index && d.station() == unit) return whose + " station on " + what + l->key;
+            if (d.simulator_unit() == unit) return whose + " simulator unit on " + what + l->key;
+        }
+        return {};
+    };
+    for (const auto& t : tcp_) {
+        if (!in(t)) continue;
+        if (auto who = check(t, "tcp "); !who.empty()) return who;
+    }
+    for (const auto& r : rtu_) {
+        if (!in(r)) continue;
+        if (auto who = check(r, "serial line "); !who.empty()) return who;
+    }
+    return {};
+}
+
+std::string Listeners::unit_clash(const std::vector<config::Config>& next,
+                                  const std::vector<std::uint8_t>& stations) const {
+    // "station 5 (in force: set through R4055, the config says 1)".
+    auto station = [&](std::size_t i) {
+        std::string s = "station " + std::to_string(stations[i]);
+        if (stations[i] != next[i].station) {
+            s += " (in force: set through R4055; the config says " +
+                 std::to_string(next[i].station) + ")";
+        }
+        return s;
+    };
+    for (std::size_t i = 0; i < next.size(); ++i) {
+        if (next[i].simulator.unit != 0 && next[i].simulator.unit == stations[i]) {
+            return next[i].label + ": its " + station(i) + " is also its simulator.unit";
+        }
+    }
+    for (const auto& [groups, what] : {std::pair{group(next, tcp_key), "tcp listener "},
+                                       std::pair{group(next, rtu_key), "serial line "}}) {
+        for (const auto& g : groups) {
+            for (std::size_t a = 0; a < g.members.size(); ++a) {
+                for (std::size_t b = 0; b < a; ++b) {
+                    const std::size_t i = g.members[a];
+                    const std::size_t j = g.members[b];
+                    const std::string where = " on the shared " + std::string(what) + g.key;
+                    if (stations[i] == stations[j]) {
+                        return next[i].label + ": its " + station(i) + " is also " + next[j].label +
+                               "'s " + station(j) + where;
+                    }
+                    for (const auto& [x, y] : {std::pair{i, j}, std::pair{j, i}}) {
+                        if (next[y].simulator.unit == stations[x]) {
+                            return next[x].label + ": its " + station(x) + " is also " +
+                                   next[y].label + "'s simulator unit" + where;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    return {};
 }
 
 std::string Listeners::describe(std::size_t index) const {
