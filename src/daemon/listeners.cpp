@@ -341,22 +341,29 @@ std::string Listeners::holder(std::size_t index, std::uint8_t unit) const {
     auto in = [index](const auto& l) {
         return std::find(l->members.begin(), l->members.end(), index) != l->members.end();
     };
-    auto check = [&](const auto& l, const char* what) -> std::string {
+    auto check = [&](const auto& l, const std::string& where) -> std::string {
         for (std::size_t j : l->members) {
             const modbus::Dispatcher& d = *plcs_[j].dispatcher;
-            const std::string whose = j == index ? "its own" : labels_[j] + "'s";
-            if (j != index && d.station() == unit) return whose + " station on " + what + l->key;
-            if (d.simulator_unit() == unit) return whose + " simulator unit on " + what + l->key;
+            const char* what = j != index && d.station() == unit ? " station on "
+                               : d.simulator_unit() == unit      ? " simulator unit on "
+                                                                 : nullptr;
+            if (what == nullptr) continue;
+            std::string who = j == index ? "its own" : labels_[j] + "'s";
+            who += what;
+            who += where;
+            return who;
         }
         return {};
     };
     for (const auto& t : tcp_) {
         if (!in(t)) continue;
-        if (auto who = check(t, "tcp "); !who.empty()) return who;
+        // A PLC on port 0 has a key of its own ("#3"): the port it got says more.
+        const std::string where = "tcp " + (t->server ? t->server->endpoint() : t->key);
+        if (auto who = check(t, where); !who.empty()) return who;
     }
     for (const auto& r : rtu_) {
         if (!in(r)) continue;
-        if (auto who = check(r, "serial line "); !who.empty()) return who;
+        if (auto who = check(r, "serial line " + r->key); !who.empty()) return who;
     }
     return {};
 }
@@ -374,7 +381,8 @@ std::string Listeners::unit_clash(const std::vector<config::Config>& next,
     };
     for (std::size_t i = 0; i < next.size(); ++i) {
         if (next[i].simulator.unit != 0 && next[i].simulator.unit == stations[i]) {
-            return next[i].label + ": its " + station(i) + " is also its simulator.unit";
+            return (next[i].label.empty() ? std::string("the PLC") : next[i].label) + ": its " +
+                   station(i) + " is also its simulator.unit";
         }
     }
     for (const auto& [groups, what] : {std::pair{group(next, tcp_key), "tcp listener "},
