@@ -17,6 +17,7 @@
 #include <tuple>
 
 #include "config/yaml_tree.hpp"
+#include "plcemu/config/listener_key.hpp"
 #include "plcemu/config/tree.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
@@ -413,6 +414,22 @@ void read_log(const Reader& r, const Node& l, LogConfig& log) {
     }
 }
 
+// A PLC's station and its simulator unit are two unit IDs on its listeners: the same one would
+// leave the simulator unreachable (docs/configuration.md, "Configuration").
+void check_own_units(const Reader& r, const Node& root, const Config& c) {
+    if (c.simulator.unit == 0 || c.simulator.unit != c.station) return;
+    const std::string n = std::to_string(c.station);
+    if (const Node& unit = root["simulator"]["unit"]) {
+        r.fail(unit, "simulator.unit: " + n +
+                         " is also this PLC's station, so the simulator could never be reached "
+                         "(give it another unit, or 0 for none)");
+    }
+    r.fail(root["station"], "station: " + n +
+                                " is also this PLC's simulator unit (simulator.unit defaults to "
+                                "247), which could then never be reached: choose another "
+                                "station, or set simulator.unit (0 for none)");
+}
+
 // `entry`: a `plcs:` entry, which may have a `name:` and may not have `log:` (one process, one
 // log).
 Config read_root(Reader& r, const Node& root, bool entry = false) {
@@ -489,10 +506,18 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     if (root["plant"]) read_plant(r, root["plant"], c.plant);
     if (const auto& s = root["simulator"]) {
         r.check_keys(s, "simulator", {"unit", "writable"});
-        if (s["unit"])
+        if (s["unit"]) {
             c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
+            if (c.simulator.unit == 255) {
+                r.fail(s["unit"],
+                       "simulator.unit: 255 is \"the device itself\" over Modbus TCP (the PLC "
+                       "answers it alone on its listener, nobody behind a shared one), so the "
+                       "simulator could never be reached; use 1-254, or 0 for none");
+            }
+        }
         if (s["writable"]) c.simulator.writable = r.boolean(s["writable"], "simulator.writable");
     }
+    check_own_units(r, root, c);
     if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
     if (const auto& m = root["modbus"]) {
         check_ranges_exist(r, m["write_protect"], "modbus.write_protect entry", layout);
@@ -517,11 +542,11 @@ bool valid_entry_name(const std::string& s) {
                std::string::npos;
 }
 
-// Two listeners clash on one port when either takes every address or both take the same one.
+// Two listeners clash on one port when either takes every address or both take the same one,
+// however each writes it.
 bool same_port(const TcpConfig& a, const TcpConfig& b) {
     if (!a.enabled || !b.enabled || a.port == 0 || a.port != b.port) return false;
-    auto any = [](const std::string& s) { return s == "0.0.0.0" || s == "::"; };
-    return a.bind == b.bind || any(a.bind) || any(b.bind);
+    return tcp_listener_key(a) == tcp_listener_key(b) || any_address(a.bind) || any_address(b.bind);
 }
 
 // The node of `key` under `at`, or the nearest ancestor written: where an error points.
@@ -566,7 +591,7 @@ void check_units(const Reader& r,
 void check_tcp_agrees(const Reader& r, const Node& entry, const Config& c, const Config& o) {
     const TcpConfig& a = c.modbus.tcp;
     const TcpConfig& b = o.modbus.tcp;
-    const char* key = a.bind != b.bind                           ? "bind"
+    const char* key = tcp_listener_key(a) != tcp_listener_key(b) ? "bind"
                       : a.unknown_unit != b.unknown_unit         ? "unknown_unit"
                       : a.allow != b.allow                       ? "allow"
                       : a.max_clients != b.max_clients           ? "max_clients"
@@ -619,7 +644,8 @@ void check_shared(const Reader& r,
                 r, entry, c, o,
                 "tcp listener " + c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port));
         }
-        if (c.modbus.rtu && o.modbus.rtu && c.modbus.rtu->device == o.modbus.rtu->device) {
+        if (c.modbus.rtu && o.modbus.rtu &&
+            serial_line_key(c.modbus.rtu->device) == serial_line_key(o.modbus.rtu->device)) {
             check_rtu_agrees(r, entry, c, o);
             check_units(r, entry, c, o, "serial line '" + excerpt(c.modbus.rtu->device) + "'");
         }

@@ -17,6 +17,7 @@
 #include "daemon/reload.hpp"
 #include "daemon/scan_driver.hpp"
 #include "daemon/scan_timer.hpp"
+#include "daemon/station_guard.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/image/state_file.hpp"
 #include "plcemu/profiles/profile.hpp"
@@ -40,13 +41,17 @@ public:
          ScanTimer& timer,
          SyncThread& syncs,
          Notifier& notify,
+         const Listeners& listeners,
+         std::size_t index,
          config::Config loaded)
         : io_(io),
           timer_(timer),
           syncs_(syncs),
           notify_(notify),
+          file_station_(loaded.station),
           cfg_(std::make_shared<const config::Config>(std::move(loaded))),
-          prefix_(cfg_->label.empty() ? "" : cfg_->label + ": ") {}
+          prefix_(cfg_->label.empty() ? "" : cfg_->label + ": "),
+          guard_(listeners, index, cfg_->label) {}
     // A start that failed half-way: the sync thread must not outlive the state file it syncs.
     ~Host() {
         if (sync_id_ != 0) syncs_.remove(sync_id_);
@@ -80,6 +85,7 @@ public:
             heap_.assign(image::Image::storage_size(plc_layout(*cfg_)), std::byte{0});
         }
         plc_ = std::make_unique<Plc>(cfg_, storage(), start);
+        plc_->engine().set_station_guard(&guard_);
         open_master(true);
         start_scanning(false);
 
@@ -133,6 +139,12 @@ public:
         return s;
     }
 
+    // The station the PLC would have under `next`: the config's new station when it changed;
+    // otherwise the one in force, which a master may have set through R4055.
+    std::uint8_t station_under(const config::Config& next) const {
+        return next.station == file_station_ ? plc_->engine().station() : next.station;
+    }
+
     // Why `next` cannot be applied without a restart, or empty.
     std::string refusal(const config::Config& next) const {
         if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_->profile) {
@@ -152,9 +164,18 @@ public:
                 "next start; the image stays in {}",
                 prefix_, state_ ? state_->path() : std::string("memory"));
         }
-        const auto changes = config_changes(*cfg_, next);
-        // A station a master set through R4055 stays, unless the config's station changed.
-        if (next.station == cfg_->station) next.station = plc_->engine().station();
+        // A station a master set through R4055 stays, unless the config's station changed (from
+        // what the file said the last time, not from the station in force).
+        const std::uint8_t file_station = next.station;
+        const std::uint8_t live = plc_->engine().station();
+        const std::uint8_t station = station_under(next);
+        next.station = cfg_->station;  // the station's change is said below, from the live one
+        auto changes = config_changes(*cfg_, next);
+        next.station = station;
+        if (station != live) {
+            changes.insert(changes.begin(), "station: " + std::to_string(live) + " -> " +
+                                                std::to_string(next.station));
+        }
         // The state file stays the one in use until a restart, and later reloads compare with it.
         next.persistence.enabled = cfg_->persistence.enabled;
         next.persistence.file = cfg_->persistence.file;
@@ -171,9 +192,11 @@ public:
             return nullptr;
         }
         plc->plant().continue_from(plc_->plant());
+        plc->engine().set_station_guard(&guard_);
         std::unique_ptr<Plc> old = std::move(plc_);
         plc_ = std::move(plc);
         cfg_ = std::move(applied);
+        file_station_ = file_station;
         // The new program's MBUS starts afresh on a new port; the old one's request is dropped.
         master_.reset();
         try {
@@ -215,7 +238,8 @@ private:
         // A frozen simulation stays frozen across a reload, with the steps it was asked for.
         const bool frozen = driver_ && driver_->frozen();
         const std::uint64_t steps = driver_ ? driver_->pending_steps() : 0;
-        driver_ = std::make_unique<ScanDriver>(io_, timer_, plc_->engine(), cfg_->time_scale);
+        driver_ =
+            std::make_unique<ScanDriver>(io_, timer_, plc_->engine(), cfg_->time_scale, prefix_);
         if (frozen) driver_->set_frozen(true);
         // The simulator-control unit, on the same listeners as the PLC; a read-only gateway
         // keeps it read-only too unless simulator.writable says otherwise.
@@ -233,8 +257,10 @@ private:
     ScanTimer& timer_;
     SyncThread& syncs_;
     Notifier& notify_;
+    std::uint8_t file_station_;  // the station the config file gave at the last start or reload
     std::shared_ptr<const config::Config> cfg_;  // shared with the running Plc
     std::string prefix_;                         // "plcs[1] (kiln): " in log lines
+    ListenerStationGuard guard_;                 // the stations R4055 may not take
     std::unique_ptr<image::StateFile> state_;
     SyncThread::Id sync_id_ = 0;   // 0 = persistence disabled
     std::vector<std::byte> heap_;  // the image when persistence is disabled
@@ -264,8 +290,8 @@ public:
         // Everything the config can get wrong, found before any file or port is touched.
         for (const auto& c : loaded) probe(c);
         for (auto& c : loaded) {
-            hosts_.push_back(
-                std::make_unique<Host>(io_, scan_timer_, syncs_, notify_, std::move(c)));
+            hosts_.push_back(std::make_unique<Host>(io_, scan_timer_, syncs_, notify_, listeners_,
+                                                    hosts_.size(), std::move(c)));
         }
         for (auto& h : hosts_) h->open();
         listeners_.open(members());
@@ -431,6 +457,13 @@ private:
             if (auto why = hosts_[i]->refusal(p.configs[i]); !why.empty()) return why;
         }
         if (auto why = listeners_.refusal(p.configs); !why.empty()) return why;
+        // Unit IDs are compared as they will be: with the stations masters set through R4055
+        // that the reload keeps.
+        std::vector<std::uint8_t> stations;
+        for (std::size_t i = 0; i < hosts_.size(); ++i) {
+            stations.push_back(hosts_[i]->station_under(p.configs[i]));
+        }
+        if (auto why = listeners_.unit_clash(p.configs, stations); !why.empty()) return why;
         if (!listeners_.stage(p.configs)) return "a listener could not be opened";
         std::vector<std::unique_ptr<Plc>> replaced;
         for (std::size_t i = 0; i < hosts_.size(); ++i) {

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "daemon/fd_limit.hpp"
+#include "plcemu/config/listener_key.hpp"
 
 namespace plcemu::daemon {
 
@@ -33,16 +34,16 @@ namespace {
 constexpr int kPerPlc = 4;
 
 // What a PLC listens on: "ADDR:PORT" (each PLC on port 0 gets a port of its own), the serial
-// device; empty for none. PLCs with one key share that listener (the config loader made sure
-// they agree on its settings).
+// device, both as the config loader compares them; empty for none. PLCs with one key share that
+// listener (the loader made sure they agree on its settings).
 std::string tcp_key(const config::Config& c, std::size_t index) {
     if (!c.modbus.tcp.enabled) return {};
     if (c.modbus.tcp.port == 0) return "#" + std::to_string(index);
-    return c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port);
+    return config::tcp_listener_key(c.modbus.tcp);
 }
 
 std::string rtu_key(const config::Config& c, std::size_t) {
-    return c.modbus.rtu ? c.modbus.rtu->device : std::string();
+    return c.modbus.rtu ? config::serial_line_key(c.modbus.rtu->device) : std::string();
 }
 
 struct Group {
@@ -133,6 +134,7 @@ void log_listening(const std::string& what,
 void Listeners::open(const std::vector<ListenerMember>& plcs) {
     labels_.clear();
     for (const auto& m : plcs) labels_.push_back(m.config->label);
+    plcs_ = plcs;
     for (auto& g :
          group(plcs, [](const ListenerMember&m, std::size_t i) { return tcp_key(*m.config, i); })) {
         auto t = std::make_unique<Tcp>();
@@ -164,7 +166,12 @@ void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start)
                 modbus::RtuOptions{c.device, c.baud, c.parity, c.data_bits, c.stop_bits});
         } catch (const std::exception& e) {
             if (at_start) throw;
-            spdlog::error("reload: {}rtu: {}; serving without the serial port", prefix, e.what());
+            // The line stays listed without a server: its PLCs keep their unit IDs there (a
+            // station change is checked against them), and the next reload tries it again.
+            // e.what() says "rtu: ..." already.
+            spdlog::error("reload: {}{}; serving without the serial port{}", prefix, e.what(),
+                          r->members.size() > 1 ? " for " + names(r->members, labels_) : "");
+            rtu_.push_back(std::move(r));
             continue;
         }
         log_listening("rtu", r->server->description(), r->members, labels_);
@@ -307,6 +314,7 @@ void Listeners::apply(const std::vector<ListenerMember>& plcs) {
         if (t && t->server) t->server->stop();  // not kept: its PLCs left it
     }
     tcp_ = std::move(now);
+    plcs_ = plcs;
     route(plcs);
     raise_fd_limit(plcs.size());
     // Serial lines are reopened with their new settings (and a device that came back is tried).
@@ -327,6 +335,79 @@ void Listeners::stop() {
     for (auto& r : rtu_) {
         if (r->server) r->server->stop();
     }
+}
+
+std::string Listeners::holder(std::size_t index, std::uint8_t unit) const {
+    auto in = [index](const auto& l) {
+        return std::find(l->members.begin(), l->members.end(), index) != l->members.end();
+    };
+    auto check = [&](const auto& l, const std::string& where) -> std::string {
+        for (std::size_t j : l->members) {
+            const modbus::Dispatcher& d = *plcs_[j].dispatcher;
+            const char* what = j != index && d.station() == unit ? " station on "
+                               : d.simulator_unit() == unit      ? " simulator unit on "
+                                                                 : nullptr;
+            if (what == nullptr) continue;
+            std::string who = j == index ? "its own" : labels_[j] + "'s";
+            who += what;
+            who += where;
+            return who;
+        }
+        return {};
+    };
+    for (const auto& t : tcp_) {
+        if (!in(t)) continue;
+        // A PLC on port 0 has a key of its own ("#3"): the port it got says more.
+        const std::string where = "tcp " + (t->server ? t->server->endpoint() : t->key);
+        if (auto who = check(t, where); !who.empty()) return who;
+    }
+    for (const auto& r : rtu_) {
+        if (!in(r)) continue;
+        if (auto who = check(r, "serial line " + r->key); !who.empty()) return who;
+    }
+    return {};
+}
+
+std::string Listeners::unit_clash(const std::vector<config::Config>& next,
+                                  const std::vector<std::uint8_t>& stations) const {
+    // "station 5 (in force: set through R4055, the config says 1)".
+    auto station = [&](std::size_t i) {
+        std::string s = "station " + std::to_string(stations[i]);
+        if (stations[i] != next[i].station) {
+            s += " (in force: set through R4055; the config says " +
+                 std::to_string(next[i].station) + ")";
+        }
+        return s;
+    };
+    for (std::size_t i = 0; i < next.size(); ++i) {
+        if (next[i].simulator.unit != 0 && next[i].simulator.unit == stations[i]) {
+            return (next[i].label.empty() ? std::string("the PLC") : next[i].label) + ": its " +
+                   station(i) + " is also its simulator.unit";
+        }
+    }
+    for (const auto& [groups, what] : {std::pair{group(next, tcp_key), "tcp listener "},
+                                       std::pair{group(next, rtu_key), "serial line "}}) {
+        for (const auto& g : groups) {
+            for (std::size_t a = 0; a < g.members.size(); ++a) {
+                for (std::size_t b = 0; b < a; ++b) {
+                    const std::size_t i = g.members[a];
+                    const std::size_t j = g.members[b];
+                    const std::string where = " on the shared " + std::string(what) + g.key;
+                    if (stations[i] == stations[j]) {
+                        return next[i].label + ": its " + station(i) + " is also " + next[j].label +
+                               "'s " + station(j) + where;
+                    }
+                    for (const auto& [x, y] : {std::pair{i, j}, std::pair{j, i}}) {
+                        if (next[y].simulator.unit == stations[x]) {
+                            return next[x].label + ": its " + station(x) + " is also " +
+                                   next[y].label + "'s simulator unit" + where;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    return {};
 }
 
 std::string Listeners::describe(std::size_t index) const {

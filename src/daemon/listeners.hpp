@@ -5,6 +5,7 @@
 // registered in `plcs:` order.
 
 #include <asio.hpp>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,6 +51,17 @@ public:
     /// new settings, and every router learns the PLCs' new dispatchers.
     void apply(const std::vector<ListenerMember>& plcs);
 
+    /// What answers `unit` on a listener of the PLC at `index`, other than that PLC's station:
+    /// "plcs[1] (b)'s station on tcp 127.0.0.1:1502", "its simulator unit"; empty when nothing
+    /// does (docs/configuration.md, "Sharing a listener").
+    std::string holder(std::size_t index, std::uint8_t unit) const;
+
+    /// Why the configs `next`, whose PLCs would take the `stations` given (the stations in force
+    /// after the reload), cannot be applied: two PLCs on one of the listeners `next` asks for
+    /// would answer one unit ID. Empty when none would.
+    std::string unit_clash(const std::vector<config::Config>& next,
+                           const std::vector<std::uint8_t>& stations) const;
+
     /// Closes every listener.
     void stop();
     /// ", tcp ADDR:PORT, rtu DEVICE ..." for the PLC at `index`, for the status line.
@@ -66,7 +78,8 @@ private:
     asio::io_context& io_;
     std::vector<std::unique_ptr<Tcp>> tcp_;
     std::vector<std::unique_ptr<Rtu>> rtu_;
-    std::vector<std::string> labels_;  // "plcs[1] (kiln)", by index
+    std::vector<std::string> labels_;   // "plcs[1] (kiln)", by index
+    std::vector<ListenerMember> plcs_;  // every PLC, by index, as last opened or applied
     // What stage() prepared for apply(): per new TCP listener, the running one it keeps (index
     // into tcp_) or a new one.
     struct Staged;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <ctime>
+#include <utility>
 
 namespace plcemu::daemon {
 
@@ -45,12 +46,14 @@ std::chrono::microseconds LatenessStats::percentile(double fraction) const noexc
 ScanDriver::ScanDriver(asio::io_context& io,
                        ScanTimer& timer,
                        engine::Engine& engine,
-                       double time_scale)
+                       double time_scale,
+                       std::string prefix)
     : io_(io),
       timer_(timer),
       slot_(timer.add(*this)),
       engine_(engine),
-      scale_(time_scale) {}
+      scale_(time_scale),
+      prefix_(std::move(prefix)) {}
 
 ScanDriver::~ScanDriver() { timer_.remove(slot_); }
 
@@ -160,8 +163,9 @@ void ScanDriver::tick() {
         if (now - start > kBudget) break;
     }
     if (now - deadline(next_sim_) > kMaxBehind) {
-        spdlog::warn("scan: more than {} s behind real time at time scale {}; skipping ahead",
-                     std::chrono::duration_cast<std::chrono::seconds>(kMaxBehind).count(), scale_);
+        spdlog::warn("{}scan: more than {} s behind real time at time scale {}; skipping ahead",
+                     prefix_, std::chrono::duration_cast<std::chrono::seconds>(kMaxBehind).count(),
+                     scale_);
         rebase(now);
     }
     arm();

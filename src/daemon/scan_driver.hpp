@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/time_control.hpp"
@@ -37,7 +38,13 @@ class ScanDriver final : public engine::TimeControl, private Scheduled {
 public:
     using Clock = std::chrono::steady_clock;
 
-    ScanDriver(asio::io_context& io, ScanTimer& timer, engine::Engine& engine, double time_scale);
+    /// `prefix` starts its log lines: "plcs[1] (kiln): ", or "" for the one PLC of a plain
+    /// config.
+    ScanDriver(asio::io_context& io,
+               ScanTimer& timer,
+               engine::Engine& engine,
+               double time_scale,
+               std::string prefix = {});
     ~ScanDriver() override;
     ScanDriver(const ScanDriver&) = delete;
     ScanDriver& operator=(const ScanDriver&) = delete;
@@ -89,6 +96,7 @@ private:
     std::uint64_t pending_steps_ = 0;
     bool stepping_ = false;
     double scale_;
+    std::string prefix_;
     bool frozen_ = false;
     bool running_ = false;
     Clock::time_point base_real_{};

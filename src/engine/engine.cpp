@@ -57,7 +57,7 @@ void Engine::reload() { specials_->reload(image_); }
 
 void Engine::step(Duration now, const Calendar& calendar) noexcept {
     const Duration dt = started_ ? now - last_ : options_.scan_period;
-    ScanContext ctx{image_, now, dt, scans_, !started_, modules_, outbound_};
+    ScanContext ctx{image_, now, dt, scans_, !started_, modules_, outbound_, stations_};
     started_ = true;
     last_ = now;
     specials_->scan_start(ctx);

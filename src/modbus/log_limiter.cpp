@@ -27,6 +27,8 @@ std::string_view describe(LogCause cause) noexcept {
             return "connects";
         case LogCause::Disconnected:
             return "disconnects";
+        case LogCause::StationTaken:
+            return "station changes refused (R4055)";
         case LogCause::Count:
             break;
     }

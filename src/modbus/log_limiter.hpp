@@ -1,7 +1,8 @@
 #pragma once
 // Rate limit for log lines that remote peers can cause (refused connects, connects and
-// disconnects): the first few lines of each cause in a window are logged, the rest are counted
-// and summed up in one line when the window ends. spdlog has no such limit of its own.
+// disconnects, refused station changes): the first few lines of each cause in a window are logged,
+// the rest are counted and summed up in one line when the window ends. spdlog has no such limit of
+// its own.
 
 #include <array>
 #include <chrono>
@@ -17,6 +18,7 @@ enum class LogCause : std::uint8_t {
     RefusedFull,        ///< max_clients reached
     Connected,          ///< a client connected
     Disconnected,       ///< a client went away or was closed
+    StationTaken,       ///< a master asked for a station another unit has (R4055)
     Count,
 };
 

@@ -25,7 +25,9 @@ struct RouterStats {
 /// - TCP: a unit ID goes to its PLC; units 0 and 255, which name "the device itself" (Modbus TCP
 ///   implementation guide §4.4.1.2), name no single PLC behind a shared listener, so they and
 ///   every unit nobody has get the listener's unknown-unit policy (exception 0Bh, or silence).
-/// When two PLCs have the same station (one changed it through R4055), the first added answers.
+/// Unit IDs are unique on a listener: the config loader refuses duplicates, and the daemon
+/// refuses a station change (R4055) or a reload that would make one. Should two PLCs answer one
+/// unit anyway, the first added answers.
 class UnitRouter final : public Responder {
 public:
     /// Routes to `d` too (after those added before it). `d` must outlive its membership.

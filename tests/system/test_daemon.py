@@ -209,6 +209,45 @@ def test_sighup_with_a_new_station_keeps_connections_and_data(start_plcemud, tmp
     assert c.read_holding_registers(4055, 1, slave=5).registers == [5]
 
 
+def read_station(c, unit, value, timeout=2.0):
+    """Polls R4055 at `unit` until it reads `value` (a scan ran); returns what it last read."""
+    deadline = time.monotonic() + timeout
+    while True:
+        rr = c.read_holding_registers(4055, 1, slave=unit)
+        got = None if rr.isError() else rr.registers[0]
+        if got == value or time.monotonic() > deadline:
+            return got
+        time.sleep(0.02)
+
+
+# docs/configuration.md, "Sharing a listener": a PLC alone on its listener may not take its own
+# simulator unit through R4055, nor be given a simulator unit equal to its station in force.
+def test_a_lone_plc_keeps_its_station_and_simulator_unit_apart(start_plcemud, tmp_path):
+    d = start_plcemud(config(tmp_path, station=1))
+    c = d.client()
+    assert not c.write_register(4055, 0x5500 | 247, slave=1).isError()
+    assert read_station(c, 1, 1) == 1
+    assert d.wait_log("R4055: station 247 refused: it is its own simulator unit on tcp "
+                      f"127.0.0.1:{d.port}"), d.log_text()
+    assert not c.write_register(4055, 0x5509, slave=1).isError()
+    assert read_station(c, 9, 9) == 9
+    rewrite(d, config(tmp_path, station=1) + "simulator: {unit: 9}\n")
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("configuration rejected"), d.log_text()
+    assert ("reload: the PLC: its station 9 (in force: set through R4055; the config says 1) is "
+            "also its simulator.unit") in d.log_text()
+    assert read_station(c, 9, 9) == 9
+    # With the config's station unchanged, the station a master set stays across reloads.
+    for n in (1, 2):
+        rewrite(d, config(tmp_path, station=1) + f"scan_ms: {10 + n}\n")
+        d.proc.send_signal(signal.SIGHUP)
+        deadline = time.monotonic() + 5
+        while d.log_text().count("reload: done; station 9") < n and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert d.log_text().count("reload: done; station 9") == n, d.log_text()
+    assert read_station(c, 9, 9) == 9
+
+
 def test_sighup_that_changes_the_bind_address_moves_the_listener(start_plcemud, tmp_path):
     """Same port (--port), 127.0.0.1 -> 0.0.0.0: the old listener is closed first, the new one
     also answers on 127.0.0.2."""

@@ -3,6 +3,7 @@ docs/configuration.md, "Several PLCs" and "Sharing a listener"). Each PLC has it
 state file and program, on a listener of its own or shared with others (stations on one serial
 line, stations behind one TCP port); one event loop serves them all."""
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -10,6 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
+from pymodbus.client import ModbusTcpClient
 
 from conftest import PLCEMUD, Daemon, free_port, port_open, run_plcemud
 from rtu_pty import PtyPair, RawLine, frame as frame_of
@@ -40,8 +42,9 @@ plcs:
 """
 
 
-def spawn(tmp_path: Path, text: str, ports) -> Daemon:
-    """plcemud on a `plcs:` config (no --port: each PLC names its own), once every port listens."""
+def spawn(tmp_path: Path, text: str, ports, host="127.0.0.1") -> Daemon:
+    """plcemud on a `plcs:` config (no --port: each PLC names its own), once every port listens
+    on `host`."""
     config_path = tmp_path / "plant.yaml"
     config_path.write_text(text)
     log_path = tmp_path / f"plcemud-{time.monotonic_ns()}.log"
@@ -54,7 +57,7 @@ def spawn(tmp_path: Path, text: str, ports) -> Daemon:
         )
     d = Daemon(proc, ports[0], config_path, log_path)
     deadline = time.monotonic() + 10
-    while not all(port_open(p) for p in ports):
+    while not all(port_open(p, host) for p in ports):
         if proc.poll() is not None or time.monotonic() > deadline:
             d.stop(signal.SIGKILL)
             pytest.fail(f"plcemud did not listen on {ports}\n{d.log_text()}")
@@ -200,6 +203,32 @@ def test_check_config_and_print_map_name_each_plc(tmp_path, ports):
          "  - {profile: fbs, station: 1, simulator: {unit: 0}, modbus: {tcp: {port: 1503},\n"
          "     rtu: {device: /dev/ttyS9}}}\n",
          ":4:29:", "plcs[1]: station: 1 is also plcs[0]'s on the shared serial line '/dev/ttyS9'"),
+        # One listener written two ways is one listener: the PLCs must agree on its settings ...
+        ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {bind: '::1', port: 1502}}}\n"
+         "  - {profile: fbs, station: 2, simulator: {unit: 0},\n"
+         "     modbus: {tcp: {bind: '0:0:0:0:0:0:0:1', port: 1502, unknown_unit: silent}}}\n",
+         ":4:72:", "plcs[1]: modbus.tcp.unknown_unit: differs from plcs[0]'s, which shares the "
+         "tcp listener 0:0:0:0:0:0:0:1:1502"),
+        # ... and have stations of their own; so must stations on one device written two ways.
+        ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {bind: '::1', port: 1502}}}\n"
+         "  - {profile: fbs, simulator: {unit: 0},\n"
+         "     modbus: {tcp: {bind: '0:0:0:0:0:0:0:1', port: 1502}}}\n",
+         ":3:5:", "plcs[1]: station: 1 is also plcs[0]'s on the shared tcp listener"),
+        ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {enabled: false},\n"
+         "     rtu: {device: /dev/ttyS9}}}\n"
+         "  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {enabled: false},\n"
+         "     rtu: {device: /dev//ttyS9}}}\n",
+         ":4:5:", "plcs[1]: station: 1 is also plcs[0]'s on the shared serial line '/dev//ttyS9'"),
+        # A simulator unit that could never be reached, in a plcs: entry or a file of one PLC.
+        ("plcs:\n  - {profile: fbs, simulator: {unit: 255}}\n",
+         ":2:38:", 'plcs[0]: simulator.unit: 255 is "the device itself" over Modbus TCP'),
+        ("profile: fbs\nsimulator: {unit: 255}\n",
+         ":2:19:", 'simulator.unit: 255 is "the device itself" over Modbus TCP'),
+        ("profile: fbs\nstation: 247\n",
+         ":2:10:", "station: 247 is also this PLC's simulator unit (simulator.unit defaults to 247)"),
+        ("profile: vb\nstation: 5\nsimulator: {unit: 5}\n",
+         ":3:19:", "simulator.unit: 5 is also this PLC's station, so the simulator could never be "
+         "reached"),
         # One state file for two.
         ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}, persistence: {file: x.state}}\n"
          "  - {profile: fbs, modbus: {tcp: {port: 1503}}, persistence: {file: x.state}}\n",
@@ -224,6 +253,44 @@ def test_bad_plcs_entries_are_refused_at_load(tmp_path, text, where, message):
     r = run_plcemud("-c", path, "--check-config")
     assert r.returncode == 2, r.stdout + r.stderr
     assert f"{path}{where} {message}" in r.stderr, r.stderr
+
+
+def test_a_device_and_a_symlink_to_it_are_one_serial_line(tmp_path):
+    (tmp_path / "ttyX").write_text("")
+    (tmp_path / "link").symlink_to(tmp_path / "ttyX")
+    path = tmp_path / "bad.yaml"
+    path.write_text(
+        "plcs:\n"
+        f"  - {{profile: fbs, simulator: {{unit: 0}}, modbus: {{tcp: {{enabled: false}},\n"
+        f"     rtu: {{device: {tmp_path}/ttyX}}}}}}\n"
+        f"  - {{profile: fbs, station: 2, simulator: {{unit: 0}}, modbus: {{tcp: {{enabled: false}},\n"
+        f"     rtu: {{device: {tmp_path}/link, baud: 19200}}}}}}\n")
+    r = run_plcemud("-c", path, "--check-config")
+    assert r.returncode == 2, r.stdout + r.stderr
+    assert f"{path}:5:" in r.stderr, r.stderr
+    assert ("plcs[1]: modbus.rtu.baud: differs from plcs[0]'s, which shares the serial "
+            "line") in r.stderr, r.stderr
+
+
+def test_one_address_written_two_ways_is_one_listener(tmp_path):
+    port = free_port()
+    d = spawn(tmp_path, f"""\
+plcs:
+  - {{profile: fbs, station: 1, simulator: {{unit: 0}}, modbus: {{tcp: {{bind: '::1', port: {port}}}}}}}
+  - {{profile: fbs, station: 2, simulator: {{unit: 0}},
+     modbus: {{tcp: {{bind: '0:0:0:0:0:0:0:1', port: {port}}}}}}}
+""", [port], host="::1")
+    try:
+        assert d.wait_log(f"listening on tcp ::1:{port} for plcs[0], plcs[1]"), d.log_text()
+        c = ModbusTcpClient("::1", port=port, timeout=3, retries=1)
+        assert c.connect()
+        try:
+            assert not c.write_register(D0, 7, slave=2).isError()
+            assert reg(c, D0, unit=2) == 7 and reg(c, D0, unit=1) == 0
+        finally:
+            c.close()
+    finally:
+        assert d.stop() == 0
 
 
 def test_port_override_is_refused_with_plcs(tmp_path):
@@ -262,13 +329,24 @@ plcs:
 """
 
 
-def test_three_stations_on_one_serial_line(tmp_path):
+@contextlib.contextmanager
+def multidrop(tmp_path):
+    """plcemud serving multidrop_config on a pty pair: (daemon, the master's line, pair, port)."""
     pair = PtyPair(tmp_path)
     port = free_port()
     d = spawn(tmp_path, multidrop_config(pair.slave, port), [port])
     line = RawLine(pair.master)
     try:
         assert d.wait_log(f"listening on rtu {pair.slave}"), d.log_text()
+        yield d, line, pair, port
+    finally:
+        line.close()
+        assert d.stop() == 0
+        pair.stop()
+
+
+def test_three_stations_on_one_serial_line(tmp_path):
+    with multidrop(tmp_path) as (d, line, pair, port):
         assert "for plcs[0] (st1), plcs[1] (st2), plcs[2] (st3)" in d.log_text()
         # Each station answers its own frames; writes stay in the PLC they were sent to.
         for unit in (1, 2, 3):
@@ -291,10 +369,6 @@ def test_three_stations_on_one_serial_line(tmp_path):
         # st1 also has a TCP port of its own: the same image behind both.
         c = client_on(d, port)
         assert reg(c, D0) == 100
-    finally:
-        line.close()
-        assert d.stop() == 0
-        pair.stop()
 
 
 def shared_tcp_config(shared, own, b_dest="R1", shared_b=None):
@@ -372,5 +446,141 @@ def test_two_stations_behind_one_listener_and_one_on_its_own(tmp_path):
                 "plcemud to apply it") in d.log_text()
         assert reg(m, D0, unit=2) == 22
         assert d.proc.poll() is None
+    finally:
+        assert d.stop() == 0
+
+
+# --- Unit IDs in force: R4055 and reloads (docs/configuration.md, "Sharing a listener") ---
+
+R4055 = 4055  # fbs: the station; 55h in the high byte sets it
+
+
+def wait_reg(c, addr, value, unit, timeout=2.0):
+    """Polls `unit` until the register holds `value` (a scan has run, the unit answers); returns
+    what it last held, or None when the unit never answered."""
+    deadline = time.monotonic() + timeout
+    while True:
+        r = c.read_holding_registers(addr, 1, slave=unit)
+        got = None if r.isError() else r.registers[0]
+        if got == value or time.monotonic() > deadline:
+            return got
+        time.sleep(0.02)
+
+
+def wait_count(d, text, n, timeout=5.0):
+    """Waits until the log holds `text` `n` times."""
+    deadline = time.monotonic() + timeout
+    while d.log_text().count(text) < n:
+        assert time.monotonic() < deadline, d.log_text()
+        time.sleep(0.02)
+
+
+def test_r4055_cannot_take_a_unit_served_on_the_plcs_listeners(tmp_path):
+    shared, own = free_port(), free_port()
+    d = spawn(tmp_path, shared_tcp_config(shared, own), [shared, own])
+    try:
+        s, o = client_on(d, shared), client_on(d, own)
+        assert not s.write_register(D0, 11, slave=1).isError()
+        assert not s.write_register(D0, 22, slave=2).isError()
+        # b's station, b's simulator unit, a's own simulator unit: refused, the station stays.
+        for taken, holder in ((2, "plcs[1] (b)'s station"), (202, "plcs[1] (b)'s simulator unit"),
+                              (201, "its own simulator unit")):
+            assert not s.write_register(R4055, 0x5500 | taken, slave=1).isError()
+            assert wait_reg(s, R4055, 1, unit=1) == 1, taken
+            assert d.wait_log(f"plcs[0] (a): R4055: station {taken} refused: it is {holder} on "
+                              f"tcp 127.0.0.1:{shared}"), d.log_text()
+        assert reg(s, D0, unit=1) == 11 and reg(s, D0, unit=2) == 22
+        assert not s.write_register(D0, 12, slave=1).isError()
+        assert reg(s, D0, unit=2) == 22  # the write went to a, not to b
+        # A free unit is taken as before: a answers 3 now, and 1 is nobody's.
+        assert not s.write_register(R4055, 0x5503, slave=1).isError()
+        assert wait_reg(s, R4055, 3, unit=3) == 3
+        assert reg(s, D0, unit=3) == 12
+        assert exception_code(s.read_holding_registers(D0, 1, slave=1)) == 0x0B
+        # A PLC alone on its listener may not take its own simulator unit either.
+        assert not o.write_register(R4055, 0x5500 | 247, slave=1).isError()
+        assert wait_reg(o, R4055, 1, unit=1) == 1
+        assert d.wait_log("plcs[2] (own): R4055: station 247 refused: it is its own simulator "
+                          "unit"), d.log_text()
+        assert not o.write_register(R4055, 0x5505, slave=1).isError()
+        assert wait_reg(o, R4055, 5, unit=5) == 5
+    finally:
+        assert d.stop() == 0
+
+
+def test_a_broadcast_r4055_on_a_line_gives_the_station_to_one_plc(tmp_path):
+    with multidrop(tmp_path) as (d, line, _, _):
+        # st1 and st2 (FBs) both execute it; the first to scan takes 9, the other keeps its own.
+        line.send(frame_of(0, fc06(R4055, 0x5509)))
+        assert line.silent(0.3)
+        assert line.request(9, fc03(R4055), 7)[2:] == (9).to_bytes(2, "big")
+        kept = []
+        for unit in (1, 2):
+            line.send(frame_of(unit, fc03(R4055)))
+            reply = line.receive(7, 0.3)
+            if reply:
+                assert reply[3:5] == unit.to_bytes(2, "big"), reply.hex()
+                kept.append(unit)
+        assert len(kept) == 1, kept
+        assert d.wait_log("R4055: station 9 refused: it is plcs["), d.log_text()
+
+
+def test_reload_checks_units_against_the_stations_in_force(tmp_path):
+    shared, own = free_port(), free_port()
+    d = spawn(tmp_path, shared_tcp_config(shared, own), [shared, own])
+    try:
+        s = client_on(d, shared)
+        assert not s.write_register(D0, 11, slave=1).isError()
+        assert not s.write_register(D0, 22, slave=2).isError()
+        assert not s.write_register(R4055, 0x5505, slave=1).isError()  # a is station 5 now
+        assert wait_reg(s, R4055, 5, unit=5) == 5
+        # b's config asks for 5, which a holds live: refused, every PLC keeps its config.
+        Path(d.config_path).write_text(
+            shared_tcp_config(shared, own, b_dest="R2").replace("station: 2", "station: 5"))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("configuration rejected"), d.log_text()
+        assert ("reload: plcs[1] (b): its station 5 is also plcs[0] (a)'s station 5 (in force: "
+                f"set through R4055; the config says 1) on the shared tcp listener "
+                f"127.0.0.1:{shared}") in d.log_text(), d.log_text()
+        assert reg(s, D0, unit=5) == 11 and reg(s, D0, unit=2) == 22
+        # a's config station does not change: a keeps 5 across this reload and the next.
+        for n in (1, 2):
+            Path(d.config_path).write_text(shared_tcp_config(shared, own, b_dest=f"R{n + 2}"))
+            d.proc.send_signal(signal.SIGHUP)
+            wait_count(d, "reload: plcs[2] (own): done", n)
+            assert d.log_text().count("reload: plcs[0] (a): done; station 5, image kept") == n
+            assert reg(s, D0, unit=5) == 11 and reg(s, D0, unit=2) == 22, n
+    finally:
+        assert d.stop() == 0
+
+
+def test_a_shared_line_that_cannot_be_reopened_at_a_reload(tmp_path):
+    with multidrop(tmp_path) as (d, _, _, port):
+        # Like a PLC alone on its line: the reload applies, and its PLCs run without the line
+        # (docs/configuration.md, "Several PLCs").
+        missing = tmp_path / "gone"
+        Path(d.config_path).write_text(multidrop_config(missing, port))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: plcs[2] (st3): done"), d.log_text()
+        assert d.wait_log(f"reload: rtu: cannot open {missing}: No such file or directory; serving "
+                          "without the serial port for plcs[0] (st1), plcs[1] (st2), plcs[2] (st3)"
+                          ), d.log_text()
+        assert "rtu: rtu:" not in d.log_text()
+        assert reg(client_on(d, port), D0) == 0
+
+
+def test_falling_behind_real_time_names_the_plc(tmp_path, ports):
+    # Scans of 100 us in real time: 1.5 s behind is more than one catch-up round can run.
+    text = plcs_config(ports, tmp_path).replace("    profile: fbs\n",
+                                                "    profile: fbs\n    scan_ms: 1\n"
+                                                "    time_scale: 10\n")
+    d = spawn(tmp_path, text, ports)
+    try:
+        # A stopped process falls behind real time in every PLC's scans.
+        d.proc.send_signal(signal.SIGSTOP)
+        time.sleep(1.5)
+        d.proc.send_signal(signal.SIGCONT)
+        assert d.wait_log("plcs[1] (line-b): scan: more than 1 s behind real time"), d.log_text()
+        assert "plcs[0] (line-a): scan: more than 1 s behind real time" in d.log_text()
     finally:
         assert d.stop() == 0

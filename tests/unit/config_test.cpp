@@ -258,6 +258,24 @@ TEST(Config, ErrorsNeverEchoAWholeHugeValue) {
     }
 }
 
+// docs/configuration.md, "Configuration": a simulator unit that could never be reached is
+// refused: 255 ("the device itself" over Modbus TCP, Modbus TCP implementation guide §4.4.1.2),
+// or the PLC's own station. 0 (none) and any other unit stay valid.
+TEST(Config, UnreachableSimulatorUnitsAreRefused) {
+    expect_error("profile: fbs\nsimulator: {unit: 255}\n", 2, 19,
+                 "simulator.unit: 255 is \"the device itself\"");
+    expect_error("profile: fbs\nstation: 247\n", 2, 10,
+                 "station: 247 is also this PLC's simulator unit");
+    expect_error("profile: fbs\nstation: 9\nsimulator: {unit: 9}\n", 3, 19,
+                 "simulator.unit: 9 is also this PLC's station");
+    expect_error("profile: fbs\nsimulator: {unit: 1}\n", 2, 19,
+                 "simulator.unit: 1 is also this PLC's station");
+    EXPECT_EQ(
+        parse_config("profile: fbs\nstation: 247\nsimulator: {unit: 0}\n", "t.yaml").simulator.unit,
+        0);
+    EXPECT_EQ(parse_config("profile: fbs\nsimulator: {unit: 254}\n", "t.yaml").simulator.unit, 254);
+}
+
 TEST(Config, ErrorsEscapeControlCharactersOfAValue) {
     for (const char* text :
          {"profile: fbs\nmodel: \"FBs\\nplcemud: fake line\"\n",

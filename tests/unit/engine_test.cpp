@@ -313,6 +313,40 @@ TEST(Engine, R4055StationChangeVia55xx) {
     EXPECT_EQ(rig.engine->station(), 1);
 }
 
+// A station another unit answers on the PLC's listeners (another PLC's station, a simulator unit)
+// is refused: R4055 reads back the station in force (docs/configuration.md, "Sharing a
+// listener"). Every other change works as before.
+class TakenStations final : public StationGuard {
+public:
+    bool taken(std::uint8_t station) const noexcept override {
+        ++asked;
+        return station == 2 || station == 247;
+    }
+    mutable int asked = 0;
+};
+
+TEST(Engine, R4055RefusesAStationTakenOnTheListeners) {
+    Rig rig(10, 1);
+    TakenStations guard;
+    rig.engine->set_station_guard(&guard);
+    for (std::uint16_t v : std::vector<std::uint16_t>{0x5502, 0x55F7}) {
+        rig.img.set_word(Area::R, 4055, v);
+        rig.engine->run_scans(1);
+        EXPECT_EQ(rig.engine->station(), 1) << std::hex << v;
+        EXPECT_EQ(rig.r(4055), 1) << std::hex << v;
+    }
+    EXPECT_EQ(guard.asked, 2);
+    rig.img.set_word(Area::R, 4055, 0x5503);
+    rig.engine->run_scans(1);
+    EXPECT_EQ(rig.engine->station(), 3);
+    EXPECT_EQ(rig.r(4055), 3);
+    // Its own station again is no change, and nothing to ask about.
+    rig.img.set_word(Area::R, 4055, 0x5503);
+    rig.engine->run_scans(1);
+    EXPECT_EQ(rig.engine->station(), 3);
+    EXPECT_EQ(guard.asked, 3);
+}
+
 // docs/profile-fbs.md, Scan cycle and special registers: R4057 power-up counter (retentive): one
 // more at every power-up.
 TEST(Engine, R4057CountsPowerUps) {

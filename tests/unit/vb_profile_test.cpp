@@ -287,7 +287,7 @@ TEST(VbSpecials, PowerUpValues) {
 
 // The VB has no station register: the configured station stays.
 TEST(VbSpecials, StationStays) {
-    Rig rig("station: 247\n");
+    Rig rig("station: 247\nsimulator: {unit: 0}\n");
     rig.plc.image().set_word(Area::D, 9055, 0x5505);
     rig.scan(3);
     EXPECT_EQ(rig.plc.engine().station(), 247);

@@ -11,6 +11,7 @@
 #include "plcemu/engine/modules.hpp"
 #include "plcemu/engine/outbound.hpp"
 #include "plcemu/engine/specials.hpp"
+#include "plcemu/engine/station_guard.hpp"
 #include "plcemu/engine/tags.hpp"
 #include "plcemu/image/image.hpp"
 
@@ -39,6 +40,7 @@ struct ScanContext {
     bool first_scan;                   ///< true during the first scan after power-up
     ModuleBus* modules = nullptr;      ///< the special modules (null: the PLC has none)
     OutboundLink* outbound = nullptr;  ///< the Modbus master port (null: none attached)
+    const StationGuard* stations = nullptr;  ///< stations others hold (null: any is free)
 };
 
 /// One program instruction (one file per mnemonic in src/instructions).
@@ -96,6 +98,9 @@ public:
     /// The link master instructions send their requests through (owned elsewhere, e.g. by the
     /// daemon's event loop; null: none).
     void set_outbound(OutboundLink* link) noexcept { outbound_ = link; }
+    /// What says which stations a master may not give this PLC (owned elsewhere, e.g. by the
+    /// daemon, which knows the listeners; null: any).
+    void set_station_guard(const StationGuard* guard) noexcept { stations_ = guard; }
 
     /// Power-up: the family's special devices take their power-up values. Call once, after
     /// the image holds its retained values.
@@ -136,6 +141,7 @@ private:
     std::vector<std::unique_ptr<Subsystem>> subsystems_;
     ModuleBus* modules_ = nullptr;
     OutboundLink* outbound_ = nullptr;
+    const StationGuard* stations_ = nullptr;
     std::uint8_t station_ = 1;
     std::uint64_t scans_ = 0;
     Duration last_{0};

@@ -48,10 +48,14 @@ public:
                   std::uint8_t& station) noexcept override {
         auto* r = ctx.image.words(Area::R);
         // R4055: a master sets the station by writing 55h in the high byte (FBs manual,
-        // R4055; docs/profile-fbs.md, "Modbus map").
+        // R4055; docs/profile-fbs.md, "Modbus map"). A station another unit on the PLC's
+        // listeners answers is refused: the station stays (docs/configuration.md, "Sharing a
+        // listener").
         const std::uint16_t st = r[sp::kStation];
-        if ((st >> 8) == 0x55 && (st & 0xFF) >= 1 && (st & 0xFF) <= 254) {
-            station = static_cast<std::uint8_t>(st & 0xFF);
+        const auto wanted = static_cast<std::uint8_t>(st & 0xFF);
+        if ((st >> 8) == 0x55 && wanted >= 1 && wanted <= 254 && wanted != station &&
+            (ctx.stations == nullptr || !ctx.stations->taken(wanted))) {
+            station = wanted;
         }
         r[sp::kStation] = station;
         r[sp::kCpuStatus] = 0;

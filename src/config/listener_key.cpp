@@ -1,0 +1,47 @@
+#include "plcemu/config/listener_key.hpp"
+
+#include <arpa/inet.h>
+
+#include <array>
+#include <filesystem>
+#include <system_error>
+
+namespace plcemu::config {
+
+namespace {
+
+// The address in the form inet_ntop writes it, or empty when it does not parse.
+std::string canonical_address(const std::string& a) {
+    std::array<unsigned char, 16> bin{};
+    std::array<char, INET6_ADDRSTRLEN> text{};
+    for (const int family : {AF_INET, AF_INET6}) {
+        if (::inet_pton(family, a.c_str(), bin.data()) == 1 &&
+            ::inet_ntop(family, bin.data(), text.data(), text.size()) != nullptr) {
+            return text.data();
+        }
+    }
+    return {};
+}
+
+}  // namespace
+
+std::string tcp_listener_key(const TcpConfig& tcp) {
+    const std::string a = canonical_address(tcp.bind);
+    return (a.empty() ? tcp.bind : a) + ":" + std::to_string(tcp.port);
+}
+
+bool any_address(const std::string& bind) {
+    const std::string a = canonical_address(bind);
+    return a == "0.0.0.0" || a == "::";
+}
+
+std::string serial_line_key(const std::string& device) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    // weakly_canonical resolves the part of the path that exists and normalises the rest.
+    fs::path p = fs::weakly_canonical(device, ec);
+    if (!ec) return p.string();
+    return fs::path(device).lexically_normal().string();
+}
+
+}  // namespace plcemu::config
