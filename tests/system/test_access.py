@@ -26,7 +26,7 @@ class Raw:
 
     def request(self, pdu: bytes, unit=1) -> bytes:
         """Sends one PDU; returns the reply PDU, or b"" when the server closed the connection."""
-        self.tid += 1
+        self.tid = (self.tid + 1) & 0xFFFF
         self.sock.sendall(struct.pack(">HHHB", self.tid, 0, len(pdu) + 1, unit) + pdu)
         head = self._recv(7)
         if len(head) < 7:
@@ -144,8 +144,11 @@ def test_idle_connections_are_closed_busy_ones_kept(start_plcemud):
     closed_at = None
     while time.monotonic() - start < 3.5:
         assert busy.read_registers(D0) == [0]  # activity every 0.2 s keeps it open
-        if closed_at is None and idle.closed_by_server(timeout=0.2):
-            closed_at = time.monotonic() - start
+        if closed_at is None:
+            if idle.closed_by_server(timeout=0.2):
+                closed_at = time.monotonic() - start
+        else:
+            time.sleep(0.2)
     assert closed_at is not None, "the idle connection was never closed"
     assert closed_at >= 0.9  # not before its timeout
     assert "idle timeout" in d.log_text()
