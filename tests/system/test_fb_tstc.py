@@ -1,7 +1,7 @@
 """FUN73 TSTC of profile fb (docs/profile-fb.md, "FUN73 TSTC") through Modbus TCP against the real
 daemon, frozen and stepped through the simulator unit (FB manual FUN73): ERR and the gating of
-PID on every point read, the 4-point closed loop on the default plant, zone and warnings, and
-R4005's codes."""
+PID on every point read, the 4-point closed loop on the default plant, zone and warnings,
+R4005's codes, and the devices it shares with a TP4 checked at load."""
 
 from test_fb_tp4 import FB, ROUND, on, s16, tp4
 from test_vb import SIM, coils, freeze, regs, step, write
@@ -97,6 +97,20 @@ def test_s7_load_errors(tmp_path):
     code, err = load_error(tmp_path, tstc(yh="Y20"))
     assert code == 2
     assert "fb.yaml:5:" in err and "Y20-Y23 overlaps its own ym" in err
+
+
+def test_s7_shared_devices_with_tp4_exit_2_naming_both(tmp_path):
+    """docs/profile-fb.md, "Shared devices": a TP4 whose TR covers the TSTC's setpoints (SV R100),
+    and a TSTC whose AO1 is a TP4's ERR (M110), exit with status 2 at the later entry's operand,
+    naming the earlier entry; the TP4 on its own devices loads."""
+    other = tp4("M0", 0, 0, 4, "Y24", "R3845", "R4", "R220", err="M110", alm="M111")
+    assert load_error(tmp_path, tstc() + other)[0] == 0
+    code, err = load_error(tmp_path, tstc() + other.replace("tr: R4,", "tr: R100,"))
+    assert code == 2 and "fb.yaml:6:64" in err, err
+    assert "R100-R103 overlaps R100-R103 of the TSTC at " in err and "fb.yaml:5:5" in err, err
+    code, err = load_error(tmp_path, other + tstc().replace("ao1: M102", "ao1: M110"))
+    assert code == 2 and "fb.yaml:6:196" in err, err
+    assert "M110 overlaps M110 of the TP4 at " in err and "fb.yaml:5:5" in err, err
 
 
 def test_s8_closed_loop_4_points(start_plcemud):

@@ -251,6 +251,41 @@ TEST(FbTp4, LoadChecks) {
     }
 }
 
+// Load checks, its bits (docs/profile-fb.md, "Shared devices"): ERR and ALM are written, so
+// neither may be another instruction's written bit (refused at the later entry, naming the
+// earlier) nor another of its own operands. ERR is written even with Tp/Pl/Sm out of range, and
+// ALM only with them valid, so an invalid TP4's ALM is not checked.
+TEST(FbTp4, LoadChecksErrAndAlm) {
+    const std::string second =
+        "  - TP4: {en: M3, tp: 0, pl: 0, sm: 4, ym: Y24, ar: R3845, tr: R4, wr: R230, err: M112, "
+        "alm: M113}\n";
+    const auto with = [](std::string text, const std::string& from, const std::string& to) {
+        return text.replace(text.find(from), from.size(), to);
+    };
+    const std::string same =
+        " of the TP4 at fb.yaml:8:5 (two instructions may not write the same devices)";
+    struct Case {
+        std::string program;
+        int line, col;
+        std::string needle;
+    };
+    const Case cases[] = {
+        {kTp4 + with(second, "err: M112", "err: M110"), 9, 83, "M110 overlaps M110" + same},
+        {kTp4 + with(second, "alm: M113", "alm: M110"), 9, 94, "M110 overlaps M110" + same},
+        {kTp4 + with(with(second, "tp: 0", "tp: 9"), "err: M112", "err: M111"), 9, 83,
+         "M111 overlaps M111" + same},
+        {with(kTp4, "alm: M111", "alm: M110"), 8, 94, "M110 overlaps its own err M110"},
+        {with(kTp4, "err: M110", "err: Y20"), 8, 83, "Y20 overlaps its own ym Y16-Y23"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.program);
+        testing::expect_config_error(testing::config_failure([&] { Rig rig(c.program); }),
+                                     "fb.yaml", c.line, c.col, c.needle);
+    }
+    EXPECT_NO_THROW(Rig(kTp4 + second));
+    EXPECT_NO_THROW(Rig(kTp4 + with(with(second, "tp: 0", "tp: 9"), "alm: M113", "alm: M111")));
+}
+
 // With temperature.modules the module at Sm must be the one Tp names.
 TEST(FbTp4, TpMustMatchTheModuleOfTheChain) {
     const auto build = [](const std::string& modules, const std::string& tp4) {

@@ -27,6 +27,31 @@ std::string tstc(const std::string& module = "tp: 0, pl: 0, sm: 0",
            "ao0: M101, ao1: M102}\n";
 }
 
+// `text` with its first `from` replaced by `to`.
+std::string with(std::string text, const std::string& from, const std::string& to) {
+    return text.replace(text.find(from), from.size(), to);
+}
+
+// `text`, a tstc() on module 4, with the devices it writes moved clear of tstc()'s (Ym Y24, AR
+// R3845, TR R4, Yh Y60, PR…WR R420…R460, ERR/AO0/AO1 M110…M112) and its SV and OS kept.
+std::string elsewhere(std::string text) {
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"ym: Y16", "ym: Y24"},
+                                   {"R3842", "R3845"},
+                                   {"tr: R0", "tr: R4"},
+                                   {"Y48", "Y60"},
+                                   {"R140", "R420"},
+                                   {"R160", "R430"},
+                                   {"R180", "R440"},
+                                   {"R300", "R450"},
+                                   {"R200", "R460"},
+                                   {"M100", "M110"},
+                                   {"M101", "M111"},
+                                   {"M102", "M112"}}) {
+        text = with(text, from, to);
+    }
+    return text;
+}
+
 // An FB PLC whose plant channels 0–7 sit at 200 °C (k 0: the heaters change nothing).
 struct Rig {
     explicit Rig(const std::string& program = tstc())
@@ -298,24 +323,94 @@ TEST(FbTstc, LoadChecks) {
     // A TP4 on points the TSTC does not control may read anywhere.
     EXPECT_NO_THROW(Rig(tstc() + tp4("tp: 1, pl: 0", "R40")));
     // One controller per point: a second TSTC on point 4 is refused at its sh.
-    std::string second = tstc("tp: 0, pl: 0, sm: 4", "sh: 4, zh: 4");
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{"ym: Y16", "ym: Y24"},
-                                   {"R3842", "R3845"},
-                                   {"tr: R0", "tr: R4"},
-                                   {"Y48", "Y60"},
-                                   {"R100", "R400"},
-                                   {"R120", "R410"},
-                                   {"R140", "R420"},
-                                   {"R160", "R430"},
-                                   {"R180", "R440"},
-                                   {"R300", "R450"},
-                                   {"R200", "R460"},
-                                   {"M100", "M110"},
-                                   {"M101", "M111"},
-                                   {"M102", "M112"}}) {
-        second.replace(second.find(from), from.size(), to);
-    }
+    const std::string second = elsewhere(tstc("tp: 0, pl: 0, sm: 4", "sh: 4, zh: 4"));
     fails(eight + second, 7, "point 4 is already controlled by the TSTC at fb.yaml:6:5");
+}
+
+// A TP4 on module 4 (points 4–7, clear of tstc()'s devices), its TR at `tr`.
+std::string tp4_at(const std::string& tr = "R4") {
+    return "  - TP4: {en: M0, tp: 0, pl: 0, sm: 4, ym: Y24, ar: R3845, tr: " + tr +
+           ", wr: R220, err: M110, alm: M111}\n";
+}
+
+const std::string kSame = "(two instructions may not write the same devices)";
+
+// Load checks, its settings (docs/profile-fb.md, "Shared devices"): SV and OS are only read, so
+// no other instruction may write them — a TP4's TR on them is refused at whichever entry comes
+// later, naming the earlier — while a MOV may (that is how a program sets them).
+TEST(FbTstc, LoadChecksSettingsAnotherInstructionWrites) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    expect_config_error(config_failure([] { Rig rig(tstc() + tp4_at("R100")); }), "fb.yaml", 7, 64,
+                        "R100-R103 overlaps R100-R103 of the TSTC at fb.yaml:6:5 (it reads them "
+                        "as settings, and this instruction writes them)");
+    expect_config_error(config_failure([] { Rig rig(tp4_at("R120") + tstc()); }), "fb.yaml", 7, 113,
+                        "R120-R123 overlaps R120-R123 of the TP4 at fb.yaml:6:5 (it writes them, "
+                        "and this instruction reads them as settings)");
+    EXPECT_NO_THROW(Rig(tstc() + "  - MOV: {en: 1, s: 150, d: R100}\n"));
+}
+
+// Load checks, PR/IR/DR: its first execution writes the default gains there (FB manual FUN73),
+// so they are written blocks — a TSTC's PR on a TP4's WR, and a TP4's TR on a TSTC's DR, are
+// refused at the later entry.
+TEST(FbTstc, LoadChecksGainsAreWritten) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    expect_config_error(
+        config_failure([] { Rig rig(with(tp4_at(), "wr: R220", "wr: R140") + tstc()); }), "fb.yaml",
+        7, 123, "R140-R143 overlaps R140-R147 of the TP4 at fb.yaml:6:5 " + kSame);
+    expect_config_error(config_failure([] { Rig rig(tstc() + tp4_at("R180")); }), "fb.yaml", 7, 64,
+                        "R180-R183 overlaps R180-R183 of the TSTC at fb.yaml:6:5 " + kSame);
+}
+
+// Load checks, its bits: ERR, AO0 and AO1 are written, so none may be another instruction's
+// written bit nor another of its own operands. ERR is written even with Sh/Zh out of range, AO0
+// and AO1 only with them valid, so an invalid TSTC's AO1 is not checked.
+TEST(FbTstc, LoadChecksErrAo0Ao1) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    struct Case {
+        std::string program;
+        int line, col;
+        std::string needle;
+    };
+    const std::string earlier = " of the TP4 at fb.yaml:6:5 " + kSame;
+    const std::string bad = tstc("tp: 0, pl: 0, sm: 0", "sh: 0, zh: 40");
+    for (const Case& c : {
+             Case{tp4_at() + with(tstc(), "err: M100", "err: M110"), 7, 174,
+                  "M110 overlaps M110" + earlier},
+             Case{tp4_at() + with(tstc(), "ao0: M101", "ao0: M111"), 7, 185,
+                  "M111 overlaps M111" + earlier},
+             Case{tp4_at() + with(tstc(), "ao1: M102", "ao1: M110"), 7, 196,
+                  "M110 overlaps M110" + earlier},
+             Case{tp4_at() + with(bad, "err: M100", "err: M111"), 7, 175,
+                  "M111 overlaps M111" + earlier},
+             Case{with(tstc(), "ao1: M102", "ao1: M100"), 6, 196, "M100 overlaps its own err M100"},
+             Case{with(tstc(), "ao0: M101", "ao0: Y48"), 6, 185, "Y48 overlaps its own yh Y48-Y51"},
+         }) {
+        SCOPED_TRACE(c.program);
+        expect_config_error(config_failure([&] { Rig rig(c.program); }), "fb.yaml", c.line, c.col,
+                            c.needle);
+    }
+    EXPECT_NO_THROW(Rig(tp4_at() + with(bad, "ao1: M102", "ao1: M110")));
+}
+
+// Load checks between settings: SV and OS may be one block, and two TSTCs may share SV and OS
+// (settings both only read), but a block it writes may not hold its own SV (SV in its own PR),
+// nor a later TSTC's SV lie in an earlier one's PR.
+TEST(FbTstc, LoadChecksSharedSettings) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    const std::string second = elsewhere(tstc("tp: 0, pl: 0, sm: 4", "sh: 4, zh: 4"));
+    EXPECT_NO_THROW(Rig(with(tstc(), "os: R120", "os: R100")));
+    EXPECT_NO_THROW(Rig(tstc() + second));
+    expect_config_error(config_failure([] { Rig rig(with(tstc(), "sv: R100", "sv: R140")); }),
+                        "fb.yaml", 6, 103, "R140-R143 overlaps its own pr R140-R143");
+    expect_config_error(
+        config_failure([&] { Rig rig(tstc() + with(second, "sv: R100", "sv: R140")); }), "fb.yaml",
+        7, 103,
+        "R140-R143 overlaps R140-R143 of the TSTC at fb.yaml:6:5 (it writes them, and this "
+        "instruction reads them as settings)");
 }
 
 }  // namespace

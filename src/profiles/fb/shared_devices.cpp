@@ -23,6 +23,15 @@ std::string why(const engine::Claim& mine, const engine::Claim& other) {
 
 }  // namespace
 
+void claim_bit(std::vector<std::pair<const char*, engine::Claim>>& mine,
+               const char* key,
+               const std::optional<image::Device>& bit,
+               std::string_view mnemonic,
+               const std::string& where) {
+    if (!bit) return;
+    mine.push_back({key, {{bit->area, bit->index, 1}, engine::ClaimKind::Output, mnemonic, where}});
+}
+
 void refuse_shared(instructions::Operands& ops,
                    const std::vector<std::pair<const char*, engine::Claim>>& mine) {
     // Within the instruction: a block it writes may hold none of its other operands.

@@ -4,6 +4,9 @@
 // settings (FB manual FUN73/FUN86: WR "can't be repeated in using"; docs/profile-fb.md, the
 // "Checks at load" of TP4, TSTC, TPSNS and TPCTL).
 
+#include <optional>
+#include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -16,6 +19,13 @@ namespace plcemu::profiles::fb {
 /// instruction's claims, each with the operand key that names it) overlapping each other or the
 /// claims of the entries before it — unless both claims are ClaimKind::Read: settings may be
 /// shared, but no claim may write into another's settings.
+/// Adds to `mine`, under `key`, the one bit `bit` (an optional ERR/ALM-like output) as written.
+void claim_bit(std::vector<std::pair<const char*, engine::Claim>>& mine,
+               const char* key,
+               const std::optional<image::Device>& bit,
+               std::string_view mnemonic,
+               const std::string& where);
+
 void refuse_shared(instructions::Operands& ops,
                    const std::vector<std::pair<const char*, engine::Claim>>& mine);
 

@@ -76,14 +76,18 @@ std::unique_ptr<engine::Instruction> make_tp4(const instructions::Entry& ic,
     ops.finish();
     if (err) ops.refuse_reserved("err", {err->area, err->index, 1});
     if (alm) ops.refuse_reserved("alm", {alm->area, alm->index, 1});
+    // What it writes: its module's devices while Tp/Pl/Sm are valid, ERR always, ALM only then.
+    const std::string where = ic.where.text();
+    std::vector<std::pair<const char*, engine::Claim>> mine;
+    if (m.valid) mine = module_claims(m, "TP4", cycle::kWorkingWords, where);
+    claim_bit(mine, "err", err, "TP4", where);
+    if (m.valid) claim_bit(mine, "alm", alm, "TP4", where);
+    refuse_shared(ops, mine);
     std::vector<engine::Claim> claims;
-    if (m.valid) {
-        const auto mine = module_claims(m, "TP4", cycle::kWorkingWords, ic.where.text());
-        refuse_shared(ops, mine);
-        for (const auto& c : mine) claims.push_back(c.second);
-    }
+    claims.reserve(mine.size());
+    for (const auto& c : mine) claims.push_back(c.second);
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
-    if (m.valid && fs != nullptr) fs->contiguity->measured(ops, m, ic.where.text());
+    if (m.valid && fs != nullptr) fs->contiguity->measured(ops, m, where);
     auto points = fs != nullptr ? fs->points : std::make_shared<Points>();
     return std::make_unique<Tp4>(en, ModuleCycle(m, std::move(points)), err, alm,
                                  std::move(claims));

@@ -109,8 +109,8 @@ std::vector<std::pair<const char*, engine::Claim>> written_and_read(const Bound&
             {"dr", claim(b.l.dr, n, ClaimKind::Output)},
         };
     }
-    if (b.err) mine.push_back({"err", claim(*b.err, 1, ClaimKind::Output)});
-    if (b.alm) mine.push_back({"alm", claim(*b.alm, 1, ClaimKind::Output)});
+    claim_bit(mine, "err", b.err, "TPCTL", b.where);
+    claim_bit(mine, "alm", b.alm, "TPCTL", b.where);
     if (b.valid) {
         mine.push_back({"sv", claim(b.l.sv, n, ClaimKind::Read)});
         mine.push_back({"os", claim(b.l.os, n, ClaimKind::Read)});

@@ -201,8 +201,8 @@ std::unique_ptr<engine::Instruction> make_tpsns(const instructions::Entry& ic,
         {"wr", claim({b.wr.area, b.wr.index, kWorkingWords}, ClaimKind::Working)},
         {"tr", claim({b.tr.area, b.tr.index, n}, ClaimKind::Output)},
     };
-    if (b.err) mine.push_back({"err", claim({b.err->area, b.err->index, 1}, ClaimKind::Output)});
-    if (b.alm) mine.push_back({"alm", claim({b.alm->area, b.alm->index, 1}, ClaimKind::Output)});
+    claim_bit(mine, "err", b.err, "TPSNS", b.where);
+    claim_bit(mine, "alm", b.alm, "TPSNS", b.where);
     refuse_shared(ops, mine);
     std::vector<engine::Claim> claims;
     claims.reserve(mine.size() + 1);

@@ -78,6 +78,34 @@ fatek::LoopBlocks loop_blocks(const Bound& b) {
     return l;
 }
 
+// Its devices for the load checks, each with its operand: what it writes — its module's (as
+// TP4's), OR and Yh every scan, PR/IR/DR at its first execution, ERR, AO0 and AO1 — and the
+// settings SV and OS it only reads. With an operand out of range it writes ERR only.
+std::vector<std::pair<const char*, engine::Claim>> written_and_read(const Bound& b) {
+    using engine::ClaimKind;
+    const auto n = static_cast<std::uint32_t>(b.points);
+    const auto claim = [&](const Device& d, ClaimKind kind) {
+        return engine::Claim{{d.area, d.index, n}, kind, "TSTC", b.where};
+    };
+    std::vector<std::pair<const char*, engine::Claim>> mine;
+    if (b.valid) {
+        mine = module_claims(b.m, "TSTC", kWorkingWords, b.where);
+        mine.push_back({"or", claim(b.l.out, ClaimKind::Output)});
+        mine.push_back({"yh", claim(b.yh, ClaimKind::Pwm)});
+        mine.push_back({"pr", claim(b.l.pr, ClaimKind::Output)});
+        mine.push_back({"ir", claim(b.l.ir, ClaimKind::Output)});
+        mine.push_back({"dr", claim(b.l.dr, ClaimKind::Output)});
+    }
+    claim_bit(mine, "err", b.err, "TSTC", b.where);
+    if (b.valid) {
+        claim_bit(mine, "ao0", b.ao0, "TSTC", b.where);
+        claim_bit(mine, "ao1", b.ao1, "TSTC", b.where);
+        mine.push_back({"sv", claim(b.l.sv, ClaimKind::Read)});
+        mine.push_back({"os", claim(b.l.os, ClaimKind::Read)});
+    }
+    return mine;
+}
+
 class Tstc final : public engine::Instruction {
 public:
     Tstc(Bound b, std::shared_ptr<Points> points, std::vector<engine::Claim> claims)
@@ -139,16 +167,11 @@ std::unique_ptr<engine::Instruction> make_tstc(const instructions::Entry& ic,
                                                const instructions::BindContext& ctx) {
     Bound b = bind(ic, ctx);
     Operands ops(ic, ctx);
+    const auto mine = written_and_read(b);
+    refuse_shared(ops, mine);
     std::vector<engine::Claim> claims;
-    if (b.valid) {
-        auto mine = module_claims(b.m, "TSTC", kWorkingWords, b.where);
-        const auto n = static_cast<std::uint32_t>(b.points);
-        mine.push_back(
-            {"or", {{b.l.out.area, b.l.out.index, n}, engine::ClaimKind::Output, "TSTC", b.where}});
-        mine.push_back({"yh", {{Area::Y, b.yh.index, n}, engine::ClaimKind::Pwm, "TSTC", b.where}});
-        refuse_shared(ops, mine);
-        for (const auto& c : mine) claims.push_back(c.second);
-    }
+    claims.reserve(mine.size());
+    for (const auto& c : mine) claims.push_back(c.second);
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
     if (b.valid && fs != nullptr) {
         fs->contiguity->controlled(ops, b.m, b.sh, b.zh, b.where);
