@@ -94,7 +94,7 @@ for h in "${harnesses[@]}"; do
     # shorter inputs, room for every YAML construct and a small config (the tree harness fuzzes
     # the loader with configs of any length).
     max_len=()
-    [[ $h == fuzz_config ]] && max_len=(-max_len=512)
+    [[ $h == fuzz_config ]] && max_len=(-max_len=256)
     rc=0
     read -r load _ </proc/loadavg
     # -verbosity=0: no status line per new input (unbuffered, each a few write calls); crash
