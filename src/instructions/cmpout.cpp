@@ -77,7 +77,6 @@ std::unique_ptr<engine::Instruction> make_cmpout(const Entry& ic, const BindCont
     const WordSource s2 = ops.word_source("s2");
     const image::Device out = ops.bit_output("out");
     ops.finish();
-    ops.refuse_reserved("out", {out.area, out.index, 1});
     return std::make_unique<CmpOut>(op, s1, s2, out);
 }
 

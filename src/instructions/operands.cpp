@@ -89,8 +89,14 @@ image::Device Operands::bit_output(const char* key) {
         !layout_.contains({d->area, d->index, 1})) {
         fail(key, "expected a Y, M or S output, got '" + image::excerpt(op.text) + "'");
     }
+    refuse_reserved(key, {d->area, d->index, 1});
     note(key, {d->area, d->index, 1});
     return *d;
+}
+
+std::optional<image::Device> Operands::optional_bit_output(const char* key) {
+    if (!has(key)) return std::nullopt;
+    return bit_output(key);
 }
 
 WordSource Operands::word_source(const char* key) {

@@ -49,8 +49,10 @@ public:
     const std::string& text(const char* key) { return require(key).text; }
     /// A bit input; absent gives `fallback`.
     BitSource bit_source(const char* key, bool fallback);
-    /// A bit output device (Y, M, S).
+    /// A bit output device (Y, M, S), not on an output the profile reserves.
     image::Device bit_output(const char* key);
+    /// An optional bit output (ERR, ALM): bit_output() when present, else none.
+    std::optional<image::Device> optional_bit_output(const char* key);
     /// A word input.
     WordSource word_source(const char* key);
     /// A word output: a register or WMn-style bits (WM, WY, WS), not on an output the profile

@@ -32,7 +32,6 @@ std::unique_ptr<engine::Instruction> make_pls(const Entry& ic, const BindContext
     const BitSource en = ops.bit_source("en", true);
     const image::Device d = ops.bit_output("d");
     ops.finish();
-    ops.refuse_reserved("d", {d.area, d.index, 1});
     return std::make_unique<Pls>(en, d);
 }
 

@@ -70,12 +70,9 @@ std::unique_ptr<engine::Instruction> make_tp4(const instructions::Entry& ic,
     Operands ops(ic, ctx);
     const BitSource en = ops.bit_source("en", true);
     const ModuleOperands m = bind_module(ops, cycle::kWorkingWords);
-    std::optional<Device> err, alm;
-    if (ops.has("err")) err = ops.bit_output("err");
-    if (ops.has("alm")) alm = ops.bit_output("alm");
+    const std::optional<Device> err = ops.optional_bit_output("err");
+    const std::optional<Device> alm = ops.optional_bit_output("alm");
     ops.finish();
-    if (err) ops.refuse_reserved("err", {err->area, err->index, 1});
-    if (alm) ops.refuse_reserved("alm", {alm->area, alm->index, 1});
     // What it writes: its module's devices while Tp/Pl/Sm are valid, ERR always, ALM only then.
     const std::string where = ic.where.text();
     std::vector<std::pair<const char*, engine::Claim>> mine;

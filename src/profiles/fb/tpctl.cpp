@@ -70,12 +70,10 @@ Bound bind(const instructions::Entry& ic, const instructions::BindContext& ctx) 
     b.yn = ops.device("yn", span, {Area::Y});
     fatek::bind_point_blocks(ops, span, b.l);
     b.wr = fatek::register_block(ops, "wr", kWorkingWords);
-    if (ops.has("err")) b.err = ops.bit_output("err");
-    if (ops.has("alm")) b.alm = ops.bit_output("alm");
+    b.err = ops.optional_bit_output("err");
+    b.alm = ops.optional_bit_output("alm");
     ops.finish();
     ops.refuse_reserved("yn", {Area::Y, b.yn.index, span});
-    if (b.err) ops.refuse_reserved("err", {b.err->area, b.err->index, 1});
-    if (b.alm) ops.refuse_reserved("alm", {b.alm->area, b.alm->index, 1});
     check_module(ops, b);
     return b;
 }

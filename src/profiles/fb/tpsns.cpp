@@ -68,11 +68,9 @@ Bound bind(const instructions::Entry& ic, const instructions::BindContext& ctx) 
     b.points = module_points(ops, b);
     b.tr = fatek::register_block(ops, "tr", static_cast<std::uint32_t>(b.points));
     b.wr = fatek::register_block(ops, "wr", kWorkingWords);
-    if (ops.has("err")) b.err = ops.bit_output("err");
-    if (ops.has("alm")) b.alm = ops.bit_output("alm");
+    b.err = ops.optional_bit_output("err");
+    b.alm = ops.optional_bit_output("alm");
     ops.finish();
-    if (b.err) ops.refuse_reserved("err", {b.err->area, b.err->index, 1});
-    if (b.alm) ops.refuse_reserved("alm", {b.alm->area, b.alm->index, 1});
     return b;
 }
 

@@ -54,16 +54,11 @@ Bound bind(const instructions::Entry& ic, const instructions::BindContext& ctx) 
     const auto span = static_cast<std::uint32_t>(b.points > 0 ? b.points : 1);
     b.yh = ops.device("yh", span, {Area::Y});
     fatek::bind_point_blocks(ops, span, b.l);
-    if (ops.has("err")) b.err = ops.bit_output("err");
-    if (ops.has("ao0")) b.ao0 = ops.bit_output("ao0");
-    if (ops.has("ao1")) b.ao1 = ops.bit_output("ao1");
+    b.err = ops.optional_bit_output("err");
+    b.ao0 = ops.optional_bit_output("ao0");
+    b.ao1 = ops.optional_bit_output("ao1");
     ops.finish();
     ops.refuse_reserved("yh", {Area::Y, b.yh.index, span});
-    const std::pair<const char*, const std::optional<Device>*> bits[] = {
-        {"err", &b.err}, {"ao0", &b.ao0}, {"ao1", &b.ao1}};
-    for (const auto& [key, d] : bits) {
-        if (*d) ops.refuse_reserved(key, {(*d)->area, (*d)->index, 1});
-    }
     return b;
 }
 

@@ -67,8 +67,8 @@ Bound bind(const instructions::Entry& ic, const BindContext& ctx) {
     b.yn = ops.device("yn", span, {Area::Y});
     fatek::bind_point_blocks(ops, span, b.l);
     b.wr = fatek::register_block(ops, "wr", kWorkingWords);
-    if (ops.has("err")) b.err = ops.bit_output("err");
-    if (ops.has("alm")) b.alm = ops.bit_output("alm");
+    b.err = ops.optional_bit_output("err");
+    b.alm = ops.optional_bit_output("alm");
     ops.finish();
     return b;
 }
@@ -304,8 +304,6 @@ std::unique_ptr<engine::Instruction> make_tpctl(const instructions::Entry& ic,
     Bound b = bind(ic, ctx);
     Operands ops(ic, ctx);
     ops.refuse_reserved("yn", block(b.yn, b.points));
-    if (b.err) ops.refuse_reserved("err", block(*b.err, 1));
-    if (b.alm) ops.refuse_reserved("alm", block(*b.alm, 1));
     check_overlaps(b, ic, ctx);
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
     return std::make_unique<Tpctl>(std::move(b),

@@ -100,7 +100,6 @@ std::unique_ptr<engine::Instruction> make(const instructions::Entry& ic,
     b.d1 = ops.output_words("d1", span, {Area::D}).index;
     b.d2 = ops.bit_output("d2");
     ops.finish();
-    ops.refuse_reserved("d2", {b.d2.area, b.d2.index, 1});
     return std::make_unique<Hour>(b);
 }
 
