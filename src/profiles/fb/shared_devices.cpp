@@ -32,8 +32,8 @@ void claim_bit(std::vector<std::pair<const char*, engine::Claim>>& mine,
     mine.push_back({key, {{bit->area, bit->index, 1}, engine::ClaimKind::Output, mnemonic, where}});
 }
 
-void refuse_shared(instructions::Operands& ops,
-                   const std::vector<std::pair<const char*, engine::Claim>>& mine) {
+std::vector<engine::Claim> refuse_shared(
+    instructions::Operands& ops, const std::vector<std::pair<const char*, engine::Claim>>& mine) {
     // Within the instruction: a block it writes may hold none of its other operands.
     for (std::size_t i = 0; i < mine.size(); ++i) {
         const engine::Claim& a = mine[i].second;
@@ -61,6 +61,10 @@ void refuse_shared(instructions::Operands& ops,
                               why(claim, c));
         }
     }
+    std::vector<engine::Claim> claims;
+    claims.reserve(mine.size() + 1);
+    for (const auto& c : mine) claims.push_back(c.second);
+    return claims;
 }
 
 }  // namespace plcemu::profiles::fb

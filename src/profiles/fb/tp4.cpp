@@ -41,21 +41,17 @@ public:
         if (ctx.first_scan) cycle_.reset();
         if (!cycle_.operands().valid) {
             // Tp, Pl or Sm out of range: not executed, ERR ON (FB manual FUN73).
-            write_bit(img, err_, true);
+            write_optional(img, err_, true);
             return;
         }
-        write_bit(img, err_, false);
+        write_optional(img, err_, false);
         cycle_.run(ctx, en_.read(img));
-        write_bit(img, alm_, cycle_.broken_bits() != 0);
+        write_optional(img, alm_, cycle_.broken_bits() != 0);
     }
 
     std::string_view mnemonic() const noexcept override { return "TP4"; }
 
 private:
-    static void write_bit(image::Image& img, const std::optional<Device>& d, bool v) {
-        if (d) img.write_bit(*d, v);
-    }
-
     BitSource en_;
     ModuleCycle cycle_;
     std::optional<Device> err_;
@@ -79,10 +75,7 @@ std::unique_ptr<engine::Instruction> make_tp4(const instructions::Entry& ic,
     if (m.valid) mine = module_claims(m, "TP4", cycle::kWorkingWords, where);
     claim_bit(mine, "err", err, "TP4", where);
     if (m.valid) claim_bit(mine, "alm", alm, "TP4", where);
-    refuse_shared(ops, mine);
-    std::vector<engine::Claim> claims;
-    claims.reserve(mine.size());
-    for (const auto& c : mine) claims.push_back(c.second);
+    std::vector<engine::Claim> claims = refuse_shared(ops, mine);
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
     if (m.valid && fs != nullptr) fs->contiguity->measured(ops, m, where);
     auto points = fs != nullptr ? fs->points : std::make_shared<Points>();

@@ -143,27 +143,23 @@ public:
         if (ctx.first_scan) loop_.reset();
         if (!b_.valid) {
             // Sn or Zn out of range: not executed, ERR ON (FB manual FUN86).
-            write_bit(img, b_.err, true);
-            write_bit(img, b_.alm, false);
+            write_optional(img, b_.err, true);
+            write_optional(img, b_.alm, false);
             return;
         }
-        write_bit(img, b_.err, false);
+        write_optional(img, b_.err, false);
         // The PV of point i is TPSNS's TR + Sn + i; PID waits for TPSNS's EN ("it must be
         // enabled, then, can the FUN86 start working").
         Device pv = tpsns_->tr;
         pv.index += static_cast<std::uint32_t>(b_.sn);
         const LoopSource src{pv, tpsns_->sensor, tpsns_->pl, tpsns_->running};
         const bool alarm = loop_.run(ctx, b_.en.read(img), b_.hc.read(img), *points_, src);
-        write_bit(img, b_.alm, alarm);
+        write_optional(img, b_.alm, alarm);
     }
 
     std::string_view mnemonic() const noexcept override { return "TPCTL"; }
 
 private:
-    static void write_bit(image::Image& img, const std::optional<Device>& d, bool v) {
-        if (d) img.write_bit(*d, v);
-    }
-
     Bound b_;
     std::shared_ptr<Points> points_;
     std::shared_ptr<TpsnsLink> tpsns_;
@@ -178,10 +174,7 @@ std::unique_ptr<engine::Instruction> make_tpctl(const instructions::Entry& ic,
     Bound b = bind(ic, ctx);
     Operands ops(ic, ctx);
     const auto mine = written_and_read(b);
-    refuse_shared(ops, mine);
-    std::vector<engine::Claim> claims;
-    claims.reserve(mine.size());
-    for (const auto& c : mine) claims.push_back(c.second);
+    std::vector<engine::Claim> claims = refuse_shared(ops, mine);
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
     if (b.valid && fs != nullptr) fs->controlled->claim(ops, "sn", "TPCTL", b.sn, b.zn, b.where);
     auto points = fs != nullptr ? fs->points : std::make_shared<Points>();

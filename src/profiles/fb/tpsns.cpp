@@ -98,11 +98,11 @@ public:
         }
         if (!b_.valid) {
             // tp or pl out of range: not executed, ERR ON.
-            write_bit(img, b_.err, true);
+            write_optional(img, b_.err, true);
             link_->running = false;
             return;
         }
-        write_bit(img, b_.err, false);
+        write_optional(img, b_.err, false);
         const bool en = b_.en.read(img);
         if (en) {
             measure(ctx);
@@ -123,10 +123,6 @@ public:
     std::string_view mnemonic() const noexcept override { return "TPSNS"; }
 
 private:
-    static void write_bit(image::Image& img, const std::optional<Device>& d, bool v) {
-        if (d) img.write_bit(*d, v);
-    }
-
     Point& point(int p) const noexcept { return points_->at[static_cast<std::size_t>(p)]; }
 
     int groups() const noexcept { return (b_.points + kInputs - 1) / kInputs; }
@@ -172,7 +168,7 @@ private:
             static_cast<std::uint16_t>(read & 0xFFFF), static_cast<std::uint16_t>(read >> 16)};
         for (std::uint32_t w = 0; w < kWorkingWords; ++w)
             img.set_word(b_.wr.area, b_.wr.index + w, words[w]);
-        write_bit(img, b_.alm, broken != 0);
+        write_optional(img, b_.alm, broken != 0);
     }
 
     Bound b_;
@@ -201,10 +197,7 @@ std::unique_ptr<engine::Instruction> make_tpsns(const instructions::Entry& ic,
     };
     claim_bit(mine, "err", b.err, "TPSNS", b.where);
     claim_bit(mine, "alm", b.alm, "TPSNS", b.where);
-    refuse_shared(ops, mine);
-    std::vector<engine::Claim> claims;
-    claims.reserve(mine.size() + 1);
-    for (const auto& c : mine) claims.push_back(c.second);
+    std::vector<engine::Claim> claims = refuse_shared(ops, mine);
     // The raw readings R3968+p of its points.
     claims.push_back({{Area::R, special::kRawReadings, n}, ClaimKind::Output, "TPSNS", b.where});
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);

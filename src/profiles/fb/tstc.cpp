@@ -128,27 +128,23 @@ public:
         }
         if (!b_.valid) {
             // Tp, Pl, Sm, Sh or Zh out of range: not executed, ERR ON (FB manual FUN73).
-            write_bit(img, b_.err, true);
+            write_optional(img, b_.err, true);
             return;
         }
-        write_bit(img, b_.err, false);
+        write_optional(img, b_.err, false);
         const bool en = b_.en.read(img);
         cycle_.run(ctx, en);
-        write_bit(img, b_.ao0, cycle_.broken_bits() != 0);
+        write_optional(img, b_.ao0, cycle_.broken_bits() != 0);
         // The PV of point p is TR + (p − Sm): the readings are contiguous.
         Device pv = b_.m.tr;
         pv.index += static_cast<std::uint32_t>(b_.sh - b_.m.sm);
         const LoopSource src{pv, static_cast<int>(b_.m.tp), static_cast<int>(b_.m.pl), true};
-        write_bit(img, b_.ao1, loop_.run(ctx, en, b_.hc.read(img), *points_, src));
+        write_optional(img, b_.ao1, loop_.run(ctx, en, b_.hc.read(img), *points_, src));
     }
 
     std::string_view mnemonic() const noexcept override { return "TSTC"; }
 
 private:
-    static void write_bit(image::Image& img, const std::optional<Device>& d, bool v) {
-        if (d) img.write_bit(*d, v);
-    }
-
     Bound b_;
     std::shared_ptr<Points> points_;
     std::vector<engine::Claim> claims_;
@@ -163,10 +159,7 @@ std::unique_ptr<engine::Instruction> make_tstc(const instructions::Entry& ic,
     Bound b = bind(ic, ctx);
     Operands ops(ic, ctx);
     const auto mine = written_and_read(b);
-    refuse_shared(ops, mine);
-    std::vector<engine::Claim> claims;
-    claims.reserve(mine.size());
-    for (const auto& c : mine) claims.push_back(c.second);
+    std::vector<engine::Claim> claims = refuse_shared(ops, mine);
     const auto* fs = dynamic_cast<const Services*>(&ctx.services);
     if (b.valid && fs != nullptr) {
         fs->contiguity->controlled(ops, b.m, b.sh, b.zh, b.where);
