@@ -542,11 +542,29 @@ bool valid_entry_name(const std::string& s) {
                std::string::npos;
 }
 
+// What an entry takes that another may share or clash with, worked out once per entry: the keys
+// resolve addresses and device paths, and every later entry is compared with this one.
+struct Taken {
+    std::string tcp;         // tcp_listener_key, empty when TCP is off
+    bool tcp_any = false;    // bound to every address
+    std::string rtu;         // serial_line_key, empty without RTU
+    std::string state_file;  // empty without persistence
+
+    explicit Taken(const Config& c) {
+        if (c.modbus.tcp.enabled && c.modbus.tcp.port != 0) {
+            tcp = tcp_listener_key(c.modbus.tcp);
+            tcp_any = any_address(c.modbus.tcp.bind);
+        }
+        if (c.modbus.rtu) rtu = serial_line_key(c.modbus.rtu->device);
+        if (c.persistence.enabled) state_file = default_state_file(c);
+    }
+};
+
 // Two listeners clash on one port when either takes every address or both take the same one,
 // however each writes it.
-bool same_port(const TcpConfig& a, const TcpConfig& b) {
-    if (!a.enabled || !b.enabled || a.port == 0 || a.port != b.port) return false;
-    return tcp_listener_key(a) == tcp_listener_key(b) || any_address(a.bind) || any_address(b.bind);
+bool same_port(const Config& c, const Taken& a, const Config& o, const Taken& b) {
+    if (a.tcp.empty() || b.tcp.empty() || c.modbus.tcp.port != o.modbus.tcp.port) return false;
+    return a.tcp == b.tcp || a.tcp_any || b.tcp_any;
 }
 
 // The node of `key` under `at`, or the nearest ancestor written: where an error points.
@@ -588,10 +606,11 @@ void check_units(const Reader& r,
 }
 
 // PLCs behind one TCP listener share its settings: they must say the same.
-void check_tcp_agrees(const Reader& r, const Node& entry, const Config& c, const Config& o) {
+void check_tcp_agrees(
+    const Reader& r, const Node& entry, const Config& c, const Config& o, bool same_address) {
     const TcpConfig& a = c.modbus.tcp;
     const TcpConfig& b = o.modbus.tcp;
-    const char* key = tcp_listener_key(a) != tcp_listener_key(b) ? "bind"
+    const char* key = !same_address                              ? "bind"
                       : a.unknown_unit != b.unknown_unit         ? "unknown_unit"
                       : a.allow != b.allow                       ? "allow"
                       : a.max_clients != b.max_clients           ? "max_clients"
@@ -633,26 +652,28 @@ void check_rtu_agrees(const Reader& r, const Node& entry, const Config& c, const
 void check_shared(const Reader& r,
                   const Node& entry,
                   const Config& c,
-                  const std::vector<Config>& earlier) {
-    for (const auto& o : earlier) {
+                  const Taken& mine,
+                  const std::vector<Config>& earlier,
+                  const std::vector<Taken>& theirs) {
+    for (std::size_t i = 0; i < earlier.size(); ++i) {
+        const Config& o = earlier[i];
+        const Taken& t = theirs[i];
         if (!c.name.empty() && c.name == o.name) {
             r.fail(entry["name"], "name: '" + c.name + "' is also " + o.label + "'s");
         }
-        if (same_port(c.modbus.tcp, o.modbus.tcp)) {
-            check_tcp_agrees(r, entry, c, o);
+        if (same_port(c, mine, o, t)) {
+            check_tcp_agrees(r, entry, c, o, mine.tcp == t.tcp);
             check_units(
                 r, entry, c, o,
                 "tcp listener " + c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port));
         }
-        if (c.modbus.rtu && o.modbus.rtu &&
-            serial_line_key(c.modbus.rtu->device) == serial_line_key(o.modbus.rtu->device)) {
+        if (!mine.rtu.empty() && mine.rtu == t.rtu) {
             check_rtu_agrees(r, entry, c, o);
             check_units(r, entry, c, o, "serial line '" + excerpt(c.modbus.rtu->device) + "'");
         }
-        if (c.persistence.enabled && o.persistence.enabled &&
-            default_state_file(c) == default_state_file(o)) {
+        if (!mine.state_file.empty() && mine.state_file == t.state_file) {
             const Node& file = entry["persistence"]["file"];
-            r.fail(file ? file : entry, "persistence.file: '" + excerpt(default_state_file(c)) +
+            r.fail(file ? file : entry, "persistence.file: '" + excerpt(mine.state_file) +
                                             "' is also " + o.label + "'s state file");
         }
     }
@@ -689,7 +710,9 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file) {
     LogConfig log;
     if (root["log"]) read_log(top, root["log"], log);
     std::vector<Config> out;
+    std::vector<Taken> taken;
     out.reserve(list.items.size());
+    taken.reserve(list.items.size());
     for (std::size_t i = 0; i < list.items.size(); ++i) {
         const Node& e = list.items[i];
         std::string label = "plcs[" + std::to_string(i) + "]";
@@ -710,7 +733,9 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file) {
             c.label = label;
             c.index = static_cast<int>(i);
             c.log = log;
-            check_shared(r, e, c, out);
+            Taken mine(c);
+            check_shared(r, e, c, mine, out, taken);
+            taken.push_back(std::move(mine));
             out.push_back(std::move(c));
         } catch (const ConfigError& err) {
             throw ConfigError(err.position(), label + ": " + err.message());
