@@ -110,9 +110,10 @@ Listeners::~Listeners() { stop(); }
 namespace {
 
 // "plcs[0] (a), plcs[1]" for a shared listener's log line.
-std::string names(const std::vector<std::size_t>& members, const std::vector<std::string>& labels) {
+std::string names(const std::vector<std::size_t>& members,
+                  const std::vector<ListenerMember>& plcs) {
     std::string s;
-    for (std::size_t i : members) s += (s.empty() ? "" : ", ") + labels[i];
+    for (std::size_t i : members) s += (s.empty() ? "" : ", ") + plcs[i].config->label;
     return s;
 }
 
@@ -120,20 +121,18 @@ std::string names(const std::vector<std::size_t>& members, const std::vector<std
 void log_listening(const std::string& what,
                    const std::string& where,
                    const std::vector<std::size_t>& members,
-                   const std::vector<std::string>& labels) {
+                   const std::vector<ListenerMember>& plcs) {
     if (members.size() == 1) {
-        const std::string& label = labels[members.front()];
+        const std::string& label = plcs[members.front()].config->label;
         spdlog::info("{}listening on {} {}", label.empty() ? "" : label + ": ", what, where);
     } else {
-        spdlog::info("listening on {} {} for {}", what, where, names(members, labels));
+        spdlog::info("listening on {} {} for {}", what, where, names(members, plcs));
     }
 }
 
 }  // namespace
 
 void Listeners::open(const std::vector<ListenerMember>& plcs) {
-    labels_.clear();
-    for (const auto& m : plcs) labels_.push_back(m.config->label);
     plcs_ = plcs;
     for (auto& g :
          group(plcs, [](const ListenerMember&m, std::size_t i) { return tcp_key(*m.config, i); })) {
@@ -146,7 +145,7 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
     }
     route(plcs);
     raise_fd_limit(plcs.size());
-    for (const auto& t : tcp_) log_listening("tcp", t->server->endpoint(), t->members, labels_);
+    for (const auto& t : tcp_) log_listening("tcp", t->server->endpoint(), t->members, plcs_);
     open_rtu(plcs, true);
 }
 
@@ -158,7 +157,7 @@ void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start)
         r->members = std::move(g.members);
         for (std::size_t i : r->members) r->router.add(*plcs[i].dispatcher);
         const config::RtuConfig& c = *plcs[r->members.front()].config->modbus.rtu;
-        const std::string& label = labels_[r->members.front()];
+        const std::string& label = plcs_[r->members.front()].config->label;
         const std::string prefix = r->members.size() == 1 && !label.empty() ? label + ": " : "";
         try {
             r->server = std::make_unique<modbus::RtuServer>(
@@ -170,11 +169,11 @@ void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start)
             // station change is checked against them), and the next reload tries it again.
             // e.what() says "rtu: ..." already.
             spdlog::error("reload: {}{}; serving without the serial port{}", prefix, e.what(),
-                          r->members.size() > 1 ? " for " + names(r->members, labels_) : "");
+                          r->members.size() > 1 ? " for " + names(r->members, plcs_) : "");
             rtu_.push_back(std::move(r));
             continue;
         }
-        log_listening("rtu", r->server->description(), r->members, labels_);
+        log_listening("rtu", r->server->description(), r->members, plcs_);
         rtu_.push_back(std::move(r));
     }
 }
@@ -300,7 +299,7 @@ void Listeners::apply(const std::vector<ListenerMember>& plcs) {
     for (auto& s : staged_) {
         if (s.fresh) {
             now.push_back(std::move(s.fresh));
-            log_listening("tcp", now.back()->server->endpoint(), now.back()->members, labels_);
+            log_listening("tcp", now.back()->server->endpoint(), now.back()->members, plcs_);
             continue;
         }
         auto kept = std::move(tcp_[s.kept]);
@@ -348,7 +347,7 @@ std::string Listeners::holder(std::size_t index, std::uint8_t unit) const {
                                : d.simulator_unit() == unit      ? " simulator unit on "
                                                                  : nullptr;
             if (what == nullptr) continue;
-            std::string who = j == index ? "its own" : labels_[j] + "'s";
+            std::string who = j == index ? "its own" : plcs_[j].config->label + "'s";
             who += what;
             who += where;
             return who;

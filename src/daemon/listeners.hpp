@@ -78,7 +78,6 @@ private:
     asio::io_context& io_;
     std::vector<std::unique_ptr<Tcp>> tcp_;
     std::vector<std::unique_ptr<Rtu>> rtu_;
-    std::vector<std::string> labels_;   // "plcs[1] (kiln)", by index
     std::vector<ListenerMember> plcs_;  // every PLC, by index, as last opened or applied
     // What stage() prepared for apply(): per new TCP listener, the running one it keeps (index
     // into tcp_) or a new one.

@@ -160,11 +160,6 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     return out;
 }
 
-bool tcp_listener_changed(const config::Config& a, const config::Config& b) {
-    return a.modbus.tcp.enabled != b.modbus.tcp.enabled || a.modbus.tcp.bind != b.modbus.tcp.bind ||
-           a.modbus.tcp.port != b.modbus.tcp.port;
-}
-
 bool rtu_changed(const config::Config& a, const config::Config& b) {
     const auto& x = a.modbus.rtu;
     const auto& y = b.modbus.rtu;

@@ -12,9 +12,6 @@ namespace plcemu::daemon {
 /// whole say only that they changed ("program: changed (3 instructions)").
 std::vector<std::string> config_changes(const config::Config& before, const config::Config& after);
 
-/// True when the TCP listener must be opened anew (enabled, bind or port differ).
-bool tcp_listener_changed(const config::Config& before, const config::Config& after);
-
 /// True when the serial port settings differ.
 bool rtu_changed(const config::Config& before, const config::Config& after);
 

@@ -17,11 +17,6 @@ constexpr std::size_t kRtuMin = 4;
 
 void UnitRouter::add(Dispatcher& d) { members_.push_back(&d); }
 
-void UnitRouter::replace(const Dispatcher& old, Dispatcher& now) {
-    std::replace_if(
-        members_.begin(), members_.end(), [&old](const Dispatcher* d) { return d == &old; }, &now);
-}
-
 void UnitRouter::clear() { members_.clear(); }
 
 Dispatcher* UnitRouter::find(std::uint8_t unit) noexcept {

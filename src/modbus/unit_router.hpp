@@ -32,8 +32,6 @@ class UnitRouter final : public Responder {
 public:
     /// Routes to `d` too (after those added before it). `d` must outlive its membership.
     void add(Dispatcher& d);
-    /// Routes to `now` wherever `old` was (a reload swapped the PLC's dispatcher).
-    void replace(const Dispatcher& old, Dispatcher& now);
     /// Routes to nobody.
     void clear();
     /// PLCs routed to.

@@ -109,14 +109,6 @@ TEST_F(SharedLine, ASimulatorUnitGoesToItsPlc) {
     EXPECT_EQ(reply_words(w.tcp(3, read_pdu(0x03, kD0, 1))), std::vector<std::uint16_t>{9});
 }
 
-TEST_F(SharedLine, ReplaceSwapsOnePlcsDispatcher) {
-    Station fresh(2);
-    router_.replace(plcs_[1]->disp, fresh.disp);
-    EXPECT_EQ(wire_.rtu(2, write_single_pdu(0x06, kD0, 12)).size(), 5u);
-    EXPECT_EQ(fresh.d0(), 12);
-    EXPECT_EQ(plcs_[1]->d0(), 0);
-}
-
 TEST(OwnListener, OnePlcGetsEveryRequestAsWithoutARouter) {
     // A listener of its own keeps the single-PLC rules: TCP units 0 and 255 are the device
     // itself, an unknown unit gets the PLC's own policy.

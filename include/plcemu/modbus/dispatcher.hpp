@@ -69,8 +69,6 @@ public:
     void set_function(std::uint8_t fc, FunctionHandler handler);
     /// Sets the TCP policy for unknown unit IDs.
     void set_unknown_unit_policy(UnknownUnitPolicy p) { unknown_unit_ = p; }
-    /// The TCP policy for unknown unit IDs.
-    UnknownUnitPolicy unknown_unit_policy() const { return unknown_unit_; }
     /// The station now (R4055 may have changed it since the start).
     std::uint8_t station() const { return station_; }
     /// The simulator-control unit's ID, 0 when there is none.
