@@ -554,20 +554,56 @@ def test_reload_checks_units_against_the_stations_in_force(tmp_path):
         assert d.stop() == 0
 
 
+def with_programs(text):
+    """multidrop_config with st1 and st2 copying R0 to R1 in every scan."""
+    mov = "program: [{MOV: {en: M1926, s: R0, d: R1}}], "
+    return text.replace("{name: st1, ", "{name: st1, " + mov).replace("{name: st2, ",
+                                                                      "{name: st2, " + mov)
+
+
 def test_a_shared_line_that_cannot_be_reopened_at_a_reload(tmp_path):
-    with multidrop(tmp_path) as (d, _, _, port):
+    with multidrop(tmp_path) as (d, line, pair, port):
         # Like a PLC alone on its line: the reload applies, and its PLCs run without the line
         # (docs/configuration.md, "Several PLCs").
-        missing = tmp_path / "gone"
-        Path(d.config_path).write_text(multidrop_config(missing, port))
+        later = tmp_path / "later"
+        later.mkdir()
+        missing = later / "plcemu-rtu-a"  # where PtyPair(later) will put its device
+        Path(d.config_path).write_text(with_programs(multidrop_config(missing, port)))
         d.proc.send_signal(signal.SIGHUP)
         assert d.wait_log("reload: plcs[2] (st3): done"), d.log_text()
         assert d.wait_log(f"reload: rtu: cannot open {missing}: No such file or directory; serving "
                           "without the serial port for plcs[0] (st1), plcs[1] (st2), plcs[2] (st3)"
                           ), d.log_text()
         assert "rtu: rtu:" not in d.log_text()
-        assert reg(client_on(d, port), D0) == 0
+        assert "configuration rejected" not in d.log_text()
+        # st1 took its new config: its new program copies R0 to R1, seen on its TCP port.
+        c = client_on(d, port)
+        assert not c.write_register(0, 41, slave=1).isError()
+        assert wait_reg(c, 1, 41, unit=1) == 41
+        # The old line is closed: nobody answers on it.
+        line.send(frame_of(2, fc03(D0)))
+        assert line.silent(0.2)
 
+        # The device appears; the next reload (the same config) opens it, and every station
+        # answers on it, st2 with its new program.
+        back = PtyPair(later)
+        assert back.slave == str(missing)
+        line = RawLine(back.master)  # the old line's own is closed by multidrop()
+        try:
+            d.proc.send_signal(signal.SIGHUP)
+            wait_count(d, "reload: plcs[2] (st3): done", 2)
+            assert d.wait_log(f"listening on rtu {missing}"), d.log_text()
+            assert line.request(2, fc06(0, 42), 8) == fc06(0, 42)
+            deadline = time.monotonic() + 2
+            while line.request(2, fc03(1), 7)[2:] != (42).to_bytes(2, "big"):
+                assert time.monotonic() < deadline, "st2's new program never copied R0 to R1"
+                time.sleep(0.02)
+            for unit in (1, 3):
+                assert line.request(unit, fc03(D0), 7)[2:] == (0).to_bytes(2, "big"), unit
+            assert reg(c, 1, unit=1) == 41  # st1 kept its image across both reloads
+        finally:
+            line.close()
+            back.stop()
 
 def test_falling_behind_real_time_names_the_plc(tmp_path, ports):
     # Scans of 100 us in real time: 1.5 s behind is more than one catch-up round can run.
