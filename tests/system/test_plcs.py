@@ -164,9 +164,46 @@ def test_check_config_and_print_map_name_each_plc(tmp_path, ports):
     assert '\n"plcs[2]","holding registers",' in r.stdout
 
 
+def rtu_disagrees(setting):
+    """Two stations on /dev/ttyS9, the second with `setting` (key: value): (text, where, message),
+    the position being the value's."""
+    key = setting.split(":")[0]
+    line = f"     rtu: {{device: /dev/ttyS9, {setting}}}}}}}\n"
+    return ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {port: 1502},\n"
+            "     rtu: {device: /dev/ttyS9}}}\n"
+            "  - {name: b, profile: fbs, station: 2, simulator: {unit: 0}, modbus: {tcp: {port: 1503},\n"
+            + line, f":5:{line.index(setting) + len(key) + 3}:",
+            f"plcs[1] (b): modbus.rtu.{key}: differs from plcs[0]'s, which shares the serial line "
+            "'/dev/ttyS9'")
+
+
+def tcp_disagrees(setting):
+    """Two PLCs behind 0.0.0.0:1502, the second with `setting` (key: value), as rtu_disagrees."""
+    key = setting.split(":")[0]
+    line = f"     modbus: {{tcp: {{port: 1502, {setting}}}}}}}\n"
+    return ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {port: 1502}}}\n"
+            "  - {name: b, profile: fbs, station: 2, simulator: {unit: 0},\n" + line,
+            f":4:{line.index(setting) + len(key) + 3}:",
+            f"plcs[1] (b): modbus.tcp.{key}: differs from plcs[0]'s, which shares the tcp "
+            "listener 0.0.0.0:1502")
+
+
 @pytest.mark.parametrize(
     "text, where, message",
     [
+        # Names: 1 to 32 letters, digits, '_' or '-'.
+        ("plcs:\n  - {name: a b, profile: fbs}\n",
+         ":2:12:", "plcs[0]: name: expected 1 to 32 letters, digits, '_' or '-', got 'a b'"),
+        ("plcs:\n  - {name: " + "n" * 33 + ", profile: fbs}\n",
+         ":2:12:", "plcs[0]: name: expected 1 to 32 letters, digits, '_' or '-'"),
+        # Every setting of a shared line, and of a shared TCP listener, must agree.
+        rtu_disagrees("parity: O"),
+        rtu_disagrees("data_bits: 7"),
+        rtu_disagrees("stop_bits: 2"),
+        tcp_disagrees("allow: [10.0.0.0/8]"),
+        tcp_disagrees("max_clients: 2"),
+        tcp_disagrees("idle_timeout_s: 30"),
+        tcp_disagrees("frame_timeout_ms: 1000"),
         # Two PLCs on one port, one on every address and one on 127.0.0.1: no shared listener.
         ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}}\n"
          "  - {profile: vb, modbus: {tcp: {bind: 127.0.0.1, port: 1502}}}\n",
@@ -253,6 +290,15 @@ def test_bad_plcs_entries_are_refused_at_load(tmp_path, text, where, message):
     r = run_plcemud("-c", path, "--check-config")
     assert r.returncode == 2, r.stdout + r.stderr
     assert f"{path}{where} {message}" in r.stderr, r.stderr
+
+
+def test_a_name_of_32_characters_is_accepted(tmp_path):
+    name = "A-z_9" + "n" * 27
+    path = tmp_path / "ok.yaml"
+    path.write_text(f"plcs:\n  - {{name: {name}, profile: fbs}}\n")
+    r = run_plcemud("-c", path, "--check-config")
+    assert r.returncode == 0, r.stderr
+    assert f"plcs[0] ({name}): ok" in r.stdout
 
 
 def test_a_device_and_a_symlink_to_it_are_one_serial_line(tmp_path):
