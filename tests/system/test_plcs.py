@@ -6,6 +6,7 @@ line, stations behind one TCP port); one event loop serves them all."""
 import contextlib
 import os
 import signal
+import socket
 import subprocess
 import time
 from pathlib import Path
@@ -13,7 +14,7 @@ from pathlib import Path
 import pytest
 from pymodbus.client import ModbusTcpClient
 
-from conftest import PLCEMUD, Daemon, free_port, port_open, run_plcemud
+from conftest import PLCEMUD, Daemon, free_port, port_open, raw_exchange, run_plcemud
 from rtu_pty import PtyPair, RawLine, frame as frame_of
 
 D0 = 6000  # fbs: holding 6000 is D0 (retentive by default)
@@ -146,6 +147,33 @@ def test_three_plcs_keep_their_own_images_maps_state_and_programs(tmp_path, port
         assert d.stop() == 0
 
 
+def test_a_reload_that_renames_or_adds_an_entry_is_refused(tmp_path, ports):
+    d = spawn(tmp_path, plcs_config(ports, tmp_path), ports)
+    try:
+        a, b = client_on(d, ports[0]), client_on(d, ports[1])
+        # Each attempt also moves line-b's copy to R2: refused, it keeps copying to R1.
+        renamed = plcs_config(ports, tmp_path, b_dest="R2").replace("line-b", "line-c")
+        added = plcs_config(ports, tmp_path, b_dest="R2") + (
+            f"  - {{name: extra, profile: fbs, modbus: {{tcp: {{port: {free_port()}}}}}}}\n")
+        for n, (text, why) in enumerate([
+            (renamed, "reload: plcs[1] (line-c): was plcs[1] (line-b); restart plcemud to "
+                      "rename or reorder PLCs"),
+            (added, "reload: the config has 4 PLC(s), 3 are running; restart plcemud to add or "
+                    "remove PLCs"),
+        ], start=1):
+            Path(d.config_path).write_text(text)
+            d.proc.send_signal(signal.SIGHUP)
+            wait_count(d, "configuration rejected", n)
+            assert why in d.log_text(), d.log_text()
+            assert not b.write_register(0, n, slave=2).isError()
+            assert wait_reg(b, 1, n, unit=2) == n
+            assert reg(b, 2, unit=2) == 0
+            assert reg(a, D0) == 0
+        assert "reload: plcs[0] (line-a): done" not in d.log_text()
+    finally:
+        assert d.stop() == 0
+
+
 def test_check_config_and_print_map_name_each_plc(tmp_path, ports):
     path = tmp_path / "plant.yaml"
     path.write_text(plcs_config(ports, tmp_path))
@@ -171,8 +199,8 @@ def rtu_disagrees(setting):
     line = f"     rtu: {{device: /dev/ttyS9, {setting}}}}}}}\n"
     return ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {port: 1502},\n"
             "     rtu: {device: /dev/ttyS9}}}\n"
-            "  - {name: b, profile: fbs, station: 2, simulator: {unit: 0}, modbus: {tcp: {port: 1503},\n"
-            + line, f":5:{line.index(setting) + len(key) + 3}:",
+            "  - {name: b, profile: fbs, station: 2, simulator: {unit: 0},"
+            " modbus: {tcp: {port: 1503},\n" + line, f":5:{line.index(setting) + len(key) + 3}:",
             f"plcs[1] (b): modbus.rtu.{key}: differs from plcs[0]'s, which shares the serial line "
             "'/dev/ttyS9'")
 
@@ -519,6 +547,27 @@ def wait_count(d, text, n, timeout=5.0):
     while d.log_text().count(text) < n:
         assert time.monotonic() < deadline, d.log_text()
         time.sleep(0.02)
+
+
+def test_max_clients_of_a_shared_listener_counts_every_plcs_clients(tmp_path):
+    shared, own = free_port(), free_port()
+    d = spawn(tmp_path, shared_tcp_config(shared, own).replace(
+        f"port: {shared}}}", f"port: {shared}, max_clients: 2}}"), [shared, own])
+    try:
+        assert d.wait_log("disconnected"), d.log_text()  # spawn's probe has gone
+        first, second = (socket.create_connection(("127.0.0.1", shared), timeout=1)
+                         for _ in range(2))
+        with first, second:
+            for c in (first, second):  # both talk to a
+                assert raw_exchange(c, fc03(D0), unit=1) == b"\x03\x02\x00\x00"
+            # A third is refused, though it would talk to b.
+            with socket.create_connection(("127.0.0.1", shared), timeout=1) as third:
+                with contextlib.suppress(ConnectionResetError):
+                    assert raw_exchange(third, fc03(D0), unit=2) is None
+            assert d.wait_log("refused: 2 clients already connected (modbus.tcp.max_clients)")
+            assert raw_exchange(second, fc03(D0), unit=2) == b"\x03\x02\x00\x00"
+    finally:
+        assert d.stop() == 0
 
 
 def test_r4055_cannot_take_a_unit_served_on_the_plcs_listeners(tmp_path):
