@@ -6,6 +6,7 @@ line, stations behind one TCP port); one event loop serves them all."""
 import contextlib
 import os
 import signal
+import socket
 import subprocess
 import time
 from pathlib import Path
@@ -13,7 +14,7 @@ from pathlib import Path
 import pytest
 from pymodbus.client import ModbusTcpClient
 
-from conftest import PLCEMUD, Daemon, free_port, port_open, run_plcemud
+from conftest import PLCEMUD, Daemon, free_port, port_open, raw_exchange, run_plcemud
 from rtu_pty import PtyPair, RawLine, frame as frame_of
 
 D0 = 6000  # fbs: holding 6000 is D0 (retentive by default)
@@ -146,6 +147,33 @@ def test_three_plcs_keep_their_own_images_maps_state_and_programs(tmp_path, port
         assert d.stop() == 0
 
 
+def test_a_reload_that_renames_or_adds_an_entry_is_refused(tmp_path, ports):
+    d = spawn(tmp_path, plcs_config(ports, tmp_path), ports)
+    try:
+        a, b = client_on(d, ports[0]), client_on(d, ports[1])
+        # Each attempt also moves line-b's copy to R2: refused, it keeps copying to R1.
+        renamed = plcs_config(ports, tmp_path, b_dest="R2").replace("line-b", "line-c")
+        added = plcs_config(ports, tmp_path, b_dest="R2") + (
+            f"  - {{name: extra, profile: fbs, modbus: {{tcp: {{port: {free_port()}}}}}}}\n")
+        for n, (text, why) in enumerate([
+            (renamed, "reload: plcs[1] (line-c): was plcs[1] (line-b); restart plcemud to "
+                      "rename or reorder PLCs"),
+            (added, "reload: the config has 4 PLC(s), 3 are running; restart plcemud to add or "
+                    "remove PLCs"),
+        ], start=1):
+            Path(d.config_path).write_text(text)
+            d.proc.send_signal(signal.SIGHUP)
+            wait_count(d, "configuration rejected", n)
+            assert why in d.log_text(), d.log_text()
+            assert not b.write_register(0, n, slave=2).isError()
+            assert wait_reg(b, 1, n, unit=2) == n
+            assert reg(b, 2, unit=2) == 0
+            assert reg(a, D0) == 0
+        assert "reload: plcs[0] (line-a): done" not in d.log_text()
+    finally:
+        assert d.stop() == 0
+
+
 def test_check_config_and_print_map_name_each_plc(tmp_path, ports):
     path = tmp_path / "plant.yaml"
     path.write_text(plcs_config(ports, tmp_path))
@@ -164,9 +192,46 @@ def test_check_config_and_print_map_name_each_plc(tmp_path, ports):
     assert '\n"plcs[2]","holding registers",' in r.stdout
 
 
+def rtu_disagrees(setting):
+    """Two stations on /dev/ttyS9, the second with `setting` (key: value): (text, where, message),
+    the position being the value's."""
+    key = setting.split(":")[0]
+    line = f"     rtu: {{device: /dev/ttyS9, {setting}}}}}}}\n"
+    return ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {port: 1502},\n"
+            "     rtu: {device: /dev/ttyS9}}}\n"
+            "  - {name: b, profile: fbs, station: 2, simulator: {unit: 0},"
+            " modbus: {tcp: {port: 1503},\n" + line, f":5:{line.index(setting) + len(key) + 3}:",
+            f"plcs[1] (b): modbus.rtu.{key}: differs from plcs[0]'s, which shares the serial line "
+            "'/dev/ttyS9'")
+
+
+def tcp_disagrees(setting):
+    """Two PLCs behind 0.0.0.0:1502, the second with `setting` (key: value), as rtu_disagrees."""
+    key = setting.split(":")[0]
+    line = f"     modbus: {{tcp: {{port: 1502, {setting}}}}}}}\n"
+    return ("plcs:\n  - {profile: fbs, simulator: {unit: 0}, modbus: {tcp: {port: 1502}}}\n"
+            "  - {name: b, profile: fbs, station: 2, simulator: {unit: 0},\n" + line,
+            f":4:{line.index(setting) + len(key) + 3}:",
+            f"plcs[1] (b): modbus.tcp.{key}: differs from plcs[0]'s, which shares the tcp "
+            "listener 0.0.0.0:1502")
+
+
 @pytest.mark.parametrize(
     "text, where, message",
     [
+        # Names: 1 to 32 letters, digits, '_' or '-'.
+        ("plcs:\n  - {name: a b, profile: fbs}\n",
+         ":2:12:", "plcs[0]: name: expected 1 to 32 letters, digits, '_' or '-', got 'a b'"),
+        ("plcs:\n  - {name: " + "n" * 33 + ", profile: fbs}\n",
+         ":2:12:", "plcs[0]: name: expected 1 to 32 letters, digits, '_' or '-'"),
+        # Every setting of a shared line, and of a shared TCP listener, must agree.
+        rtu_disagrees("parity: O"),
+        rtu_disagrees("data_bits: 7"),
+        rtu_disagrees("stop_bits: 2"),
+        tcp_disagrees("allow: [10.0.0.0/8]"),
+        tcp_disagrees("max_clients: 2"),
+        tcp_disagrees("idle_timeout_s: 30"),
+        tcp_disagrees("frame_timeout_ms: 1000"),
         # Two PLCs on one port, one on every address and one on 127.0.0.1: no shared listener.
         ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}}\n"
          "  - {profile: vb, modbus: {tcp: {bind: 127.0.0.1, port: 1502}}}\n",
@@ -253,6 +318,15 @@ def test_bad_plcs_entries_are_refused_at_load(tmp_path, text, where, message):
     r = run_plcemud("-c", path, "--check-config")
     assert r.returncode == 2, r.stdout + r.stderr
     assert f"{path}{where} {message}" in r.stderr, r.stderr
+
+
+def test_a_name_of_32_characters_is_accepted(tmp_path):
+    name = "A-z_9" + "n" * 27
+    path = tmp_path / "ok.yaml"
+    path.write_text(f"plcs:\n  - {{name: {name}, profile: fbs}}\n")
+    r = run_plcemud("-c", path, "--check-config")
+    assert r.returncode == 0, r.stderr
+    assert f"plcs[0] ({name}): ok" in r.stdout
 
 
 def test_a_device_and_a_symlink_to_it_are_one_serial_line(tmp_path):
@@ -475,6 +549,27 @@ def wait_count(d, text, n, timeout=5.0):
         time.sleep(0.02)
 
 
+def test_max_clients_of_a_shared_listener_counts_every_plcs_clients(tmp_path):
+    shared, own = free_port(), free_port()
+    d = spawn(tmp_path, shared_tcp_config(shared, own).replace(
+        f"port: {shared}}}", f"port: {shared}, max_clients: 2}}"), [shared, own])
+    try:
+        assert d.wait_log("disconnected"), d.log_text()  # spawn's probe has gone
+        first, second = (socket.create_connection(("127.0.0.1", shared), timeout=1)
+                         for _ in range(2))
+        with first, second:
+            for c in (first, second):  # both talk to a
+                assert raw_exchange(c, fc03(D0), unit=1) == b"\x03\x02\x00\x00"
+            # A third is refused, though it would talk to b.
+            with socket.create_connection(("127.0.0.1", shared), timeout=1) as third:
+                with contextlib.suppress(ConnectionResetError):
+                    assert raw_exchange(third, fc03(D0), unit=2) is None
+            assert d.wait_log("refused: 2 clients already connected (modbus.tcp.max_clients)")
+            assert raw_exchange(second, fc03(D0), unit=2) == b"\x03\x02\x00\x00"
+    finally:
+        assert d.stop() == 0
+
+
 def test_r4055_cannot_take_a_unit_served_on_the_plcs_listeners(tmp_path):
     shared, own = free_port(), free_port()
     d = spawn(tmp_path, shared_tcp_config(shared, own), [shared, own])
@@ -554,20 +649,56 @@ def test_reload_checks_units_against_the_stations_in_force(tmp_path):
         assert d.stop() == 0
 
 
+def with_programs(text):
+    """multidrop_config with st1 and st2 copying R0 to R1 in every scan."""
+    mov = "program: [{MOV: {en: M1926, s: R0, d: R1}}], "
+    return text.replace("{name: st1, ", "{name: st1, " + mov).replace("{name: st2, ",
+                                                                      "{name: st2, " + mov)
+
+
 def test_a_shared_line_that_cannot_be_reopened_at_a_reload(tmp_path):
-    with multidrop(tmp_path) as (d, _, _, port):
+    with multidrop(tmp_path) as (d, line, pair, port):
         # Like a PLC alone on its line: the reload applies, and its PLCs run without the line
         # (docs/configuration.md, "Several PLCs").
-        missing = tmp_path / "gone"
-        Path(d.config_path).write_text(multidrop_config(missing, port))
+        later = tmp_path / "later"
+        later.mkdir()
+        missing = later / "plcemu-rtu-a"  # where PtyPair(later) will put its device
+        Path(d.config_path).write_text(with_programs(multidrop_config(missing, port)))
         d.proc.send_signal(signal.SIGHUP)
         assert d.wait_log("reload: plcs[2] (st3): done"), d.log_text()
         assert d.wait_log(f"reload: rtu: cannot open {missing}: No such file or directory; serving "
                           "without the serial port for plcs[0] (st1), plcs[1] (st2), plcs[2] (st3)"
                           ), d.log_text()
         assert "rtu: rtu:" not in d.log_text()
-        assert reg(client_on(d, port), D0) == 0
+        assert "configuration rejected" not in d.log_text()
+        # st1 took its new config: its new program copies R0 to R1, seen on its TCP port.
+        c = client_on(d, port)
+        assert not c.write_register(0, 41, slave=1).isError()
+        assert wait_reg(c, 1, 41, unit=1) == 41
+        # The old line is closed: nobody answers on it.
+        line.send(frame_of(2, fc03(D0)))
+        assert line.silent(0.2)
 
+        # The device appears; the next reload (the same config) opens it, and every station
+        # answers on it, st2 with its new program.
+        back = PtyPair(later)
+        assert back.slave == str(missing)
+        line = RawLine(back.master)  # the old line's own is closed by multidrop()
+        try:
+            d.proc.send_signal(signal.SIGHUP)
+            wait_count(d, "reload: plcs[2] (st3): done", 2)
+            assert d.wait_log(f"listening on rtu {missing}"), d.log_text()
+            assert line.request(2, fc06(0, 42), 8) == fc06(0, 42)
+            deadline = time.monotonic() + 2
+            while line.request(2, fc03(1), 7)[2:] != (42).to_bytes(2, "big"):
+                assert time.monotonic() < deadline, "st2's new program never copied R0 to R1"
+                time.sleep(0.02)
+            for unit in (1, 3):
+                assert line.request(unit, fc03(D0), 7)[2:] == (0).to_bytes(2, "big"), unit
+            assert reg(c, 1, unit=1) == 41  # st1 kept its image across both reloads
+        finally:
+            line.close()
+            back.stop()
 
 def test_falling_behind_real_time_names_the_plc(tmp_path, ports):
     # Scans of 100 us in real time: 1.5 s behind is more than one catch-up round can run.
