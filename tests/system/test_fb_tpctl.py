@@ -1,8 +1,8 @@
 """FUN85 TPSNS and the FB's FUN86 TPCTL of profile fb (docs/profile-fb.md, "FUN85 TPSNS" and "FUN86
 TPCTL") through Modbus TCP against the real daemon, frozen and stepped through the simulator
 unit: the first-execution defaults by TPSNS's Pl, ERR for Sn/Zn at run time, TPSNS's EN gating
-TPCTL, the measuring round of ceil(N/4) x R4004, `md` refused, a program mixing TP4 and TPSNS
-refused naming both, devices shared by TPSNS and TPCTL refused, and config/fb-tpctl.yaml
+TPCTL, the measuring round of ceil(N/4) x R4004, `md` refused, a program mixing TP4 or TSTC
+with TPSNS refused naming both, devices shared by TPSNS and TPCTL refused, and config/fb-tpctl.yaml
 running."""
 
 from test_fb_tp4 import FB, on, s16
@@ -127,15 +127,24 @@ def test_s11_md_is_a_config_error(tmp_path):
     expect_config_error(tmp_path, text, 8, 32, "has no Md")
 
 
-def test_s12_tp4_with_tpsns_exits_2_naming_both(tmp_path):
+def test_s12_tp4_or_tstc_with_tpsns_exits_2_naming_both(tmp_path):
     """FB manual FUN73: the FB-2A…4 modules "cannot be used together with … FB-4AJ(K)xx": a
-    program with both a TP4 and a TPSNS exits with status 2, naming both entries."""
+    program with both a TP4 (or a TSTC) and a TPSNS exits with status 2, naming both entries."""
     tp4 = "  - TP4: {en: M3, tp: 0, pl: 0, sm: 0, ym: Y16, ar: R3842, tr: R40, wr: R220}\n"
     text = FB + "program:\n" + tp4 + tpsns()
     err = expect_config_error(tmp_path, text, 6, 5, "the TPSNS cannot be used with the TP4")
     assert f"{tmp_path / 'vb.yaml'}:5:5" in err
     p, r = check_config(tmp_path, FB + "program:\n" + tpsns() + tp4)
     assert r.returncode == 2 and f"{p}:6:5: the TP4 cannot be used with the TPSNS at {p}:5:5" \
+        in r.stderr, r.stderr
+    tstc = ("  - TSTC: {en: M0, hc: 1, tp: 0, pl: 0, sm: 0, ym: Y16, ar: R3842, tr: R40, "
+            "yh: Y48, sh: 0, zh: 4, sv: R100, os: R120, pr: R140, ir: R160, dr: R180, or: R300, "
+            "wr: R200, err: M100, ao0: M101, ao1: M102}\n")
+    err = expect_config_error(tmp_path, FB + "program:\n" + tstc + tpsns(), 6, 5,
+                              "the TPSNS cannot be used with the TSTC")
+    assert f"{tmp_path / 'vb.yaml'}:5:5" in err
+    p, r = check_config(tmp_path, FB + "program:\n" + tpsns() + tstc)
+    assert r.returncode == 2 and f"{p}:6:5: the TSTC cannot be used with the TPSNS at {p}:5:5" \
         in r.stderr, r.stderr
 
 

@@ -84,6 +84,17 @@ struct Rig {
     daemon::Plc plc;
 };
 
+// A tpctl("sn: 4, zn: 2"): SP 201 (E = 1 °C on the 200 °C readings), offset 5, Kc 60, Ti 17,
+// Td 0, both ENs on, no scan yet.
+void enable_sp_201_on_points_4_5(Rig& rig) {
+    rig.set_block(300, 201, 2);
+    rig.set_block(330, 5, 2);
+    rig.set_block(360, 60, 2);
+    rig.set_block(390, 17, 2);
+    rig.set_m(0, true);
+    rig.set_m(1, true);
+}
+
 // FB manual FUN86 with FUN73's first execution: every point whose PR is 0 gets Kc by TPSNS's
 // Pl (60/30/120/60), Ti 17, Td 100; a nonzero PR is kept with its Ti and Td.
 TEST(FbTpctl, FirstExecutionDefaultsByTpsnsPl) {
@@ -132,12 +143,7 @@ TEST(FbTpctl, ErrForSnZnOutOfRange) {
 // = 247 at E = 1 °C, on 0-4095.
 TEST(FbTpctl, PidOnTpsnsReadingsOnceRead) {
     Rig rig(tpsns() + tpctl("sn: 4, zn: 2"));
-    rig.set_block(300, 201, 2);
-    rig.set_block(330, 5, 2);
-    rig.set_block(360, 60, 2);
-    rig.set_block(390, 17, 2);
-    rig.set_m(0, true);
-    rig.set_m(1, true);
+    enable_sp_201_on_points_4_5(rig);
     rig.scan(67);  // …660 ms
     EXPECT_EQ(rig.r(450), 0);
     EXPECT_EQ(rig.r(484), 0);
@@ -145,9 +151,28 @@ TEST(FbTpctl, PidOnTpsnsReadingsOnceRead) {
     EXPECT_EQ(rig.r(450), 247);
     EXPECT_EQ(rig.r(451), 247);
     EXPECT_EQ(rig.r(484), 0x0202);
-    rig.set_r(5, 100);  // the PV is read from TR + Sn + i each scan
-    rig.scan(200);
-    EXPECT_EQ(rig.r(450), 248);
+}
+
+// Point i's PV is taken from TR + Sn + i at each PID step, whoever wrote it: with Ts 1 s (R4005
+// 0003h) PID steps at 670 and 1670 ms, and TPSNS rereads points 4-7 only at 2668 ms, so R5 set
+// to 100 °C after the first step is point 1's PV at the second — its output (R451) goes to
+// full scale while point 0's (R450, PV R4 still 200) only takes its integral step.
+TEST(FbTpctl, PvIsTrPlusSnPlusIAtEachStep) {
+    Rig rig(tpsns() + tpctl("sn: 4, zn: 2"));
+    rig.set_r(4005, 0x0003);
+    enable_sp_201_on_points_4_5(rig);
+    rig.scan(68);  // 670 ms: points 4-7 read, the first step
+    ASSERT_EQ(rig.r(484), 0x0201);
+    const std::uint16_t first = rig.r(450);
+    EXPECT_EQ(rig.r(451), first);
+    rig.set_r(5, 100);
+    rig.scan(99);  // …1660 ms: no step
+    EXPECT_EQ(rig.r(450), first);
+    EXPECT_EQ(rig.r(451), first);
+    rig.scan();  // 1670 ms: the second step
+    EXPECT_EQ(rig.r(450), first + 1);
+    EXPECT_EQ(rig.r(451), 4095);
+    EXPECT_EQ(rig.r(5), 100) << "not reread before 2668 ms";
 }
 
 // R4005 as TSTC's: low byte Ts, high byte PWM, 0 → 2 s, 1 → 4 s, 2 → 8 s, ≥ 3 → 1 s, read when EN
@@ -258,6 +283,37 @@ TEST(FbTpctl, R4008AtLeast50) {
     EXPECT_EQ(rig.r(485), 0x0002);
 }
 
+// docs/profile-fb.md, "FUN73 TSTC", broken point: a broken sensor's reading (991 for K on 0~10 V)
+// is a temperature and counts for over-temperature once it has stood ≥ R4008 for 10 consecutive
+// scans — WR+5 and WR+2 bit 0, and ALM — while the point's output is OFF and OR 0. With R4008
+// above the reading there is no over-temperature.
+TEST(FbTpctl, BrokenPointCountsForOverTemperature) {
+    for (const int r4008 : {350, 1000}) {
+        Rig rig(tpsns() + tpctl("sn: 0, zn: 2"));
+        rig.set_r(4008, r4008);
+        rig.start(200);  // in zone: no warning, ALM OFF
+        EXPECT_FALSE(rig.m(101));
+        EXPECT_EQ(rig.r(485), 0);
+        plant::Faults f;
+        f.sensor_broken = true;
+        rig.plc.plant().set_faults(0, f);
+        rig.set_block(300, 250, 2);  // now full output for a sound point
+        rig.scan(34);                // 2340 ms: point 0 read again, broken
+        EXPECT_EQ(rig.r(0), 991);
+        EXPECT_EQ(rig.r(450), 0);
+        EXPECT_FALSE(rig.y(30));
+        EXPECT_EQ(rig.r(451), 4095) << "point 1 is sound";
+        EXPECT_EQ(rig.r(485), 0) << "not yet 10 scans";
+        rig.scan(10);
+        const int over = r4008 == 350 ? 0x0001 : 0;
+        EXPECT_EQ(rig.r(485), over) << r4008;
+        EXPECT_EQ(rig.r(482), over) << r4008;
+        EXPECT_EQ(rig.r(450), 0) << r4008;
+        EXPECT_FALSE(rig.y(30)) << r4008;
+        EXPECT_TRUE(rig.m(101)) << r4008;  // out of zone (SP 250) either way
+    }
+}
+
 // EN off: Yn OFF, OR 0, WR+0…WR+8 0, ALM OFF.
 TEST(FbTpctl, EnOff) {
     Rig rig;
@@ -326,6 +382,27 @@ TEST(FbTpctl, LoadChecks) {
     expect_config_error(config_failure([&] { Rig rig(tpsns() + tpctl("sn: 0, zn: 12") + second); }),
                         "fb.yaml", 10, 41,
                         "point 10 is already controlled by the TPCTL at fb.yaml:9:5");
+}
+
+// Load checks, the operand areas (docs/profile-fb.md, "FUN86 TPCTL"): SV…WR lie in R0–R3839,
+// R5000–R8071 or D0–D3071 (the FB's D, not the FBs' D0–D3999) — `sv: R3840` and a WR reaching
+// past D3071 (D3064, nine words) are refused at the operand; the last blocks that fit load.
+TEST(FbTpctl, LoadChecksOperandAreas) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    const std::string areas = "R0-R3839, R5000-R8071 or D0-D3071";
+    expect_config_error(
+        config_failure([] { Rig rig(tpsns() + with(tpctl(), "sv: R300", "sv: R3840")); }),
+        "fb.yaml", 9, 56, areas);
+    expect_config_error(
+        config_failure([] { Rig rig(tpsns() + with(tpctl(), "sv: R300", "sv: R3820")); }),
+        "fb.yaml", 9, 56, areas);
+    expect_config_error(
+        config_failure([] { Rig rig(tpsns() + with(tpctl(), "wr: R480", "wr: D3064")); }),
+        "fb.yaml", 9, 116, "expected 9 word(s) in R, D, got 'D3064'");
+    EXPECT_NO_THROW(Rig(tpsns() + with(tpctl(), "sv: R300", "sv: R3816")));
+    EXPECT_NO_THROW(Rig(tpsns() + with(tpctl(), "sv: R300", "sv: R5000")));
+    EXPECT_NO_THROW(Rig(tpsns() + with(tpctl(), "wr: R480", "wr: D3063")));
 }
 
 // Load checks, what it writes (docs/profile-fb.md, "FUN86 TPCTL"): WR, OR, PR/IR/DR (the

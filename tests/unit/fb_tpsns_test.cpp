@@ -100,6 +100,20 @@ TEST(FbTpsns, RoundIsGroupsTimesR4004) {
     EXPECT_EQ(eighteen.r(0), 208);
 }
 
+// docs/profile-fb.md, "FUN85 TPSNS": with `temperature.modules` empty N is 24 — after a full round
+// points 0-23 are read into R3968+p and TR+p and WR+3 (read once, points 16-23) is 00FFh.
+TEST(FbTpsns, NoModulesMeasures24Points) {
+    Rig rig(kTpsns, "[]");
+    rig.set_m(1, true);
+    rig.scan(201);
+    EXPECT_EQ(rig.r(252), 0xFFFF);
+    EXPECT_EQ(rig.r(253), 0x00FF);
+    EXPECT_EQ(rig.r(3968 + 23), 826);
+    EXPECT_EQ(rig.r(23), 200);
+    EXPECT_EQ(rig.r(3968 + 24), 0);
+    EXPECT_EQ(rig.r(24), 0);
+}
+
 // Raw values go to R3968+p and readings to TR+p (K, 0~10 V: 200 °C → 826 / 200, 300 °C → 1239 /
 // 300); no relays or AR.
 TEST(FbTpsns, RawIntoR3968PlusPReadingIntoTrPlusP) {
@@ -201,6 +215,23 @@ TEST(FbTpsns, LoadChecks) {
                         "the TP4 cannot be used with the TPSNS at fb.yaml:10:5");
     expect_config_error(config_failure([] { Rig rig(kTpsns, "[FB-2AK4]"); }), "fb.yaml", 10, 25,
                         "lists the FB-2AK4 at fb.yaml:4:13");
+}
+
+// Load checks (docs/profile-fb.md, "FUN85 TPSNS"): a TSTC, like a TP4, measures the FB-2A…4
+// modules, which "cannot be used together with … FB-4AJ(K)xx" (FB manual FUN73): a program with
+// a TSTC and a TPSNS is refused at the later entry, naming the other, in either order.
+TEST(FbTpsns, LoadChecksTstcWithTpsns) {
+    using testing::config_failure;
+    using testing::expect_config_error;
+    const std::string tstc =
+        "  - TSTC: {en: M0, hc: 1, tp: 0, pl: 0, sm: 0, ym: Y16, ar: R3842, tr: R40, yh: Y48, "
+        "sh: 0, zh: 4, sv: R100, os: R120, pr: R140, ir: R160, dr: R180, or: R300, wr: R200, "
+        "err: M100, ao0: M101, ao1: M102}\n";
+    EXPECT_NO_THROW(Rig(tstc, "[]"));
+    expect_config_error(config_failure([&] { Rig rig(tstc + kTpsns, "[]"); }), "fb.yaml", 11, 5,
+                        "the TPSNS cannot be used with the TSTC at fb.yaml:10:5");
+    expect_config_error(config_failure([&] { Rig rig(kTpsns + tstc, "[]"); }), "fb.yaml", 11, 5,
+                        "the TSTC cannot be used with the TPSNS at fb.yaml:10:5");
 }
 
 // Load checks on what it writes (docs/profile-fb.md, "FUN85 TPSNS"): TR, WR, ERR and ALM. ALM
