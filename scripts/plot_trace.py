@@ -9,7 +9,12 @@ seconds, PV and SV (dashed) in °C and MV (D, output counts) on the right axis, 
 shaded and its end marked with the gains it wrote (Kp %, TI × 100 ms, TD × 10 ms); on the
 right the whole run in minutes, PV within SV ± 2 °C.
 
-Usage: plot_trace.py TRACE.csv [OUT.png]      (needs Debian's python3-matplotlib)
+A temperature register reads 0 until its module's first conversion, which comes after the
+trace's first sample: a PV column's leading zeros are not drawn (the curve starts at the first
+reading, not with a jump from 0 °C).
+
+Usage: plot_trace.py TRACE.csv [OUT.png]      (needs Debian's python3-matplotlib:
+                                               scripts/install-deps.sh plot)
 """
 
 import csv
@@ -17,7 +22,12 @@ import math
 import re
 import sys
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    print("plot_trace: needs matplotlib: install Debian's python3-matplotlib "
+          "(scripts/install-deps.sh plot)", file=sys.stderr)
+    sys.exit(2)
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -32,6 +42,22 @@ def main():
         rows = list(csv.DictReader(f))
     if not rows:
         sys.exit(f"plot_trace: {src} has no samples")
+    fig = draw(rows, src)
+    fig.savefig(out, dpi=90)
+    print(f"plot_trace: {out}")
+
+
+def measured(values):
+    """A PV column without the samples before the first conversion (the register reads 0 until
+    then): its leading zeros become NaN, unless the column is 0 throughout."""
+    first = next((i for i, x in enumerate(values) if x != 0), None)
+    if first is None:
+        return list(values)
+    return [math.nan] * first + list(values[first:])
+
+
+def draw(rows, src):
+    """The figure of a trace's rows (csv.DictReader's); src names it in the title."""
     channels = sorted({int(m.group(1)) for k in rows[0] for m in [re.match(r"c(\d+)_pv$", k)] if m})
 
     def col(name):
@@ -62,7 +88,7 @@ def main():
         ax = axes[k // ncols][k % ncols]
         if k >= ncols:
             ax.sharex(axes[0][k % ncols])
-        pv, sp = col(f"c{c}_pv"), col(f"c{c}_sp")
+        pv, sp = measured(col(f"c{c}_pv")), col(f"c{c}_sp")
         out_pct = [v / 16383 * 100 for v in col(f"c{c}_or")]
         duty = col(f"c{c}_duty")
         ax.plot(minutes, pv, color="tab:red", label="PV")
@@ -78,9 +104,8 @@ def main():
         ax2.set_ylim(-5, 105)
         ax2.set_ylabel("%")
         if k == 0:
-            lines = [x for x in ax.get_lines() + ax2.get_lines()
-                     if not x.get_label().startswith("_")]
-            ax.legend(lines, [x.get_label() for x in lines], loc="lower right", fontsize=7)
+            legend = [x for x in ax.get_lines() + ax2.get_lines()
+                      if not x.get_label().startswith("_")]
         if k >= n - ncols:
             ax.set_xlabel("simulated minutes")
     for k in range(n, crows * ncols):
@@ -92,15 +117,23 @@ def main():
         title.append(f"{n} TPCTL point(s)")
     if loops:
         title.append(f"{len(loops)} PID loop(s)")
-    fig.suptitle(f"{src}: {', '.join(title)}")
-    fig.tight_layout()
-    fig.savefig(out, dpi=90)
-    print(f"plot_trace: {out}")
+    height = fig.get_figheight()
+    fig.suptitle(f"{src}: {', '.join(title)}", y=1 - 0.1 / height, va="top")
+    top = 1 - 0.45 / height
+    if n:
+        # The channels' legend goes above the panels, under the title: inside a panel it would
+        # hide that panel's curves.
+        fig.legend(legend, [x.get_label() for x in legend], loc="upper center", ncol=4,
+                   fontsize=8, bbox_to_anchor=(0.5, top), frameon=False)
+        top -= 0.3 / height
+    fig.tight_layout(rect=(0, 0, 1, top))
+    return fig
 
 
 def plot_pid(axes, p, col, times):
     """PID loop p on a row of two panels: the first 5 minutes, then the whole run."""
-    pv, sv, mv, at = col(f"pid{p}_pv"), col(f"pid{p}_sv"), col(f"pid{p}_mv"), col(f"pid{p}_at")
+    pv, sv, mv, at = (measured(col(f"pid{p}_pv")), col(f"pid{p}_sv"), col(f"pid{p}_mv"),
+                      col(f"pid{p}_at"))
     kp, ti, td = col(f"pid{p}_kp"), col(f"pid{p}_ti"), col(f"pid{p}_td")
     # Auto-tuning: the samples with S3+1 b4 ON; it ended at the first sample after them.
     tuning = [i for i, x in enumerate(at) if x == 1]
