@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs, from Debian's packages, whatever the build and the tests need and is missing.
-# Usage: scripts/install-deps.sh [run|test|package|style|bench|fuzz|plot|trace]...  (default: run)
+# Usage: scripts/install-deps.sh [run|kit|test|package|style|bench|fuzz|plot|trace]...
+#        (default: run)
 set -euo pipefail
 
 want=(cmake g++ make pkg-config libmodbus-dev libasio-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
@@ -8,12 +9,22 @@ want=(cmake g++ make pkg-config libmodbus-dev libasio-dev libyaml-cpp-dev libspd
 for what in "${@:-run}"; do
     case "$what" in
         run) ;;
+        # The README's examples against a running plcemud: mbpoll ("A first try"), pymodbus (with
+        # serial-asyncio, which Debian's pymodbus only recommends yet its client package
+        # imports), pytest for the plcemu_testing plugin (python3-yaml: its plcs: configs), and
+        # what `pip install --no-build-isolation ./python` in a venv needs (venv, setuptools,
+        # wheel).
+        kit) want+=(mbpoll python3-pymodbus python3-serial-asyncio python3-pytest python3-yaml
+                    python3-venv python3-setuptools python3-wheel) ;;
         # Debian's pymodbus only recommends serial-asyncio, yet its client package imports it.
         # man-db and groff-base render the man pages (tests/system/test_docs.py); python3-yaml
         # is scripts/trace.py's and python3-matplotlib scripts/plot_trace.py's
         # (tests/system/test_trace.py).
+        # python3-venv, -setuptools and -wheel: tests/system/test_newcomer.py installs python/
+        # in a venv.
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
                      python3-serial python3-yaml python3-matplotlib mbpoll socat clang-14
+                     python3-venv python3-setuptools python3-wheel
                      libclang-rt-14-dev systemd
                      iproute2 util-linux man-db groff-base ccache) ;;
         # CPack's DEB generator needs dpkg-shlibdeps (dpkg-dev) and file; lintian checks the result.
