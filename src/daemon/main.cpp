@@ -32,10 +32,9 @@ const char* kUsage =
     "      --port N         override modbus.tcp.port\n"
     "      --time-scale X   override time_scale (simulated seconds per real second)\n"
     "      --version        print the version and exit\n"
-    "  -h, --help           print this help and exit\n\n"
-    "Without -c, --print-map shows the map of the first profile by name.\n";
+    "  -h, --help           print this help and exit\n";
 
-// "Profiles: fbs (FATEK FBs), vb (VIGOR VB)".
+// "Profiles: fbs (FATEK FBs), vb (VIGOR VB), fb (FATEK FB)".
 std::string profile_list() {
     std::string s = "Profiles:";
     for (const auto* p : plcemu::profiles::all()) {
@@ -84,7 +83,10 @@ int main(int argc, char** argv) {
         };
         std::string v;
         if (a == "-h" || a == "--help") {
-            std::cout << kUsage << profile_list();
+            const auto& d = default_profile();
+            std::cout << kUsage << '\n'
+                      << profile_list() << "Without -c, --print-map shows the map of profile "
+                      << d.name() << " (" << d.title() << ").\n";
             return 0;
         } else if (a == "--version") {
             std::cout << "plcemud " << plcemu::daemon::version() << "\n";
