@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 
@@ -57,13 +58,16 @@ struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
         done = std::move(d);
         ++tid;
         const auto length = static_cast<std::uint16_t>(pdu.size() + 1);
-        auto frame = std::make_shared<std::vector<std::uint8_t>>();
-        frame->reserve(kMbapPrefix + length);
-        frame->insert(
-            frame->end(),
-            {static_cast<std::uint8_t>(tid >> 8), static_cast<std::uint8_t>(tid & 0xFF), 0, 0,
-             static_cast<std::uint8_t>(length >> 8), static_cast<std::uint8_t>(length & 0xFF), to});
-        frame->insert(frame->end(), pdu.begin(), pdu.end());
+        // Sized once and filled in place: GCC 12 at -O2 takes two inserts into a reserved
+        // vector for writes past its end (-Warray-bounds, -Wstringop-overflow).
+        auto frame = std::make_shared<std::vector<std::uint8_t>>(kMbapPrefix + length);
+        auto& f = *frame;
+        f[0] = static_cast<std::uint8_t>(tid >> 8);
+        f[1] = static_cast<std::uint8_t>(tid & 0xFF);
+        f[4] = static_cast<std::uint8_t>(length >> 8);
+        f[5] = static_cast<std::uint8_t>(length & 0xFF);
+        f[kMbapPrefix] = to;
+        std::copy(pdu.begin(), pdu.end(), f.begin() + kMbapPrefix + 1);
         // The deadline runs from the send, whatever the connection is doing (VB manual FNC149:
         // D9129 is how long the slave may take to respond).
         deadline.expires_after(timeout);
