@@ -606,12 +606,13 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     r.set_naming(profile->naming());
     const image::Layout layout = profile->layout();
     // A profile's own sections are kept as written for it to read; another profile's are
-    // refused where they stand.
+    // refused where they stand (an unknown key was refused above).
     const auto own = profile->sections();
     for (const auto& [key, value] : root.entries) {
         if (!key.is_scalar() || (entry && key.text == "name")) continue;
         if (std::find(kCommonSections.begin(), kCommonSections.end(), key.text) !=
-            kCommonSections.end()) {
+                kCommonSections.end() ||
+            std::find(known.begin(), known.end(), key.text) == known.end()) {
             continue;
         }
         if (std::find(own.begin(), own.end(), key.text) == own.end()) {
@@ -661,7 +662,7 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     if (const auto& p = root["persistence"]; p.is_map()) {
         check_ranges_exist(r, p["retentive"], "persistence.retentive entry", layout);
     }
-    section(r, root, "log", read_log, c.log);
+    if (!entry) section(r, root, "log", read_log, c.log);  // an entry's was refused above
     // The checks below compare what several keys said: after an error in one of them they would
     // only repeat it in other words (docs/configuration.md, "Configuration").
     if (r.errors_found() != errors_before) return c;

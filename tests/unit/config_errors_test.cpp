@@ -131,9 +131,10 @@ TEST(ConfigErrors, AKeyInErrorCausesNoFollowOnErrors) {
     expect_config_errors(one_plc("profile: fbs\nstation: 300\nsimulator: {unit: 1}\n"), "t.yaml",
                          {{2, 10, "station: 300 is out of range"}});
     // The same list entry is not refused twice (it is no range, let alone one on this PLC).
-    expect_config_errors(one_plc("profile: fbs\nmodbus: {write_protect: [D1-, D9000]}\n"), "t.yaml",
+    expect_config_errors(one_plc("profile: fbs\nmodbus: {write_protect: [D1-, D9000-D9001]}\n"),
+                         "t.yaml",
                          {{2, 26, "modbus.write_protect entry: expected a device range"},
-                          {2, 31, "modbus.write_protect entry: D9000"}});
+                          {2, 31, "modbus.write_protect entry: D9000-D9001"}});
 }
 
 // `plcs:`: the errors of every entry, each named by its entry, in the order of the file.
