@@ -65,25 +65,33 @@ bool valid_cidr(const std::string& text) {
 
 void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what) {
     r.check_keys(n, what, {"device", "baud", "parity", "data_bits", "stop_bits"});
-    if (!n["device"]) r.fail(n, what + ": 'device' is required");
-    rtu.device = r.scalar(n["device"], what + ".device");
-    if (n["baud"]) {
+    r.attempt([&] {
+        if (!n["device"]) r.fail(n, what + ": 'device' is required");
+        rtu.device = r.scalar(n["device"], what + ".device");
+    });
+    r.attempt([&] {
+        if (!n["baud"]) return;
         const long long b = r.integer(n["baud"], what + ".baud", 300, 921600);
         static const std::set<long long> kBauds{300,   600,   1200,   2400,   4800,   9600,  19200,
                                                 38400, 57600, 115200, 230400, 460800, 921600};
         if (!kBauds.count(b)) r.fail(n["baud"], what + ".baud: not a standard baud rate");
         rtu.baud = static_cast<int>(b);
-    }
-    if (n["parity"]) {
+    });
+    r.attempt([&] {
+        if (!n["parity"]) return;
         const std::string p = r.scalar(n["parity"], what + ".parity");
         if (p != "N" && p != "E" && p != "O")
             r.fail(n["parity"], what + ".parity: expected N, E or O");
         rtu.parity = p[0];
-    }
-    if (n["data_bits"])
-        rtu.data_bits = static_cast<int>(r.integer(n["data_bits"], what + ".data_bits", 7, 8));
-    if (n["stop_bits"])
-        rtu.stop_bits = static_cast<int>(r.integer(n["stop_bits"], what + ".stop_bits", 1, 2));
+    });
+    r.attempt([&] {
+        if (n["data_bits"])
+            rtu.data_bits = static_cast<int>(r.integer(n["data_bits"], what + ".data_bits", 7, 8));
+    });
+    r.attempt([&] {
+        if (n["stop_bits"])
+            rtu.stop_bits = static_cast<int>(r.integer(n["stop_bits"], what + ".stop_bits", 1, 2));
+    });
 }
 
 std::string outside(const image::Naming& naming,
@@ -107,16 +115,81 @@ std::string outside(const Reader& r, const image::Layout& layout, const image::R
     return config::outside(r.naming(), layout, rg);
 }
 
-// Device ranges of a list (write_protect, retentive) must exist on the profile's PLC.
+// Device ranges of a list (write_protect, retentive) must exist on the profile's PLC. An entry
+// that is no range was refused where the list was read, and is not refused twice.
 void check_ranges_exist(const Reader& r,
                         const Node& list,
                         const std::string& what,
                         const image::Layout& layout) {
     if (!list || !list.is_sequence()) return;
     for (const auto& e : list.items) {
-        const image::Range rg = r.range(e, what);
-        if (!layout.contains(rg)) r.fail(e, what + ": " + outside(r, layout, rg));
+        const auto rg = e.is_scalar() ? r.naming().parse_range(e.text) : std::nullopt;
+        if (rg && !layout.contains(*rg)) r.report(e, what + ": " + outside(r, layout, *rg));
     }
+}
+
+// One row of `modbus.map`, checked against the rows before it.
+void read_map_row(const Reader& r,
+                  const Node& e,
+                  const image::Layout& layout,
+                  std::vector<MapRowConfig>& rows) {
+    r.check_keys(e, "modbus.map row", {"table", "start", "device", "count", "access"});
+    for (const char* k : {"table", "start", "device", "count"}) {
+        if (!e[k]) r.fail(e, std::string("modbus.map row: '") + k + "' is required");
+    }
+    MapRowConfig row;
+    row.pos = r.pos(e);
+    const std::string t = r.scalar(e["table"], "modbus.map.table");
+    if (t == "coils") {
+        row.table = MapTable::Coils;
+    } else if (t == "discrete_inputs") {
+        row.table = MapTable::DiscreteInputs;
+    } else if (t == "holding") {
+        row.table = MapTable::Holding;
+    } else if (t == "input") {
+        row.table = MapTable::Input;
+    } else {
+        r.fail(e["table"],
+               "modbus.map.table: expected coils, discrete_inputs, holding or "
+               "input, got '" +
+                   excerpt(t) + "'");
+    }
+    row.start = static_cast<std::uint16_t>(r.integer(e["start"], "modbus.map.start", 0, 65535));
+    row.count = static_cast<std::uint16_t>(r.integer(e["count"], "modbus.map.count", 1, 65535));
+    if (std::uint32_t{row.start} + row.count > 65536) {
+        r.fail(e["count"], "modbus.map.count: the row runs past wire address 65535");
+    }
+    row.text = r.scalar(e["device"], "modbus.map.device");
+    row.device = r.device(e["device"], "modbus.map.device");
+    const bool bit_table = row.table == MapTable::Coils || row.table == MapTable::DiscreteInputs;
+    const bool bit_device = image::is_bit_area(row.device.area);
+    if (bit_table && (!bit_device || row.device.word_of_bits)) {
+        r.fail(e["device"], "modbus.map.device: a " + t + " row needs a bit device, got '" +
+                                excerpt(row.text) + "'");
+    }
+    if (!bit_table && bit_device && !row.device.word_of_bits) {
+        r.fail(e["device"],
+               "modbus.map.device: a register table needs a word device or 16 "
+               "packed bits such as WM0, got '" +
+                   excerpt(row.text) + "'");
+    }
+    const std::uint32_t per = row.device.word_of_bits ? 16 : 1;
+    const image::Range devices{row.device.area, row.device.index, per * row.count};
+    if (!layout.contains(devices)) r.fail(e, "modbus.map row: " + outside(r, layout, devices));
+    if (const auto& a = e["access"]) {
+        const std::string s = r.scalar(a, "modbus.map.access");
+        if (s != "ro" && s != "rw") r.fail(a, "modbus.map.access: expected ro or rw");
+        row.read_only = s == "ro";
+    }
+    for (const auto& o : rows) {
+        if (o.table == row.table && row.start < o.start + o.count &&
+            o.start < row.start + row.count) {
+            r.fail(e, "modbus.map row: wire addresses " + std::to_string(row.start) + "-" +
+                          std::to_string(row.start + row.count - 1) + " overlap the row at line " +
+                          std::to_string(o.pos.line));
+        }
+    }
+    rows.push_back(std::move(row));
 }
 
 // `modbus.map`: rows of a map that replaces the profile's.
@@ -128,134 +201,107 @@ void read_map(const Reader& r,
         r.fail(n,
                "modbus.map: expected a list of rows such as {table: holding, start: 0, device: D0, "
                "count: 100}");
-    for (const auto& e : n.items) {
-        r.check_keys(e, "modbus.map row", {"table", "start", "device", "count", "access"});
-        for (const char* k : {"table", "start", "device", "count"}) {
-            if (!e[k]) r.fail(e, std::string("modbus.map row: '") + k + "' is required");
-        }
-        MapRowConfig row;
-        row.pos = r.pos(e);
-        const std::string t = r.scalar(e["table"], "modbus.map.table");
-        if (t == "coils") {
-            row.table = MapTable::Coils;
-        } else if (t == "discrete_inputs") {
-            row.table = MapTable::DiscreteInputs;
-        } else if (t == "holding") {
-            row.table = MapTable::Holding;
-        } else if (t == "input") {
-            row.table = MapTable::Input;
-        } else {
-            r.fail(e["table"],
-                   "modbus.map.table: expected coils, discrete_inputs, holding or "
-                   "input, got '" +
-                       excerpt(t) + "'");
-        }
-        row.start = static_cast<std::uint16_t>(r.integer(e["start"], "modbus.map.start", 0, 65535));
-        row.count = static_cast<std::uint16_t>(r.integer(e["count"], "modbus.map.count", 1, 65535));
-        if (std::uint32_t{row.start} + row.count > 65536) {
-            r.fail(e["count"], "modbus.map.count: the row runs past wire address 65535");
-        }
-        row.text = r.scalar(e["device"], "modbus.map.device");
-        row.device = r.device(e["device"], "modbus.map.device");
-        const bool bit_table =
-            row.table == MapTable::Coils || row.table == MapTable::DiscreteInputs;
-        const bool bit_device = image::is_bit_area(row.device.area);
-        if (bit_table && (!bit_device || row.device.word_of_bits)) {
-            r.fail(e["device"], "modbus.map.device: a " + t + " row needs a bit device, got '" +
-                                    excerpt(row.text) + "'");
-        }
-        if (!bit_table && bit_device && !row.device.word_of_bits) {
-            r.fail(e["device"],
-                   "modbus.map.device: a register table needs a word device or 16 "
-                   "packed bits such as WM0, got '" +
-                       excerpt(row.text) + "'");
-        }
-        const std::uint32_t per = row.device.word_of_bits ? 16 : 1;
-        const image::Range devices{row.device.area, row.device.index, per * row.count};
-        if (!layout.contains(devices)) r.fail(e, "modbus.map row: " + outside(r, layout, devices));
-        if (const auto& a = e["access"]) {
-            const std::string s = r.scalar(a, "modbus.map.access");
-            if (s != "ro" && s != "rw") r.fail(a, "modbus.map.access: expected ro or rw");
-            row.read_only = s == "ro";
-        }
-        for (const auto& o : rows) {
-            if (o.table == row.table && row.start < o.start + o.count &&
-                o.start < row.start + row.count) {
-                r.fail(e, "modbus.map row: wire addresses " + std::to_string(row.start) + "-" +
-                              std::to_string(row.start + row.count - 1) +
-                              " overlap the row at line " + std::to_string(o.pos.line));
-            }
-        }
-        rows.push_back(std::move(row));
-    }
+    for (const auto& e : n.items) r.attempt([&] { read_map_row(r, e, layout, rows); });
 }
 
 void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp) {
     r.check_keys(n, "modbus.tcp",
                  {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients",
                   "idle_timeout_s", "frame_timeout_ms"});
-    if (n["enabled"]) tcp.enabled = r.boolean(n["enabled"], "modbus.tcp.enabled");
-    if (n["bind"]) {
-        tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");
-        if (!valid_address(tcp.bind)) {
-            r.fail(n["bind"],
-                   "modbus.tcp.bind: expected a numeric IPv4 or IPv6 address such as "
-                   "0.0.0.0 or ::, got '" +
-                       excerpt(tcp.bind) + "'");
-        }
-    }
-    if (n["port"])
-        tcp.port = static_cast<std::uint16_t>(r.integer(n["port"], "modbus.tcp.port", 0, 65535));
-    if (n["unknown_unit"]) {
-        const std::string s = r.scalar(n["unknown_unit"], "modbus.tcp.unknown_unit");
-        if (s == "exception") {
-            tcp.unknown_unit = UnknownUnit::Exception;
-        } else if (s == "silent") {
-            tcp.unknown_unit = UnknownUnit::Silent;
-        } else {
-            r.fail(n["unknown_unit"], "modbus.tcp.unknown_unit: expected 'exception' or 'silent'");
-        }
-    }
-    if (const auto& a = n["allow"]) {
-        if (!a.is_sequence()) r.fail(a, "modbus.tcp.allow: expected a list of CIDR ranges");
-        for (const auto& e : a.items) {
-            tcp.allow.push_back(r.scalar(e, "modbus.tcp.allow entry"));
-            if (!valid_cidr(tcp.allow.back())) {
-                r.fail(e,
-                       "modbus.tcp.allow: expected a CIDR range such as 192.168.1.0/24 or an "
-                       "address, got '" +
-                           excerpt(tcp.allow.back()) + "'");
+    r.attempt([&] {
+        if (n["enabled"]) tcp.enabled = r.boolean(n["enabled"], "modbus.tcp.enabled");
+    });
+    r.attempt([&] {
+        if (n["bind"]) {
+            tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");
+            if (!valid_address(tcp.bind)) {
+                r.fail(n["bind"],
+                       "modbus.tcp.bind: expected a numeric IPv4 or IPv6 address such as "
+                       "0.0.0.0 or ::, got '" +
+                           excerpt(tcp.bind) + "'");
             }
         }
-    }
-    if (n["max_clients"]) {
-        tcp.max_clients =
-            static_cast<int>(r.integer(n["max_clients"], "modbus.tcp.max_clients", 1, 10000));
-    }
-    if (n["idle_timeout_s"]) {
-        tcp.idle_timeout_s =
-            static_cast<int>(r.integer(n["idle_timeout_s"], "modbus.tcp.idle_timeout_s", 0, 86400));
-    }
-    if (n["frame_timeout_ms"]) {
-        tcp.frame_timeout_ms = static_cast<int>(
-            r.integer(n["frame_timeout_ms"], "modbus.tcp.frame_timeout_ms", 100, 60000));
-    }
+    });
+    r.attempt([&] {
+        if (n["port"])
+            tcp.port =
+                static_cast<std::uint16_t>(r.integer(n["port"], "modbus.tcp.port", 0, 65535));
+    });
+    r.attempt([&] {
+        if (n["unknown_unit"]) {
+            const std::string s = r.scalar(n["unknown_unit"], "modbus.tcp.unknown_unit");
+            if (s == "exception") {
+                tcp.unknown_unit = UnknownUnit::Exception;
+            } else if (s == "silent") {
+                tcp.unknown_unit = UnknownUnit::Silent;
+            } else {
+                r.fail(n["unknown_unit"],
+                       "modbus.tcp.unknown_unit: expected 'exception' or 'silent'");
+            }
+        }
+    });
+    r.attempt([&] {
+        if (const auto& a = n["allow"]) {
+            if (!a.is_sequence()) r.fail(a, "modbus.tcp.allow: expected a list of CIDR ranges");
+            for (const auto& e : a.items) {
+                r.attempt([&] {
+                    tcp.allow.push_back(r.scalar(e, "modbus.tcp.allow entry"));
+                    if (!valid_cidr(tcp.allow.back())) {
+                        r.fail(
+                            e,
+                            "modbus.tcp.allow: expected a CIDR range such as 192.168.1.0/24 or an "
+                            "address, got '" +
+                                excerpt(tcp.allow.back()) + "'");
+                    }
+                });
+            }
+        }
+    });
+    r.attempt([&] {
+        if (n["max_clients"]) {
+            tcp.max_clients =
+                static_cast<int>(r.integer(n["max_clients"], "modbus.tcp.max_clients", 1, 10000));
+        }
+    });
+    r.attempt([&] {
+        if (n["idle_timeout_s"]) {
+            tcp.idle_timeout_s = static_cast<int>(
+                r.integer(n["idle_timeout_s"], "modbus.tcp.idle_timeout_s", 0, 86400));
+        }
+    });
+    r.attempt([&] {
+        if (n["frame_timeout_ms"]) {
+            tcp.frame_timeout_ms = static_cast<int>(
+                r.integer(n["frame_timeout_ms"], "modbus.tcp.frame_timeout_ms", 100, 60000));
+        }
+    });
 }
 
 void read_modbus(const Reader& r, const Node& n, ModbusConfig& mb) {
     r.check_keys(n, "modbus", {"tcp", "rtu", "read_only", "write_protect", "map"});
-    if (n["tcp"]) read_tcp(r, n["tcp"], mb.tcp);
-    if (n["rtu"] && !n["rtu"].is_null()) {
-        RtuConfig rtu;
-        read_rtu(r, n["rtu"], rtu, "modbus.rtu");
-        mb.rtu = rtu;
-    }
-    if (n["read_only"]) mb.read_only = r.boolean(n["read_only"], "modbus.read_only");
-    if (const auto& w = n["write_protect"]) {
-        if (!w.is_sequence()) r.fail(w, "modbus.write_protect: expected a list of device ranges");
-        for (const auto& e : w.items)
-            mb.write_protect.push_back(r.range(e, "modbus.write_protect entry"));
-    }
+    r.attempt([&] {
+        if (n["tcp"]) read_tcp(r, n["tcp"], mb.tcp);
+    });
+    r.attempt([&] {
+        if (n["rtu"] && !n["rtu"].is_null()) {
+            RtuConfig rtu;
+            read_rtu(r, n["rtu"], rtu, "modbus.rtu");
+            mb.rtu = rtu;
+        }
+    });
+    r.attempt([&] {
+        if (n["read_only"]) mb.read_only = r.boolean(n["read_only"], "modbus.read_only");
+    });
+    r.attempt([&] {
+        if (const auto& w = n["write_protect"]) {
+            if (!w.is_sequence())
+                r.fail(w, "modbus.write_protect: expected a list of device ranges");
+            for (const auto& e : w.items) {
+                r.attempt(
+                    [&] { mb.write_protect.push_back(r.range(e, "modbus.write_protect entry")); });
+            }
+        }
+    });
 }
 
 void read_init(const Reader& r, const Node& n, std::vector<InitEntry>& init) {
@@ -263,26 +309,28 @@ void read_init(const Reader& r, const Node& n, std::vector<InitEntry>& init) {
     // Keys naming one device (D7, d7, D07) would preset it twice, the last silently winning.
     std::map<std::tuple<image::Area, std::uint32_t, bool>, std::pair<std::string, int>> first;
     for (const auto& entry : n.entries) {
-        const auto* it = &entry;
-        InitEntry e;
-        e.pos = r.pos(it->first);
-        e.device = r.device(it->first, "init key");
-        const std::string key = it->first.text;
-        const auto [at, fresh] = first.try_emplace(
-            {e.device.area, e.device.index, e.device.word_of_bits}, key, e.pos.line);
-        if (!fresh) r.fail(it->first, "init: " + again("device", key, at->second));
-        const std::string what = "init." + excerpt(key);
-        auto one = [&](const Node& v) {
-            e.values.push_back(
-                static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
-        };
-        const Node& value = it->second;
-        if (value.is_sequence()) {
-            for (const auto& v : value.items) one(v);
-        } else {
-            one(value);
-        }
-        init.push_back(std::move(e));
+        r.attempt([&] {
+            const auto* it = &entry;
+            InitEntry e;
+            e.pos = r.pos(it->first);
+            e.device = r.device(it->first, "init key");
+            const std::string key = it->first.text;
+            const auto [at, fresh] = first.try_emplace(
+                {e.device.area, e.device.index, e.device.word_of_bits}, key, e.pos.line);
+            if (!fresh) r.fail(it->first, "init: " + again("device", key, at->second));
+            const std::string what = "init." + excerpt(key);
+            auto one = [&](const Node& v) {
+                e.values.push_back(
+                    static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
+            };
+            const Node& value = it->second;
+            if (value.is_sequence()) {
+                for (const auto& v : value.items) one(v);
+            } else {
+                one(value);
+            }
+            init.push_back(std::move(e));
+        });
     }
 }
 
@@ -290,128 +338,213 @@ void read_program(const Reader& r, const Node& n, std::vector<InstructionConfig>
     if (n.is_null()) return;
     if (!n.is_sequence()) r.fail(n, "program: expected a list of instructions");
     for (const auto& item : n.items) {
-        if (!item.is_map() || item.size() != 1) {
-            r.fail(item,
-                   "program entry: expected one instruction with its operands, such as "
-                   "'MOV: {en: M0, s: K5, d: D0}'");
-        }
-        const auto& kv = item.entries.front();
-        InstructionConfig ic;
-        ic.mnemonic = r.scalar(kv.first, "instruction");
-        ic.pos = r.pos(kv.first);
-        const std::string mnemonic = excerpt(ic.mnemonic);
-        if (!kv.second.is_map()) r.fail(kv.second, mnemonic + ": expected a mapping of operands");
-        for (const auto& entry : kv.second.entries) {
-            const auto* op = &entry;
-            const std::string key = r.scalar(op->first, mnemonic + " operand");
-            for (const auto& [k, v] : ic.operands) {
-                if (k == key) {
-                    r.fail(op->first, mnemonic + ": duplicate operand '" + excerpt(key) + "'");
-                }
+        r.attempt([&] {
+            if (!item.is_map() || item.size() != 1) {
+                r.fail(item,
+                       "program entry: expected one instruction with its operands, such as "
+                       "'MOV: {en: M0, s: K5, d: D0}'");
             }
-            ic.operands.emplace_back(
-                key,
-                Operand{r.scalar(op->second, mnemonic + "." + excerpt(key)), r.pos(op->second)});
-        }
-        prog.push_back(std::move(ic));
+            const auto& kv = item.entries.front();
+            InstructionConfig ic;
+            ic.mnemonic = r.scalar(kv.first, "instruction");
+            ic.pos = r.pos(kv.first);
+            const std::string mnemonic = excerpt(ic.mnemonic);
+            if (!kv.second.is_map())
+                r.fail(kv.second, mnemonic + ": expected a mapping of operands");
+            for (const auto& entry : kv.second.entries) {
+                const auto* op = &entry;
+                const std::string key = r.scalar(op->first, mnemonic + " operand");
+                for (const auto& [k, v] : ic.operands) {
+                    if (k == key) {
+                        r.fail(op->first, mnemonic + ": duplicate operand '" + excerpt(key) + "'");
+                    }
+                }
+                ic.operands.emplace_back(
+                    key, Operand{r.scalar(op->second, mnemonic + "." + excerpt(key)),
+                                 r.pos(op->second)});
+            }
+            prog.push_back(std::move(ic));
+        });
     }
 }
 
 void read_faults(const Reader& r, const Node& n, Faults& f) {
     r.check_keys(n, "faults", {"sensor_broken", "heater_open", "heater_shorted", "reading_frozen"});
-    if (n["sensor_broken"]) f.sensor_broken = r.boolean(n["sensor_broken"], "faults.sensor_broken");
-    if (n["heater_open"]) f.heater_open = r.boolean(n["heater_open"], "faults.heater_open");
-    if (n["heater_shorted"])
-        f.heater_shorted = r.boolean(n["heater_shorted"], "faults.heater_shorted");
-    if (n["reading_frozen"])
-        f.reading_frozen = r.boolean(n["reading_frozen"], "faults.reading_frozen");
+    r.attempt([&] {
+        if (n["sensor_broken"])
+            f.sensor_broken = r.boolean(n["sensor_broken"], "faults.sensor_broken");
+    });
+    r.attempt([&] {
+        if (n["heater_open"]) f.heater_open = r.boolean(n["heater_open"], "faults.heater_open");
+    });
+    r.attempt([&] {
+        if (n["heater_shorted"])
+            f.heater_shorted = r.boolean(n["heater_shorted"], "faults.heater_shorted");
+    });
+    r.attempt([&] {
+        if (n["reading_frozen"])
+            f.reading_frozen = r.boolean(n["reading_frozen"], "faults.reading_frozen");
+    });
 }
 
 void read_channel(const Reader& r, const Node& n, ChannelConfig& c, const std::string& what) {
     r.check_keys(n, what,
                  {"ambient", "k", "tau", "dead_time", "noise", "cooling", "lead_resistance",
                   "drive", "drive_full_scale", "faults"});
-    if (n["ambient"]) c.ambient_c = r.number(n["ambient"], what + ".ambient", -200, 1000);
-    if (n["k"]) c.k_c = r.number(n["k"], what + ".k", 0, 3000);
-    if (n["tau"]) c.tau_s = r.number(n["tau"], what + ".tau", 0.1, 100000);
-    if (n["dead_time"]) c.dead_time_s = r.number(n["dead_time"], what + ".dead_time", 0, 3600);
-    if (n["noise"]) c.noise_c = r.number(n["noise"], what + ".noise", 0, 100);
-    if (n["cooling"]) c.cooling = r.boolean(n["cooling"], what + ".cooling");
-    if (n["lead_resistance"]) {
-        c.lead_resistance_ohm = r.number(n["lead_resistance"], what + ".lead_resistance", 0, 100);
-    }
-    if (n["drive"]) {
-        c.drive = r.device(n["drive"], what + ".drive");
-        const auto a = c.drive->area;
-        if (c.drive->word_of_bits ||
-            (a != image::Area::Y && a != image::Area::R && a != image::Area::D)) {
-            r.fail(n["drive"], what + ".drive: expected a Y output (PWM) or a register");
+    r.attempt([&] {
+        if (n["ambient"]) c.ambient_c = r.number(n["ambient"], what + ".ambient", -200, 1000);
+    });
+    r.attempt([&] {
+        if (n["k"]) c.k_c = r.number(n["k"], what + ".k", 0, 3000);
+    });
+    r.attempt([&] {
+        if (n["tau"]) c.tau_s = r.number(n["tau"], what + ".tau", 0.1, 100000);
+    });
+    r.attempt([&] {
+        if (n["dead_time"]) c.dead_time_s = r.number(n["dead_time"], what + ".dead_time", 0, 3600);
+    });
+    r.attempt([&] {
+        if (n["noise"]) c.noise_c = r.number(n["noise"], what + ".noise", 0, 100);
+    });
+    r.attempt([&] {
+        if (n["cooling"]) c.cooling = r.boolean(n["cooling"], what + ".cooling");
+    });
+    r.attempt([&] {
+        if (n["lead_resistance"]) {
+            c.lead_resistance_ohm =
+                r.number(n["lead_resistance"], what + ".lead_resistance", 0, 100);
         }
-    }
-    if (n["drive_full_scale"]) {
-        c.drive_full_scale = static_cast<int>(
-            r.integer(n["drive_full_scale"], what + ".drive_full_scale", 1, 32767));
-    }
-    if (n["faults"]) read_faults(r, n["faults"], c.faults);
+    });
+    r.attempt([&] {
+        if (n["drive"]) {
+            c.drive = r.device(n["drive"], what + ".drive");
+            const auto a = c.drive->area;
+            if (c.drive->word_of_bits ||
+                (a != image::Area::Y && a != image::Area::R && a != image::Area::D)) {
+                r.fail(n["drive"], what + ".drive: expected a Y output (PWM) or a register");
+            }
+        }
+    });
+    r.attempt([&] {
+        if (n["drive_full_scale"]) {
+            c.drive_full_scale = static_cast<int>(
+                r.integer(n["drive_full_scale"], what + ".drive_full_scale", 1, 32767));
+        }
+    });
+    r.attempt([&] {
+        if (n["faults"]) read_faults(r, n["faults"], c.faults);
+    });
 }
 
 void read_plant(const Reader& r, const Node& n, PlantConfig& p) {
     r.check_keys(n, "plant", {"defaults", "channels", "seed"});
-    if (n["defaults"]) read_channel(r, n["defaults"], p.defaults, "plant.defaults");
-    if (n["seed"])
-        p.seed = static_cast<std::uint64_t>(r.integer(n["seed"], "plant.seed", 0, 1LL << 40));
+    r.attempt([&] {
+        if (n["defaults"]) read_channel(r, n["defaults"], p.defaults, "plant.defaults");
+    });
+    r.attempt([&] {
+        if (n["seed"])
+            p.seed = static_cast<std::uint64_t>(r.integer(n["seed"], "plant.seed", 0, 1LL << 40));
+    });
     if (const auto& ch = n["channels"]) {
         r.expect_map(ch, "plant.channels");
         // Keys naming one channel (1, 01, 0x1) would set it twice, the last silently winning.
         std::map<int, std::pair<std::string, int>> first;
         for (const auto& entry : ch.entries) {
-            const auto* it = &entry;
-            const int idx = static_cast<int>(r.integer(it->first, "plant.channels key", 0, 31));
-            const std::string key = it->first.text;
-            const auto [at, fresh] = first.try_emplace(idx, key, r.pos(it->first).line);
-            if (!fresh) r.fail(it->first, "plant.channels: " + again("channel", key, at->second));
-            ChannelConfig c = p.defaults;
-            read_channel(r, it->second, c, "plant.channels." + std::to_string(idx));
-            p.channels.emplace_back(idx, c);
+            r.attempt([&] {
+                const auto* it = &entry;
+                const int idx = static_cast<int>(r.integer(it->first, "plant.channels key", 0, 31));
+                const std::string key = it->first.text;
+                const auto [at, fresh] = first.try_emplace(idx, key, r.pos(it->first).line);
+                if (!fresh)
+                    r.fail(it->first, "plant.channels: " + again("channel", key, at->second));
+                ChannelConfig c = p.defaults;
+                read_channel(r, it->second, c, "plant.channels." + std::to_string(idx));
+                p.channels.emplace_back(idx, c);
+            });
         }
     }
 }
 
 void read_persistence(const Reader& r, const Node& n, PersistenceConfig& p) {
     r.check_keys(n, "persistence", {"enabled", "file", "retentive", "sync_ms", "init"});
-    if (n["enabled"]) p.enabled = r.boolean(n["enabled"], "persistence.enabled");
-    if (n["file"]) p.file = r.scalar(n["file"], "persistence.file");
-    if (n["init"]) {
-        const std::string s = r.scalar(n["init"], "persistence.init");
-        if (s != "fresh" && s != "always") {
-            r.fail(n["init"],
-                   "persistence.init: expected 'fresh' (presets only on a new state "
-                   "file) or 'always'");
+    r.attempt([&] {
+        if (n["enabled"]) p.enabled = r.boolean(n["enabled"], "persistence.enabled");
+    });
+    r.attempt([&] {
+        if (n["file"]) p.file = r.scalar(n["file"], "persistence.file");
+    });
+    r.attempt([&] {
+        if (n["init"]) {
+            const std::string s = r.scalar(n["init"], "persistence.init");
+            if (s != "fresh" && s != "always") {
+                r.fail(n["init"],
+                       "persistence.init: expected 'fresh' (presets only on a new state "
+                       "file) or 'always'");
+            }
+            p.init = s == "always" ? InitPolicy::Always : InitPolicy::Fresh;
         }
-        p.init = s == "always" ? InitPolicy::Always : InitPolicy::Fresh;
-    }
-    if (n["sync_ms"])
-        p.sync_ms = static_cast<int>(r.integer(n["sync_ms"], "persistence.sync_ms", 10, 600000));
-    if (const auto& ret = n["retentive"]) {
-        if (!ret.is_sequence())
-            r.fail(ret, "persistence.retentive: expected a list of device ranges");
-        std::vector<image::Range> v;
-        for (const auto& e : ret.items) v.push_back(r.range(e, "persistence.retentive entry"));
-        // The state file's header records them (image::kMaxRetentiveRanges).
-        if (v.size() > 256) r.fail(ret, "persistence.retentive: at most 256 ranges");
-        p.retentive = v;
-    }
+    });
+    r.attempt([&] {
+        if (n["sync_ms"])
+            p.sync_ms =
+                static_cast<int>(r.integer(n["sync_ms"], "persistence.sync_ms", 10, 600000));
+    });
+    r.attempt([&] {
+        if (const auto& ret = n["retentive"]) {
+            if (!ret.is_sequence())
+                r.fail(ret, "persistence.retentive: expected a list of device ranges");
+            std::vector<image::Range> v;
+            for (const auto& e : ret.items) {
+                r.attempt([&] { v.push_back(r.range(e, "persistence.retentive entry")); });
+            }
+            // The state file's header records them (image::kMaxRetentiveRanges).
+            if (v.size() > 256) r.fail(ret, "persistence.retentive: at most 256 ranges");
+            p.retentive = v;
+        }
+    });
 }
 
 void read_log(const Reader& r, const Node& l, LogConfig& log) {
     r.check_keys(l, "log", {"level"});
-    if (l["level"]) {
-        log.level = r.scalar(l["level"], "log.level");
-        static const std::set<std::string> kLevels{"trace", "debug", "info",
-                                                   "warn",  "error", "off"};
-        if (!kLevels.count(log.level))
-            r.fail(l["level"], "log.level: expected trace, debug, info, warn, error or off");
-    }
+    r.attempt([&] {
+        if (l["level"]) {
+            log.level = r.scalar(l["level"], "log.level");
+            static const std::set<std::string> kLevels{"trace", "debug", "info",
+                                                       "warn",  "error", "off"};
+            if (!kLevels.count(log.level))
+                r.fail(l["level"], "log.level: expected trace, debug, info, warn, error or off");
+        }
+    });
+}
+
+void read_simulator(const Reader& r, const Node& s, SimulatorConfig& sim) {
+    r.check_keys(s, "simulator", {"unit", "writable"});
+    r.attempt([&] {
+        if (!s["unit"]) return;
+        sim.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
+        if (sim.unit == 255) {
+            r.fail(s["unit"],
+                   "simulator.unit: 255 is \"the device itself\" over Modbus TCP (the PLC "
+                   "answers it alone on its listener, nobody behind a shared one), so the "
+                   "simulator could never be reached; use 1-254, or 0 for none");
+        }
+    });
+    r.attempt([&] {
+        if (s["writable"]) sim.writable = r.boolean(s["writable"], "simulator.writable");
+    });
+}
+
+// Reads the section `key` of `root` with `read` when it is there; an error in it is recorded and
+// the other sections are still read.
+template <class Value>
+void section(const Reader& r,
+             const Node& root,
+             const char* key,
+             void (*read)(const Reader&, const Node&, Value&),
+             Value& out) {
+    r.attempt([&] {
+        if (const Node& n = root[key]) read(r, n, out);
+    });
 }
 
 // A PLC's station and its simulator unit are two unit IDs on its listeners: the same one would
@@ -434,6 +567,7 @@ void check_own_units(const Reader& r, const Node& root, const Config& c) {
 // log).
 Config read_root(Reader& r, const Node& root, bool entry = false) {
     Config c;
+    const std::size_t errors_before = r.errors_found();
     if (!root.is_map()) {
         r.fail(root, "the config must be a mapping with at least 'profile:' (one of " +
                          profiles::names() + ")");
@@ -451,7 +585,7 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     }();
     if (entry) {
         if (root["log"]) {
-            r.fail(root["log"], "log: applies to the whole process; put it beside 'plcs:'");
+            r.report(root["log"], "log: applies to the whole process; put it beside 'plcs:'");
         }
         static const std::vector<std::string> known_in_entry = [] {
             std::vector<std::string> k = known;
@@ -472,64 +606,67 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     r.set_naming(profile->naming());
     const image::Layout layout = profile->layout();
     // A profile's own sections are kept as written for it to read; another profile's are
-    // refused where they stand.
+    // refused where they stand (an unknown key was refused above).
     const auto own = profile->sections();
     for (const auto& [key, value] : root.entries) {
         if (!key.is_scalar() || (entry && key.text == "name")) continue;
         if (std::find(kCommonSections.begin(), kCommonSections.end(), key.text) !=
-            kCommonSections.end()) {
+                kCommonSections.end() ||
+            std::find(known.begin(), known.end(), key.text) == known.end()) {
             continue;
         }
         if (std::find(own.begin(), own.end(), key.text) == own.end()) {
-            r.fail(value, key.text + ": profile " + c.profile + " has no such subsystem");
+            r.report(value, key.text + ": profile " + c.profile + " has no such subsystem");
+            continue;
         }
         c.sections.emplace_back(key.text, value);
     }
+    // Each key on its own: one in error is recorded and the others are still read.
     c.model = std::string(profile->default_model());
-    if (root["model"]) {
+    r.attempt([&] {
+        if (!root["model"]) return;
         c.model = r.scalar(root["model"], "model");
         if (!profile->valid_model(c.model))
             r.fail(root["model"], "model: expected " + std::string(profile->model_hint()) +
                                       ", got '" + excerpt(c.model) + "'");
-    }
-    if (root["station"]) {
-        c.station = static_cast<std::uint8_t>(
-            r.integer(root["station"], "station", 1, profile->max_station()));
-    }
-    if (root["scan_ms"])
-        c.scan_ms = static_cast<int>(r.integer(root["scan_ms"], "scan_ms", 1, 1000));
-    if (root["time_scale"])
-        c.time_scale = r.number(root["time_scale"], "time_scale", 0.001, 100000);
-    if (root["modbus"]) read_modbus(r, root["modbus"], c.modbus);
-    if (root["init"]) read_init(r, root["init"], c.init);
-    if (root["program"]) read_program(r, root["program"], c.program);
-    if (root["plant"]) read_plant(r, root["plant"], c.plant);
-    if (const auto& s = root["simulator"]) {
-        r.check_keys(s, "simulator", {"unit", "writable"});
-        if (s["unit"]) {
-            c.simulator.unit = static_cast<int>(r.integer(s["unit"], "simulator.unit", 0, 255));
-            if (c.simulator.unit == 255) {
-                r.fail(s["unit"],
-                       "simulator.unit: 255 is \"the device itself\" over Modbus TCP (the PLC "
-                       "answers it alone on its listener, nobody behind a shared one), so the "
-                       "simulator could never be reached; use 1-254, or 0 for none");
-            }
+    });
+    r.attempt([&] {
+        if (root["station"]) {
+            c.station = static_cast<std::uint8_t>(
+                r.integer(root["station"], "station", 1, profile->max_station()));
         }
-        if (s["writable"]) c.simulator.writable = r.boolean(s["writable"], "simulator.writable");
-    }
-    check_own_units(r, root, c);
-    if (root["persistence"]) read_persistence(r, root["persistence"], c.persistence);
-    if (const auto& m = root["modbus"]) {
+    });
+    r.attempt([&] {
+        if (root["scan_ms"])
+            c.scan_ms = static_cast<int>(r.integer(root["scan_ms"], "scan_ms", 1, 1000));
+    });
+    r.attempt([&] {
+        if (root["time_scale"])
+            c.time_scale = r.number(root["time_scale"], "time_scale", 0.001, 100000);
+    });
+    section(r, root, "modbus", read_modbus, c.modbus);
+    section(r, root, "init", read_init, c.init);
+    section(r, root, "program", read_program, c.program);
+    section(r, root, "plant", read_plant, c.plant);
+    section(r, root, "simulator", read_simulator, c.simulator);
+    section(r, root, "persistence", read_persistence, c.persistence);
+    r.attempt([&] {
+        const auto& m = root["modbus"];
+        if (!m.is_map()) return;
         check_ranges_exist(r, m["write_protect"], "modbus.write_protect entry", layout);
         if (m["map"]) {
             c.modbus.map.emplace();
             read_map(r, m["map"], layout, *c.modbus.map);
         }
-    }
-    if (const auto& p = root["persistence"]) {
+    });
+    if (const auto& p = root["persistence"]; p.is_map()) {
         check_ranges_exist(r, p["retentive"], "persistence.retentive entry", layout);
     }
-    if (root["log"]) read_log(r, root["log"], c.log);
+    if (!entry) section(r, root, "log", read_log, c.log);  // an entry's was refused above
+    // The checks below compare what several keys said: after an error in one of them they would
+    // only repeat it in other words (docs/configuration.md, "Configuration").
+    if (r.errors_found() != errors_before) return c;
+    check_own_units(r, root, c);
     profile->check(c);
     return c;
 }
@@ -679,6 +816,17 @@ void check_shared(const Reader& r,
     }
 }
 
+// Runs `read` with an error list, then throws every error it recorded (with the one that ended
+// it, if one did), in the order of the file; returns what it read when there was none.
+template <class Read>
+auto collecting(Read read) {
+    Errors errors;
+    decltype(read(errors)) out{};
+    errors.attempt([&] { out = read(errors); });
+    errors.raise();
+    return out;
+}
+
 // The per-PLC keys of a single-PLC file, refused beside `plcs:`.
 bool per_plc_key(const std::string& key) {
     if (key == "log") return false;
@@ -693,31 +841,42 @@ bool per_plc_key(const std::string& key) {
 
 // `plcs:` — a list of entries, each a single-PLC config with an optional `name:`; only `log:`
 // may stand beside it.
-std::vector<Config> read_plcs(const Node& root, const std::string& file) {
-    Reader top;
+std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors& errors) {
+    Reader top(errors);
     for (const auto& [key, value] : root.entries) {
         if (key.is_scalar() && per_plc_key(key.text)) {
-            top.fail(key, key.text +
-                              ": belongs to one PLC; beside 'plcs:' only 'log:' may stand, so "
-                              "move it into each entry of plcs:");
+            top.report(key, key.text +
+                                ": belongs to one PLC; beside 'plcs:' only 'log:' may stand, so "
+                                "move it into each entry of plcs:");
         }
     }
-    top.check_keys(root, "config", {"plcs", "log"});
+    // The other keys, the ones refused above left out (each is refused once): only the keys
+    // count there.
+    Node rest;
+    rest.kind = Node::Kind::Map;
+    rest.pos = root.pos;
+    for (const auto& [key, value] : root.entries) {
+        if (!key.is_scalar() || !per_plc_key(key.text)) rest.entries.push_back({key, Node{}});
+    }
+    top.check_keys(rest, "config", {"plcs", "log"});
     const Node& list = root["plcs"];
     if (!list.is_sequence() || list.items.empty()) {
         top.fail(list, "plcs: expected a list of PLC configs, each with at least 'profile:'");
     }
     LogConfig log;
-    if (root["log"]) read_log(top, root["log"], log);
+    section(top, root, "log", read_log, log);
     std::vector<Config> out;
     std::vector<Taken> taken;
     out.reserve(list.items.size());
     taken.reserve(list.items.size());
+    // Each entry on its own: the errors of one are recorded, named by it, and the next is read.
     for (std::size_t i = 0; i < list.items.size(); ++i) {
         const Node& e = list.items[i];
         std::string label = "plcs[" + std::to_string(i) + "]";
-        Reader r;
-        try {
+        Reader r(errors);
+        const std::size_t errors_before = errors.size();
+        errors.set_prefix(label + ": ");
+        errors.attempt([&] {
             std::string name;
             if (e.is_map() && e["name"]) {
                 name = r.scalar(e["name"], "name");
@@ -726,8 +885,12 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file) {
                                           excerpt(name) + "'");
                 }
                 label += " (" + name + ")";
+                errors.set_prefix(label + ": ");
             }
             Config c = read_root(r, e, true);
+            // Compared with the other entries only when it is whole: a key in error would
+            // only be refused again as a clash.
+            if (errors.size() != errors_before) return;
             c.path = file;
             c.name = std::move(name);
             c.label = label;
@@ -737,10 +900,9 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file) {
             check_shared(r, e, c, mine, out, taken);
             taken.push_back(std::move(mine));
             out.push_back(std::move(c));
-        } catch (const ConfigError& err) {
-            throw ConfigError(err.position(), label + ": " + err.message());
-        }
+        });
     }
+    errors.set_prefix("");
     return out;
 }
 
@@ -785,8 +947,10 @@ Config read_config(const Node& root, const std::string& name) {
         Reader r;
         r.fail(root["plcs"], "plcs: this command takes a config holding one PLC");
     }
-    Reader r;
-    Config c = read_root(r, root);
+    Config c = collecting([&](Errors& errors) {
+        Reader r(errors);
+        return read_root(r, root);
+    });
     c.path = name;
     return c;
 }
@@ -795,7 +959,9 @@ Config load_config(const std::string& path) { return parse_config(read_file(path
 
 std::vector<Config> parse_plcs(const std::string& text, const std::string& name) {
     const Node root = parse_yaml_tree(text, name);
-    if (root.is_map() && root["plcs"]) return read_plcs(root, name);
+    if (root.is_map() && root["plcs"]) {
+        return collecting([&](Errors& errors) { return read_plcs(root, name, errors); });
+    }
     std::vector<Config> one;
     one.push_back(read_config(root, name));
     return one;

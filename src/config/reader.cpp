@@ -1,10 +1,13 @@
 #include "plcemu/config/reader.hpp"
 
+#include <algorithm>
 #include <bitset>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
+#include <tuple>
+#include <utility>
 
 #include "plcemu/image/excerpt.hpp"
 
@@ -33,10 +36,64 @@ std::string format_error(const Position& p, const std::string& m) {
 
 }  // namespace
 
+namespace {
+
+// The first of a list of errors, which what() shows.
+const Diagnostic& first_of(const std::vector<Diagnostic>& errors) {
+    if (errors.empty()) throw std::logic_error("ConfigError: no error");
+    return errors.front();
+}
+
+}  // namespace
+
 ConfigError::ConfigError(const Position& pos, const std::string& message)
     : std::runtime_error(format_error(pos, message)),
-      pos_(pos),
-      message_(message) {}
+      errors_{{pos, message}} {}
+
+ConfigError::ConfigError(std::vector<Diagnostic> errors, bool stopped)
+    : std::runtime_error(format_error(first_of(errors).pos, first_of(errors).message)),
+      errors_(std::move(errors)),
+      stopped_(stopped) {}
+
+std::vector<std::string> ConfigError::lines() const {
+    std::vector<std::string> out;
+    out.reserve(errors_.size() + 1);
+    for (const auto& e : errors_) out.push_back(format_error(e.pos, e.message));
+    if (stopped_) {
+        out.push_back(format_error(
+            {errors_.front().pos.file, 0, 0},
+            "too many errors, stopped after the " + std::to_string(errors_.size()) + " above"));
+    }
+    return out;
+}
+
+ConfigError ConfigError::prefixed(const std::string& prefix) const {
+    std::vector<Diagnostic> errors = errors_;
+    for (auto& e : errors) e.message.insert(0, prefix);
+    return ConfigError(std::move(errors), stopped_);
+}
+
+void Errors::add(const ConfigError& e) {
+    for (const auto& d : e.errors()) {
+        if (list_.size() == kMax) {
+            stopped_ = true;
+            break;
+        }
+        list_.push_back({d.pos, prefix_ + d.message});
+    }
+    if (e.stopped()) stopped_ = true;
+    if (stopped_) raise();
+}
+
+void Errors::raise() const {
+    if (list_.empty()) return;
+    // In the order of the file, as a compiler lists them, whatever order the sections are read in.
+    std::vector<Diagnostic> sorted = list_;
+    std::stable_sort(sorted.begin(), sorted.end(), [](const Diagnostic& a, const Diagnostic& b) {
+        return std::tie(a.pos.line, a.pos.column) < std::tie(b.pos.line, b.pos.column);
+    });
+    throw ConfigError(std::move(sorted), stopped_);
+}
 
 const Node& Node::operator[](std::string_view key) const {
     static const Node kAbsent;
@@ -71,6 +128,11 @@ std::string Reader::octal_hint(const std::string& text) const {
 
 void Reader::fail(const Node& n, const std::string& msg) const { throw ConfigError(n.pos, msg); }
 
+void Reader::report(const Node& n, const std::string& msg) const {
+    if (errors_ == nullptr) fail(n, msg);
+    errors_->add(ConfigError(n.pos, msg));
+}
+
 void Reader::expect_map(const Node& n, const std::string& what) const {
     if (!n.is_map()) fail(n, what + ": expected a mapping");
 }
@@ -78,8 +140,8 @@ void Reader::expect_map(const Node& n, const std::string& what) const {
 namespace {
 
 // Every mapping of a config goes through here: nothing is allocated unless a key is refused. A
-// key is either one of `known` (at most once) or refused where it first stands, so the first
-// refused key is the one a check of duplicates before names would find.
+// key is either one of `known` (at most once) or refused where it stands; a reader with Errors
+// records each refused key and goes on with the next.
 template <class Names>
 void check_known_keys(const Reader& r, const Node& n, const std::string& what, const Names& known) {
     r.expect_map(n, what);
@@ -87,7 +149,10 @@ void check_known_keys(const Reader& r, const Node& n, const std::string& what, c
     if (known.size() > kMaxNames) throw std::logic_error("check_keys: too many names");
     std::bitset<kMaxNames> seen;
     for (const auto& [k, v] : n.entries) {
-        if (!k.is_scalar()) r.scalar(k, what + " key");  // refuses it
+        if (!k.is_scalar()) {
+            r.report(k, what + " key: expected a scalar");
+            continue;
+        }
         const std::string& key = k.text;
         std::size_t i = 0;
         for (const auto& name : known) {
@@ -96,7 +161,7 @@ void check_known_keys(const Reader& r, const Node& n, const std::string& what, c
         }
         if (i < known.size()) {
             // A YAML reader keeps the first of two equal keys: a silent surprise, so refuse it.
-            if (seen[i]) r.fail(k, "duplicate key '" + excerpt(key) + "' in " + what);
+            if (seen[i]) r.report(k, "duplicate key '" + excerpt(key) + "' in " + what);
             seen[i] = true;
             continue;
         }
@@ -118,7 +183,7 @@ void check_known_keys(const Reader& r, const Node& n, const std::string& what, c
             msg += name;
         }
         msg += ")";
-        r.fail(k, msg);
+        r.report(k, msg);
     }
 }
 

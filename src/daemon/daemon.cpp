@@ -288,7 +288,7 @@ public:
         std::vector<config::Config> loaded = load();
         spdlog::set_level(spdlog::level::from_str(loaded.front().log.level));
         // Everything the config can get wrong, found before any file or port is touched.
-        for (const auto& c : loaded) probe(c);
+        probe_all(loaded);
         for (auto& c : loaded) {
             hosts_.push_back(std::make_unique<Host>(io_, scan_timer_, syncs_, notify_, listeners_,
                                                     hosts_.size(), std::move(c)));
@@ -385,7 +385,7 @@ private:
     struct Prepared {
         std::vector<config::Config> configs;
         std::vector<engine::Program> programs;
-        std::string error;
+        std::vector<std::string> errors;  // a config's errors, one per line
     };
 
     // SIGHUP: the new config is read, validated and its programs built on a thread of its own (a
@@ -406,9 +406,11 @@ private:
                 p->configs = load();
                 // Built on images of their own (the live ones are not touched), and never
                 // scanned: their programs, bound and checked, are the ones the live PLCs will run.
-                for (const auto& c : p->configs) p->programs.push_back(probe(c));
+                p->programs = probe_all(p->configs);
+            } catch (const config::ConfigError& e) {
+                p->errors = e.lines();
             } catch (const std::exception& e) {
-                p->error = e.what();
+                p->errors = {e.what()};
             }
             asio::post(io_, [this, p] { finish_reload(std::move(*p)); });
         };
@@ -428,9 +430,11 @@ private:
 
     void finish_reload(Prepared p) {
         reloading_ = false;
-        if (p.error.empty()) p.error = reload(p);
-        if (!p.error.empty()) {
-            spdlog::error("reload: {}", p.error);
+        if (p.errors.empty()) {
+            if (auto why = reload(p); !why.empty()) p.errors.push_back(std::move(why));
+        }
+        if (!p.errors.empty()) {
+            for (const auto& e : p.errors) spdlog::error("reload: {}", e);
             spdlog::error("reload: configuration rejected; still running the previous one");
         }
         notify_.ready(status_line());
@@ -504,8 +508,19 @@ engine::Program probe(const config::Config& c) {
         return plc.engine().take_program();
     } catch (const config::ConfigError& e) {
         if (c.label.empty()) throw;
-        throw config::ConfigError(e.position(), c.label + ": " + e.message());
+        throw e.prefixed(c.label + ": ");
     }
+}
+
+std::vector<engine::Program> probe_all(const std::vector<config::Config>& configs) {
+    config::Errors errors;
+    std::vector<engine::Program> programs;
+    programs.reserve(configs.size());
+    for (const auto& c : configs) {
+        errors.attempt([&] { programs.push_back(probe(c)); });
+    }
+    errors.raise();
+    return programs;
 }
 
 int run_daemon(const std::string& config_path, const Overrides& overrides) {

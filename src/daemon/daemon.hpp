@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/engine/engine.hpp"
@@ -22,6 +23,10 @@ void apply_overrides(config::Config& config, const Overrides& o);
 /// get wrong that the loader cannot (program operands, the allow list), and returns its program,
 /// bound and checked. An error names the `plcs:` entry. Throws config::ConfigError.
 engine::Program probe(const config::Config& config);
+
+/// probe() for every PLC of a file, in order: the errors of each are reported together, as the
+/// loader reports a file's (config::Errors). Throws config::ConfigError.
+std::vector<engine::Program> probe_all(const std::vector<config::Config>& configs);
 
 /// Runs until SIGINT or SIGTERM. Throws config::ConfigError for a bad config and
 /// std::system_error when a listener cannot be opened. Returns the exit status.

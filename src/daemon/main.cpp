@@ -153,9 +153,9 @@ int main(int argc, char** argv) {
         }
         if (check) {
             std::vector<plcemu::config::Config> plcs = plcemu::config::load_plcs(config_path);
-            for (auto& cfg : plcs) {
-                plcemu::daemon::apply_overrides(cfg, overrides);
-                plcemu::daemon::probe(cfg);  // binds the program: operand errors too
+            for (auto& cfg : plcs) plcemu::daemon::apply_overrides(cfg, overrides);
+            plcemu::daemon::probe_all(plcs);  // binds the programs: operand errors too
+            for (const auto& cfg : plcs) {
                 if (!cfg.label.empty()) {
                     std::cout << config_path << ": " << cfg.label << ": ok, profile " << cfg.profile
                               << ", station " << int(cfg.station) << "\n";
@@ -166,7 +166,8 @@ int main(int argc, char** argv) {
         }
         return plcemu::daemon::run_daemon(config_path, overrides);
     } catch (const plcemu::config::ConfigError& e) {
-        spdlog::error("config: {}", e.what());
+        // Every error the config has, one per line (docs/configuration.md, "Configuration").
+        for (const auto& line : e.lines()) spdlog::error("config: {}", line);
         return kExitBadConfig;
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());

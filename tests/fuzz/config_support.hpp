@@ -55,14 +55,23 @@ inline bool well_positioned(std::string_view m) {
 }
 
 /// Runs `body`, which reads a config: the only exception it may throw is a ConfigError whose
-/// message starts with "<name>:<line>:<col>: ".
+/// message starts with "<name>:<line>:<col>: ", as does each of the errors it carries (at most
+/// config::Errors::kMax).
 template <class Body>
 void expect_config_errors_only(Body body) {
     try {
         body();
     } catch (const config::ConfigError& e) {
         if (!well_positioned(e.what())) config_fail("ConfigError without file:line:col", e.what());
-        if (config_verbose()) std::fprintf(stderr, "%s\n", e.what());
+        if (e.errors().size() > config::Errors::kMax) config_fail("too many errors", e.what());
+        for (const auto& d : e.errors()) {
+            const config::ConfigError one(d.pos, d.message);
+            if (!well_positioned(one.what()))
+                config_fail("ConfigError without file:line:col", one.what());
+        }
+        if (config_verbose()) {
+            for (const auto& line : e.lines()) std::fprintf(stderr, "%s\n", line.c_str());
+        }
     } catch (const std::exception& e) {
         config_fail("an exception other than ConfigError", e.what());
     } catch (...) {
