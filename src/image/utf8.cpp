@@ -3,12 +3,12 @@
 namespace plcemu::image {
 
 Utf8Char utf8_char(std::string_view s) noexcept {
-    const auto b = [&](std::size_t k) {
+    const auto b = [&](std::size_t k) -> unsigned char {
         return k < s.size() ? static_cast<unsigned char>(s[k]) : 0;
     };
     const unsigned char c = b(0);
     if (c < 0x80) return {c, 1};
-    // RFC 3629 table 3-7: the second byte's range depends on the lead (no overlongs, no
+    // Unicode's table 3-7 (RFC 3629 §4): the second byte's range depends on the lead (no overlongs, no
     // surrogates, nothing above U+10FFFF); later bytes are 80–BF.
     std::size_t length = 0;
     unsigned char low = 0x80;
