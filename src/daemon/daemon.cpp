@@ -18,6 +18,7 @@
 #include "daemon/scan_driver.hpp"
 #include "daemon/scan_timer.hpp"
 #include "daemon/station_guard.hpp"
+#include "daemon/step_rounds.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/image/state_file.hpp"
 #include "plcemu/profiles/profile.hpp"
@@ -39,6 +40,7 @@ class Host {
 public:
     Host(asio::io_context& io,
          ScanTimer& timer,
+         StepRounds& rounds,
          SyncThread& syncs,
          Notifier& notify,
          const Listeners& listeners,
@@ -46,6 +48,7 @@ public:
          config::Config loaded)
         : io_(io),
           timer_(timer),
+          rounds_(rounds),
           syncs_(syncs),
           notify_(notify),
           file_station_(loaded.station),
@@ -238,8 +241,8 @@ private:
         // A frozen simulation stays frozen across a reload, with the steps it was asked for.
         const bool frozen = driver_ && driver_->frozen();
         const std::uint64_t steps = driver_ ? driver_->pending_steps() : 0;
-        driver_ =
-            std::make_unique<ScanDriver>(io_, timer_, plc_->engine(), cfg_->time_scale, prefix_);
+        driver_ = std::make_unique<ScanDriver>(timer_, rounds_, plc_->engine(), cfg_->time_scale,
+                                               prefix_);
         if (frozen) driver_->set_frozen(true);
         // The simulator-control unit, on the same listeners as the PLC; a read-only gateway
         // keeps it read-only too unless simulator.writable says otherwise.
@@ -255,6 +258,7 @@ private:
 
     asio::io_context& io_;
     ScanTimer& timer_;
+    StepRounds& rounds_;
     SyncThread& syncs_;
     Notifier& notify_;
     std::uint8_t file_station_;  // the station the config file gave at the last start or reload
@@ -290,8 +294,8 @@ public:
         // Everything the config can get wrong, found before any file or port is touched.
         probe_all(loaded);
         for (auto& c : loaded) {
-            hosts_.push_back(std::make_unique<Host>(io_, scan_timer_, syncs_, notify_, listeners_,
-                                                    hosts_.size(), std::move(c)));
+            hosts_.push_back(std::make_unique<Host>(io_, scan_timer_, step_rounds_, syncs_, notify_,
+                                                    listeners_, hosts_.size(), std::move(c)));
         }
         for (auto& h : hosts_) h->open();
         listeners_.open(members());
@@ -489,6 +493,8 @@ private:
     Notifier notify_;
     Retirer<Plc> retirer_;
     ScanTimer scan_timer_{io_};
+    // Every PLC's queued steps, a slice per turn of the loop.
+    StepRounds step_rounds_{io_};
     SyncThread syncs_;  // every PLC's state file, on one thread
     std::vector<std::unique_ptr<Host>> hosts_;
     Listeners listeners_{io_};

@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <string_view>
 #include <tuple>
 #include <utility>
 
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/engine/tags.hpp"
+#include "plcemu/image/utf8.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "simulator/simulator_unit.hpp"
@@ -143,9 +145,18 @@ std::string csv(const std::string& s) {
     return q + '"';
 }
 
+// A byte that is not UTF-8 (a file name's, say) becomes U+FFFD, as JSON text must be Unicode
+// (RFC 8259 §8.1); docs/configuration.md says so.
 std::string json(const std::string& s) {
     std::string q = "\"";
-    for (char c : s) {
+    for (std::size_t i = 0; i < s.size();) {
+        const char c = s[i];
+        const image::Utf8Char u = image::utf8_char(std::string_view(s).substr(i));
+        if (u.length == 0) {
+            q += "\\ufffd";
+            ++i;
+            continue;
+        }
         if (c == '"' || c == '\\') {
             q += '\\';
             q += c;
@@ -154,8 +165,9 @@ std::string json(const std::string& s) {
             std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
             q += buf;
         } else {
-            q += c;
+            q.append(s, i, u.length);
         }
+        i += u.length;
     }
     return q + '"';
 }

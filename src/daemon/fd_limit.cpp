@@ -1,32 +1,67 @@
 #include "fd_limit.hpp"
 
+#include <dirent.h>
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
 
+#include <string>
+
 namespace plcemu::daemon {
+
+namespace {
+
+// Descriptors a reload's second PLC, a config being read and the log may open beside those open
+// now.
+constexpr long kFdHeadroom = 16;
+
+// Descriptors open now, or -1 where /proc is not there.
+long open_descriptors() noexcept {
+    DIR* dir = ::opendir("/proc/self/fd");
+    if (dir == nullptr) return -1;
+    long n = 0;
+    while (const dirent* e = ::readdir(dir)) {
+        if (e->d_name[0] != '.') ++n;
+    }
+    ::closedir(dir);
+    return n - 1;  // the directory's own
+}
+
+}  // namespace
 
 long ensure_fd_limit(int max_clients) noexcept {
     rlimit rl{};
     if (::getrlimit(RLIMIT_NOFILE, &rl) != 0) return -1;
     const rlim_t needed = static_cast<rlim_t>(max_clients) + static_cast<rlim_t>(kFdReserve);
-    if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < needed) {
+    const bool raisable = rl.rlim_max == RLIM_INFINITY || rl.rlim_max > rl.rlim_cur;
+    if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < needed && raisable) {
         // The soft limit is ours to raise, up to the hard one (as systemd's LimitNOFILE= is).
         rlimit raised = rl;
         raised.rlim_cur =
             rl.rlim_max == RLIM_INFINITY || rl.rlim_max >= needed ? needed : rl.rlim_max;
         if (::setrlimit(RLIMIT_NOFILE, &raised) == 0) {
-            spdlog::info("descriptor limit raised from {} to {} for modbus.tcp.max_clients {}",
+            spdlog::info("descriptor limit raised from {} to {}{} for modbus.tcp.max_clients {}",
                          static_cast<long>(rl.rlim_cur), static_cast<long>(raised.rlim_cur),
-                         max_clients);
+                         raised.rlim_cur < needed ? " (the hard limit)" : "", max_clients);
             rl = raised;
         }
     }
     if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < needed) {
+        const auto limit = static_cast<long>(rl.rlim_cur);
+        const long in_use = open_descriptors();
+        // What is left once the daemon's own descriptors and its headroom are counted.
+        const long room = in_use < 0 ? limit - kFdReserve : limit - in_use - kFdHeadroom;
+        const std::string hard = rl.rlim_max == RLIM_INFINITY
+                                     ? std::string("unlimited")
+                                     : std::to_string(static_cast<long>(rl.rlim_max));
+        const std::string clients =
+            room > 0 ? "about " + std::to_string(room) +
+                           " clients can connect at once, later ones wait at accept"
+                     : "the daemon's own descriptors leave none for clients: every connection "
+                       "waits at accept";
         spdlog::warn(
-            "modbus.tcp.max_clients {} needs about {} descriptors but the limit is {}: clients "
-            "beyond {} will wait at accept (raise LimitNOFILE= or ulimit -n)",
-            max_clients, static_cast<long>(needed), static_cast<long>(rl.rlim_cur),
-            static_cast<long>(rl.rlim_cur) - kFdReserve);
+            "modbus.tcp.max_clients {} needs about {} descriptors but the limit is {} and cannot "
+            "be raised (hard limit {}): {} (raise LimitNOFILE= or ulimit -n)",
+            max_clients, static_cast<long>(needed), limit, hard, clients);
     }
     return rl.rlim_cur == RLIM_INFINITY ? -1 : static_cast<long>(rl.rlim_cur);
 }

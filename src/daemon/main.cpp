@@ -14,6 +14,7 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "export_tags.hpp"
+#include "log_format.hpp"
 #include "print_map.hpp"
 
 namespace {
@@ -66,7 +67,7 @@ int main(int argc, char** argv) {
     std::signal(SIGPIPE, SIG_IGN);
     auto logger = spdlog::stderr_color_mt("plcemud");
     spdlog::set_default_logger(logger);
-    spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%-5l%$ %v");
+    spdlog::set_formatter(plcemu::daemon::log_formatter());
 
     std::string config_path;
     bool check = false;

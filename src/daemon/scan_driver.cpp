@@ -12,8 +12,6 @@ namespace {
 
 // Longest stretch of back-to-back scans before the loop lets I/O in.
 constexpr auto kBudget = std::chrono::milliseconds(2);
-// Longest stretch of queued steps before the loop lets I/O in.
-constexpr auto kStepSlice = std::chrono::milliseconds(1);
 // Scans that may be queued at once (46 simulated hours at 10 ms).
 constexpr std::uint64_t kMaxPendingSteps = 16'777'215;
 // Further behind than this, the driver stops trying to catch up.
@@ -43,19 +41,23 @@ std::chrono::microseconds LatenessStats::percentile(double fraction) const noexc
     return std::chrono::duration_cast<std::chrono::microseconds>(max);
 }
 
-ScanDriver::ScanDriver(asio::io_context& io,
-                       ScanTimer& timer,
+ScanDriver::ScanDriver(ScanTimer& timer,
+                       StepRounds& rounds,
                        engine::Engine& engine,
                        double time_scale,
                        std::string prefix)
-    : io_(io),
-      timer_(timer),
+    : timer_(timer),
       slot_(timer.add(*this)),
+      rounds_(rounds),
       engine_(engine),
       scale_(time_scale),
       prefix_(std::move(prefix)) {}
 
-ScanDriver::~ScanDriver() { timer_.remove(slot_); }
+// A reload swaps engines: the rounds must not scan a freed one.
+ScanDriver::~ScanDriver() {
+    timer_.remove(slot_);
+    rounds_.remove(*this);
+}
 
 void ScanDriver::start_at(Clock::time_point first) {
     running_ = true;
@@ -100,33 +102,22 @@ void ScanDriver::set_frozen(bool frozen) noexcept {
 void ScanDriver::step(std::uint64_t n) noexcept {
     // A bound on what clients can queue: hours of simulated time, never an endless busy loop.
     pending_steps_ = std::min(pending_steps_ + std::min(n, kMaxPendingSteps), kMaxPendingSteps);
-    if (stepping_ || pending_steps_ == 0) return;
-    stepping_ = true;
-    asio::post(io_, [this, alive = std::weak_ptr<char>(alive_)] {
-        if (!alive.expired()) run_steps();
-    });
+    if (pending_steps_ > 0) rounds_.add(*this);
 }
 
-void ScanDriver::cancel_steps() noexcept { pending_steps_ = 0; }
+void ScanDriver::cancel_steps() noexcept {
+    pending_steps_ = 0;
+    rounds_.remove(*this);
+}
 
-void ScanDriver::run_steps() {
-    const auto start = Clock::now();
-    while (pending_steps_ > 0) {
-        run_one(next_sim_);
-        next_sim_ += engine_.scan_period();
-        --pending_steps_;
-        // A clock read costs tens of ns, a scan of a big program milliseconds: look every scan.
-        if (Clock::now() - start > kStepSlice) break;
-    }
-    rebase(Clock::now());
-    if (pending_steps_ == 0) {
-        stepping_ = false;
-        return;
-    }
-    // The rest after whatever else is waiting on the loop.
-    asio::post(io_, [this, alive = std::weak_ptr<char>(alive_)] {
-        if (!alive.expired()) run_steps();
-    });
+bool ScanDriver::step_once() noexcept {
+    if (pending_steps_ == 0) return false;
+    run_one(next_sim_);
+    next_sim_ += engine_.scan_period();
+    --pending_steps_;
+    // A running (not frozen) PLC goes on in real time from here, not catching up on the steps.
+    if (!frozen_) rebase(Clock::now());
+    return pending_steps_ > 0;
 }
 
 void ScanDriver::run_one(engine::Duration sim) {

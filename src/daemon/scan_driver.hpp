@@ -13,6 +13,7 @@
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "scan_timer.hpp"
+#include "step_rounds.hpp"
 
 namespace plcemu::daemon {
 
@@ -33,15 +34,16 @@ struct LatenessStats {
     std::chrono::microseconds percentile(double fraction) const noexcept;
 };
 
-/// The real-time scan loop of one PLC, woken by the process's one ScanTimer.
-class ScanDriver final : public engine::TimeControl, private Scheduled {
+/// The real-time scan loop of one PLC, woken by the process's one ScanTimer; its queued steps run
+/// in the process's StepRounds.
+class ScanDriver final : public engine::TimeControl, private Scheduled, private Stepper {
 public:
     using Clock = std::chrono::steady_clock;
 
     /// `prefix` starts its log lines: "plcs[1] (kiln): ", or "" for the one PLC of a plain
     /// config.
-    ScanDriver(asio::io_context& io,
-               ScanTimer& timer,
+    ScanDriver(ScanTimer& timer,
+               StepRounds& rounds,
                engine::Engine& engine,
                double time_scale,
                std::string prefix = {});
@@ -63,8 +65,8 @@ public:
     void set_frozen(bool frozen) noexcept override;
     /// True while frozen.
     bool frozen() const noexcept override { return frozen_; }
-    /// Queues `n` scans (meant for a frozen engine); they run back to back in slices between
-    /// other work on the loop, so a long step never starves the clients.
+    /// Queues `n` scans (meant for a frozen engine); they run in the step rounds, a slice at a
+    /// time between other work on the loop, so long steps of many PLCs never starve the clients.
     void step(std::uint64_t n) noexcept override;
     /// Scans queued by step() and not yet run.
     std::uint64_t pending_steps() const noexcept override { return pending_steps_; }
@@ -81,20 +83,16 @@ private:
     void arm();
     void due() override;
     void tick();
-    void run_steps();
+    bool step_once() noexcept override;
     Clock::time_point deadline(engine::Duration sim) const;
     void run_one(engine::Duration sim);
     void rebase(Clock::time_point real_now);
 
-    asio::io_context& io_;
     ScanTimer& timer_;
     ScanTimer::Slot slot_;
+    StepRounds& rounds_;
     engine::Engine& engine_;
-    // Queued steps hold a weak reference: one already queued when the driver is destroyed (a
-    // reload swaps engines) finds it expired instead of running on a freed engine.
-    std::shared_ptr<char> alive_ = std::make_shared<char>();
     std::uint64_t pending_steps_ = 0;
-    bool stepping_ = false;
     double scale_;
     std::string prefix_;
     bool frozen_ = false;

@@ -3,50 +3,57 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "plcemu/image/utf8.hpp"
+
 namespace plcemu::image {
 
-// Counts characters, not bytes, so a cut never splits a UTF-8 sequence; stray bytes are escaped.
+namespace {
+
+// What a terminal acts on instead of showing: C0 and C1 controls, DEL, the line and paragraph
+// separators, and the bidirectional marks, embeddings, overrides and isolates (which reorder the
+// rest of the line).
+bool escaped(char32_t c) {
+    return c < 0x20 || (c >= 0x7F && c <= 0x9F) || c == 0x061C || c == 0x200E || c == 0x200F ||
+           c == 0x2028 || c == 0x2029 || (c >= 0x202A && c <= 0x202E) ||
+           (c >= 0x2066 && c <= 0x2069);
+}
+
+}  // namespace
+
+// Escapes, besides controls, the characters that reorder or separate a terminal line (U+202E,
+// U+2066, U+2028, …) and bytes that are not UTF-8 (\xFF), so a quote can neither break, forge nor
+// reorder a log line. Counts characters, not bytes, so a cut never splits a UTF-8 sequence.
 std::string excerpt(std::string_view s, std::size_t max_chars) {
-    static constexpr char kHex[] = "0123456789ABCDEF";
     std::string out;
     // Enough unless something is escaped: an error message quotes one per refusal.
     out.reserve(std::min(s.size(), max_chars) + 4);
     std::size_t chars = 0;
-    std::size_t pending = 0;  // continuation bytes the last lead byte announced
-    char hex[8];
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        const auto c = static_cast<unsigned char>(s[i]);
-        const auto next = [&](std::size_t k) {
-            return i + k < s.size() ? static_cast<unsigned char>(s[i + k]) : 0;
-        };
-        if ((c & 0xC0) == 0x80 && pending > 0) {
-            --pending;
-            out += s[i];
-            continue;
-        }
-        pending = 0;
+    char hex[12];
+    for (std::size_t i = 0; i < s.size();) {
         if (chars++ == max_chars) return out + "…";
-        if (c == '\n') {
-            out += "\\n";
-        } else if (c == '\r') {
-            out += "\\r";
-        } else if (c == '\t') {
-            out += "\\t";
-        } else if (c < 0x20 || c == 0x7F || (c & 0xC0) == 0x80 || c >= 0xF8) {
-            out += "\\x";
-            out += kHex[c >> 4];
-            out += kHex[c & 0xF];
-        } else if (c == 0xC2 && next(1) >= 0x80 && next(1) <= 0x9F) {  // C1 controls (NEL…)
-            std::snprintf(hex, sizeof hex, "\\u%04X", next(1));
+        const Utf8Char u = utf8_char(s.substr(i));
+        if (u.length == 0) {  // a byte that is not UTF-8
+            std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned char>(s[i]));
             out += hex;
             ++i;
-        } else if (c == 0xE2 && next(1) == 0x80 && (next(2) == 0xA8 || next(2) == 0xA9)) {
-            out += next(2) == 0xA8 ? "\\u2028" : "\\u2029";  // line and paragraph separators
-            i += 2;
-        } else {
-            pending = c >= 0xF0 ? 3 : c >= 0xE0 ? 2 : c >= 0xC0 ? 1 : 0;
-            out += s[i];
+            continue;
         }
+        if (u.code == '\n') {
+            out += "\\n";
+        } else if (u.code == '\r') {
+            out += "\\r";
+        } else if (u.code == '\t') {
+            out += "\\t";
+        } else if (u.code < 0x20 || u.code == 0x7F) {
+            std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned>(u.code));
+            out += hex;
+        } else if (escaped(u.code)) {
+            std::snprintf(hex, sizeof hex, "\\u%04X", static_cast<unsigned>(u.code));
+            out += hex;
+        } else {
+            out.append(s, i, u.length);
+        }
+        i += u.length;
     }
     return out;
 }

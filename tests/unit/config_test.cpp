@@ -9,6 +9,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/config/tree.hpp"
+#include "plcemu/image/utf8.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "profiles/fbs/model.hpp"
 #include "support/config_errors.hpp"
@@ -225,6 +226,43 @@ TEST(Config, ExcerptCutsAndEscapes) {
     for (int i = 0; i < 40; ++i) e40 += "é";
     EXPECT_EQ(excerpt(e), e40 + "…");
     EXPECT_EQ(excerpt("\xff\x80x"), "\\xFF\\x80x");
+}
+
+// A key or value cannot reorder the log line that quotes it: the bidirectional marks, embeddings,
+// overrides and isolates are escaped like controls, and so is every byte that is not UTF-8.
+TEST(Config, ExcerptEscapesBidiControlsAndBytesThatAreNotUtf8) {
+    EXPECT_EQ(excerpt("a\u202Eb"), "a\\u202Eb");  // RIGHT-TO-LEFT OVERRIDE
+    EXPECT_EQ(excerpt("\u200E\u200F\u202A\u202B\u202C\u202D\u2066\u2067\u2068\u2069\u061C"),
+              "\\u200E\\u200F\\u202A\\u202B\\u202C\\u202D\\u2066\\u2067\\u2068\\u2069\\u061C");
+    EXPECT_EQ(excerpt("\u2029\u009B"), "\\u2029\\u009B");  // PARAGRAPH SEPARATOR, CSI
+    // Kept: letters of any script, and the characters next to the escaped ones.
+    EXPECT_EQ(excerpt("\u00A0é€\u2027\u2030\u2065\u206A😀"), "\u00A0é€\u2027\u2030\u2065\u206A😀");
+    // Not UTF-8: a lead byte without its continuation, overlong forms, a surrogate, beyond
+    // U+10FFFF, and a sequence cut short by the end.
+    EXPECT_EQ(excerpt("\xc3x"), "\\xC3x");
+    EXPECT_EQ(excerpt("\xc0\xaf"), "\\xC0\\xAF");
+    EXPECT_EQ(excerpt("\xe0\x80\xaf"), "\\xE0\\x80\\xAF");
+    EXPECT_EQ(excerpt("\xed\xa0\x80"), "\\xED\\xA0\\x80");
+    EXPECT_EQ(excerpt("\xf4\x90\x80\x80"), "\\xF4\\x90\\x80\\x80");
+    EXPECT_EQ(excerpt("a\xe2\x80"), "a\\xE2\\x80");
+    // An escaped character counts as one.
+    EXPECT_EQ(excerpt("\u202E\u202Eab", 2), "\\u202E\\u202E…");
+}
+
+TEST(Config, Utf8CharDecodesWellFormedSequencesOnly) {
+    using image::utf8_char;
+    EXPECT_EQ(utf8_char("A").code, U'A');
+    EXPECT_EQ(utf8_char("A").length, 1u);
+    EXPECT_EQ(utf8_char("é").code, U'é');
+    EXPECT_EQ(utf8_char("\u202E").code, U'\u202E');
+    EXPECT_EQ(utf8_char("\u202E").length, 3u);
+    EXPECT_EQ(utf8_char("😀").code, U'😀');
+    EXPECT_EQ(utf8_char("😀").length, 4u);
+    EXPECT_EQ(utf8_char("\xf4\x8f\xbf\xbf").code, char32_t{0x10FFFF});
+    for (const char* bad : {"\x80", "\xc1\xbf", "\xe0\x9f\xbf", "\xed\xbf\xbf", "\xf0\x8f\xbf\xbf",
+                            "\xf5\x80\x80\x80", "\xff", "\xe2\x28\xa1", "\xe2\x80"}) {
+        EXPECT_EQ(utf8_char(bad).length, 0u) << excerpt(bad);
+    }
 }
 
 TEST(Config, ErrorsNeverEchoAWholeHugeValue) {

@@ -211,6 +211,18 @@ TEST(ExportTags, CsvQuotesAndJsonEscapes) {
     EXPECT_EQ(written({}, true), "[]\n");
 }
 
+// docs/configuration.md, "Tag export": JSON text is UTF-8, so a byte that is not (a config file
+// name's, quoted in a description) becomes U+FFFD; valid characters, U+202E too, pass as they are.
+TEST(ExportTags, JsonReplacesBytesThatAreNotUtf8) {
+    std::vector<TagRow> rows{{"", "", "R1", "R1", 1, Table::HoldingRegisters, 1, "int16", true,
+                              "preset (caf\xe9\xff.yaml:2:3) \xc3\xa9 \xe2\x80\xae \xed\xa0\x80"}};
+    const std::string out = written(rows, true);
+    EXPECT_NE(out.find("\"preset (caf\\ufffd\\ufffd.yaml:2:3) \xc3\xa9 \xe2\x80\xae "
+                       "\\ufffd\\ufffd\\ufffd\""),
+              std::string::npos)
+        << out;
+}
+
 // docs/configuration.md, "Tag export": a `plcs:` config exports every PLC, each row naming its
 // PLC (its name, else plcs[i], as --print-map --format csv does) and the listeners that reach it.
 TEST(ExportTags, EveryPlcOfAPlcsConfigWithItsEndpointAndUnits) {
