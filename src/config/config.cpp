@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -679,31 +680,6 @@ bool valid_entry_name(const std::string& s) {
                std::string::npos;
 }
 
-// What an entry takes that another may share or clash with, worked out once per entry: the keys
-// resolve addresses and device paths, and every later entry is compared with this one.
-struct Taken {
-    std::string tcp;         // tcp_listener_key, empty when TCP is off
-    bool tcp_any = false;    // bound to every address
-    std::string rtu;         // serial_line_key, empty without RTU
-    std::string state_file;  // empty without persistence
-
-    explicit Taken(const Config& c) {
-        if (c.modbus.tcp.enabled && c.modbus.tcp.port != 0) {
-            tcp = tcp_listener_key(c.modbus.tcp);
-            tcp_any = any_address(c.modbus.tcp.bind);
-        }
-        if (c.modbus.rtu) rtu = serial_line_key(c.modbus.rtu->device);
-        if (c.persistence.enabled) state_file = default_state_file(c);
-    }
-};
-
-// Two listeners clash on one port when either takes every address or both take the same one,
-// however each writes it.
-bool same_port(const Config& c, const Taken& a, const Config& o, const Taken& b) {
-    if (a.tcp.empty() || b.tcp.empty() || c.modbus.tcp.port != o.modbus.tcp.port) return false;
-    return a.tcp == b.tcp || a.tcp_any || b.tcp_any;
-}
-
 // The node of `key` under `at`, or the nearest ancestor written: where an error points.
 const Node& where(const Node& entry, std::initializer_list<const char*> path) {
     const Node* n = &entry;
@@ -713,6 +689,37 @@ const Node& where(const Node& entry, std::initializer_list<const char*> path) {
         n = &next;
     }
     return *n;
+}
+
+// What an entry takes that another may share or clash with, worked out once per entry: the keys
+// resolve addresses and device paths, and every later entry is compared with this one.
+struct Taken {
+    std::string tcp;         // tcp_listener_key, empty when TCP is off
+    bool tcp_any = false;    // bound to every address
+    std::string rtu;         // serial_line_key, empty without RTU
+    std::string state_file;  // state_file_key, empty without persistence
+    Position state_at;       // where the entry names it (the entry itself for the default)
+
+    Taken(const Config& c, const Node& entry) {
+        if (c.modbus.tcp.enabled && c.modbus.tcp.port != 0) {
+            tcp = tcp_listener_key(c.modbus.tcp);
+            tcp_any = any_address(c.modbus.tcp.bind);
+        }
+        if (c.modbus.rtu) rtu = serial_line_key(c.modbus.rtu->device);
+        if (c.persistence.enabled) {
+            // Where the daemon will open it, so --check-config compares what a start would.
+            const char* dir = std::getenv("STATE_DIRECTORY");
+            state_file = state_file_key(state_file_path(c, dir ? dir : ""));
+            state_at = where(entry, {"persistence", "file"}).pos;
+        }
+    }
+};
+
+// Two listeners clash on one port when either takes every address or both take the same one,
+// however each writes it.
+bool same_port(const Config& c, const Taken& a, const Config& o, const Taken& b) {
+    if (a.tcp.empty() || b.tcp.empty() || c.modbus.tcp.port != o.modbus.tcp.port) return false;
+    return a.tcp == b.tcp || a.tcp_any || b.tcp_any;
 }
 
 // PLCs on one listener are told apart by unit ID: each needs a station and a simulator unit of
@@ -809,9 +816,15 @@ void check_shared(const Reader& r,
             check_units(r, entry, c, o, "serial line '" + excerpt(c.modbus.rtu->device) + "'");
         }
         if (!mine.state_file.empty() && mine.state_file == t.state_file) {
-            const Node& file = entry["persistence"]["file"];
-            r.fail(file ? file : entry, "persistence.file: '" + excerpt(mine.state_file) +
-                                            "' is also " + o.label + "'s state file");
+            // Paths are quoted whole up to a length real ones do not reach.
+            constexpr std::size_t kPath = 1024;
+            const Position& at = t.state_at;
+            r.fail(where(entry, {"persistence", "file"}),
+                   "persistence.file: '" + excerpt(default_state_file(c), kPath) + "' is also " +
+                       o.label + "'s state file ('" + excerpt(default_state_file(o), kPath) +
+                       "' at " + at.file + ":" + std::to_string(at.line) + ":" +
+                       std::to_string(at.column) + "; both are " + excerpt(mine.state_file, kPath) +
+                       ")");
         }
     }
 }
@@ -896,7 +909,7 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors&
             c.label = label;
             c.index = static_cast<int>(i);
             c.log = log;
-            Taken mine(c);
+            Taken mine(c, e);
             check_shared(r, e, c, mine, out, taken);
             taken.push_back(std::move(mine));
             out.push_back(std::move(c));
@@ -936,6 +949,25 @@ std::string default_state_file(const Config& config) {
         stem += config.name.empty() ? std::to_string(config.index) : config.name;
     }
     return stem + ".state";
+}
+
+std::string state_file_path(const Config& config, const std::string& state_directory) {
+    std::string name = default_state_file(config);
+    if (name.front() == '/') return name;
+    std::string dir = state_directory.substr(0, state_directory.find(':'));
+    if (dir.empty()) {
+        const auto slash = config.path.rfind('/');
+        if (slash == std::string::npos) {
+            dir.assign(1, '.');
+        } else if (slash == 0) {
+            dir.assign(1, '/');
+        } else {
+            dir.assign(config.path, 0, slash);
+        }
+    }
+    if (dir.back() != '/') dir += '/';
+    dir += name;
+    return dir;
 }
 
 Config parse_config(const std::string& text, const std::string& name) {

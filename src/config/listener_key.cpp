@@ -44,4 +44,22 @@ std::string serial_line_key(const std::string& device) {
     return fs::path(device).lexically_normal().string();
 }
 
+std::string state_file_key(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::path p = fs::absolute(path, ec);
+    if (ec) return fs::path(path).lexically_normal().string();
+    // weakly_canonical follows every link that leads somewhere; a dangling last link (to a state
+    // file not made yet) is followed here, as the kernel would, up to its limit of 40.
+    for (int links = 0; links < 40; ++links) {
+        fs::path w = fs::weakly_canonical(p, ec);
+        if (ec) break;
+        if (!fs::is_symlink(fs::symlink_status(w, ec)) || ec) return w.string();
+        const fs::path target = fs::read_symlink(w, ec);
+        if (ec) return w.string();
+        p = target.is_absolute() ? target : w.parent_path() / target;
+    }
+    return p.lexically_normal().string();
+}
+
 }  // namespace plcemu::config

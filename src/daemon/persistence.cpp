@@ -4,25 +4,6 @@
 
 namespace plcemu::daemon {
 
-std::string state_file_path(const config::Config& config, const std::string& state_directory) {
-    std::string name = config::default_state_file(config);
-    if (name.front() == '/') return name;
-    std::string dir = state_directory.substr(0, state_directory.find(':'));
-    if (dir.empty()) {
-        const auto slash = config.path.rfind('/');
-        if (slash == std::string::npos) {
-            dir.assign(1, '.');
-        } else if (slash == 0) {
-            dir.assign(1, '/');
-        } else {
-            dir.assign(config.path, 0, slash);
-        }
-    }
-    if (dir.back() != '/') dir += '/';
-    dir += name;
-    return dir;
-}
-
 SyncThread::~SyncThread() {
     {
         std::lock_guard lock(mutex_);

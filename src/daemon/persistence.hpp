@@ -10,14 +10,13 @@
 #include <vector>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/config/listener_key.hpp"
 #include "plcemu/image/state_file.hpp"
 
 namespace plcemu::daemon {
 
-/// The state file of a config: persistence.file, or `<config-stem>.state`; a relative name lies
-/// in $STATE_DIRECTORY (set by systemd's StateDirectory=) when set, else beside the config.
-/// `state_directory` is the value of STATE_DIRECTORY ("" = unset; the first of a list counts).
-std::string state_file_path(const config::Config& config, const std::string& state_directory);
+/// Where the state file lives: the loader works it out too, to compare the entries of `plcs:`.
+using config::state_file_path;
 
 /// Syncs the state files of every PLC of the process, each every period of its own, on one
 /// thread: msync may wait for the disk, and the scan loop must not (and 500 PLCs need not 500

@@ -148,6 +148,7 @@ StateFile::StateFile(const std::string& path, const Layout& layout, std::time_t 
                                     " retentive ranges");
     }
     try {
+        open_directory();
         lock();
         std::string why;
         if (!try_open(layout, why)) {
@@ -158,8 +159,10 @@ StateFile::StateFile(const std::string& path, const Layout& layout, std::time_t 
     } catch (...) {
         release();
         unlock();
+        close_directory();
         throw;
     }
+    close_directory();
     StateFileHeader h;
     std::memcpy(&h, base_, sizeof h);
     h.state = kStateOpen;
@@ -171,15 +174,65 @@ StateFile::StateFile(const std::string& path, const Layout& layout, std::time_t 
 
 StateFile::~StateFile() { close(); }
 
+void StateFile::open_directory() {
+    // Every file of the set is reached through this one descriptor, by a name without a slash:
+    // the directory may be reached through symlinks, but it stays the same directory throughout,
+    // and no final component is ever followed (O_NOFOLLOW, docs/operations.md).
+    const auto slash = path_.rfind('/');
+    const std::string dir = slash == std::string::npos ? "." : path_.substr(0, slash + 1);
+    name_ = slash == std::string::npos ? path_ : path_.substr(slash + 1);
+    if (name_.empty() || name_ == "." || name_ == "..") {
+        throw std::system_error(EISDIR, std::generic_category(),
+                                "state file " + path_ + ": names a directory, not a file");
+    }
+    dir_fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir_fd_ < 0) throw_errno("state file " + path_ + ": cannot open its directory " + dir);
+}
+
+void StateFile::close_directory() noexcept {
+    if (dir_fd_ >= 0) ::close(dir_fd_);
+    dir_fd_ = -1;
+}
+
+int StateFile::open_in_directory(const std::string& name, int flags, const char* what) {
+    // O_NONBLOCK: a FIFO planted under the name must not hold the start; it is refused below.
+    const int fd =
+        ::openat(dir_fd_, name.c_str(), flags | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0600);
+    if (fd < 0) {
+        if (errno == ELOOP) {
+            throw std::system_error(
+                ELOOP, std::generic_category(),
+                "state file " + path_ + ": " + what + " " + sibling(name) +
+                    " is a symbolic link, which plcemud never follows (remove it, or set "
+                    "persistence.file to the real path)");
+        }
+        return -1;
+    }
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        ::close(fd);
+        throw std::system_error(
+            EINVAL, std::generic_category(),
+            "state file " + path_ + ": " + what + " " + sibling(name) + " is not a regular file");
+    }
+    return fd;
+}
+
+std::string StateFile::sibling(const std::string& name) const {
+    return path_.substr(0, path_.size() - name_.size()) + name;
+}
+
 void StateFile::lock() {
-    const std::string lock_path = path_ + ".lock";
+    const std::string lock_name = name_ + ".lock";
     // Never truncated, renamed or mapped, unlike the state file and its `.new`: locking it first
     // makes everything after (checks, moving aside, creating) one process's alone.
-    lock_fd_ = ::open(lock_path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0600);
-    if (lock_fd_ < 0) throw_errno("state file " + path_ + ": cannot open its lock " + lock_path);
+    lock_fd_ = open_in_directory(lock_name, O_RDONLY | O_CREAT, "its lock");
+    if (lock_fd_ < 0) {
+        throw_errno("state file " + path_ + ": cannot open its lock " + sibling(lock_name));
+    }
     if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
         if (errno == EWOULDBLOCK) throw_in_use(path_);
-        throw_errno("state file " + path_ + ": cannot lock " + lock_path);
+        throw_errno("state file " + path_ + ": cannot lock " + sibling(lock_name));
     }
 }
 
@@ -189,7 +242,7 @@ void StateFile::unlock() noexcept {
 }
 
 bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
-    fd_ = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
+    fd_ = open_in_directory(name_, O_RDWR, "the file");
     if (fd_ < 0) {
         if (errno == ENOENT) return false;
         throw_errno("state file " + path_ + ": cannot open");
@@ -250,6 +303,14 @@ bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
     if (file_size < kDataOffset + h.storage_size) {
         return reject("corrupted: truncated to " + std::to_string(file_size) + " bytes");
     }
+    // Created at exactly this size and never grown: anything after the image was written by
+    // something else, so the rest cannot be trusted either.
+    const std::size_t whole = kDataOffset + round_up(h.storage_size);
+    if (file_size > whole) {
+        return reject("corrupted: " + std::to_string(file_size - whole) +
+                      " bytes after the image (" + std::to_string(file_size) + " bytes, not " +
+                      std::to_string(whole) + ")");
+    }
     if (h.state != kStateOpen && h.state != kStateClosed) {
         return reject("corrupted: bad state " + std::to_string(h.state));
     }
@@ -289,10 +350,22 @@ bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
 
 void StateFile::create(const Layout& layout, std::time_t now) {
     // Under the lock (see lock()), so nobody else has `.new` open: a leftover is a dead creator's.
-    const std::string tmp = path_ + ".new";
-    const int fd = ::open(tmp.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-    if (fd < 0) throw_errno("state file " + tmp + ": cannot create");
-    fd_ = fd;
+    // It is removed (unlink never follows a link: a planted symlink goes, its target stays) and
+    // made anew exclusively, so the image is written into no file but a new one of our own.
+    const std::string tmp_name = name_ + ".new";
+    const std::string tmp = sibling(tmp_name);
+    struct stat st {};
+    if (::fstatat(dir_fd_, tmp_name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
+        if (::unlinkat(dir_fd_, tmp_name.c_str(), 0) != 0)
+            throw_errno("state file " + tmp + ": cannot remove a leftover");
+        if (S_ISLNK(st.st_mode)) {
+            notes_.push_back({true, "state file " + path_ + ": its temporary " + tmp +
+                                        " was a symbolic link; removed the link (not followed, "
+                                        "its target untouched)"});
+        }
+    }
+    fd_ = open_in_directory(tmp_name, O_RDWR | O_CREAT | O_EXCL, "its temporary");
+    if (fd_ < 0) throw_errno("state file " + tmp + ": cannot create");
     try {
         if (::flock(fd_, LOCK_EX | LOCK_NB) != 0)
             throw_errno("state file " + tmp + ": cannot lock");
@@ -310,21 +383,16 @@ void StateFile::create(const Layout& layout, std::time_t now) {
         if (::msync(base_, mapped_, MS_SYNC) != 0 || ::fsync(fd_) != 0) {
             throw_errno("state file " + tmp + ": cannot sync");
         }
-        if (::rename(tmp.c_str(), path_.c_str()) != 0)
+        if (::renameat(dir_fd_, tmp_name.c_str(), dir_fd_, name_.c_str()) != 0)
             throw_errno("state file " + path_ + ": cannot create");
     } catch (...) {
         // A half-made file is of no use to anyone: do not leave it behind.
         release();
-        ::unlink(tmp.c_str());
+        ::unlinkat(dir_fd_, tmp_name.c_str(), 0);
         throw;
     }
-    const auto slash = path_.rfind('/');
-    const std::string dir = slash == std::string::npos ? "." : path_.substr(0, slash + 1);
-    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-        ::fsync(dfd);
-        ::close(dfd);
-    }
+    // The rename (and a move aside before it) on disk too.
+    ::fsync(dir_fd_);
     origin_ = StateOrigin::Created;
     notes_.push_back({false, "state file " + path_ + ": created"});
 }
@@ -349,14 +417,15 @@ void StateFile::map(std::size_t size) {
 }
 
 void StateFile::move_aside(const std::string& why, std::time_t now) {
-    std::string target = path_ + ".bad-" + timestamp(now);
+    std::string target = name_ + ".bad-" + timestamp(now);
     struct stat st {};
-    for (int n = 1; ::stat(target.c_str(), &st) == 0; ++n) {
-        target = path_ + ".bad-" + timestamp(now) + "-" + std::to_string(n);
+    for (int n = 1; ::fstatat(dir_fd_, target.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0; ++n) {
+        target = name_ + ".bad-" + timestamp(now) + "-" + std::to_string(n);
     }
-    if (::rename(path_.c_str(), target.c_str()) != 0) {
+    if (::renameat(dir_fd_, name_.c_str(), dir_fd_, target.c_str()) != 0) {
         throw_errno("state file " + path_ + " " + why + ", and it cannot be moved aside");
     }
+    target = sibling(target);
     moved_aside_ = target;
     notes_.push_back({true, "state file " + path_ + " " + why + "; moved to " + target +
                                 ", starting with a fresh one"});

@@ -1,5 +1,6 @@
 // What makes two PLCs' listeners one (docs/configuration.md, "Sharing a listener"): the bind
-// address as the listener parses it, the serial device as the kernel finds it.
+// address as the listener parses it, the serial device as the kernel finds it; and what makes
+// two state files one.
 
 #include "plcemu/config/listener_key.hpp"
 
@@ -48,6 +49,40 @@ TEST(ListenerKey, ADeviceBySymlinkOrDoubledSlashIsOneLine) {
     // A device that is not there (yet) is compared as written, made lexically normal.
     EXPECT_EQ(serial_line_key("/nonexistent//dir/./ttyQ"), "/nonexistent/dir/ttyQ");
     EXPECT_NE(serial_line_key("/nonexistent/ttyQ"), serial_line_key("/nonexistent/ttyR"));
+    fs::remove_all(dir);
+}
+
+// docs/configuration.md, "Several PLCs": one state file however written, whether it exists yet
+// or not.
+TEST(StateFileKey, OneFileSpelledTwoWaysOrByALinkIsOneFile) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / "plcemu_state_file_key_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "real");
+    fs::create_directory_symlink(dir / "real", dir / "linked");
+    const std::string real = (fs::canonical(dir) / "real" / "x.state").string();
+    // x.state does not exist yet: the directory is resolved and the name appended.
+    EXPECT_EQ(state_file_key((dir / "real" / "x.state").string()), real);
+    EXPECT_EQ(state_file_key(dir.string() + "/real/./x.state"), real);
+    EXPECT_EQ(state_file_key((dir / "linked" / "x.state").string()), real);
+    // A link to it, dangling until the file is made, and one through another link.
+    fs::create_symlink("x.state", dir / "real" / "y.state");
+    fs::create_symlink(dir / "real" / "y.state", dir / "z.state");
+    EXPECT_EQ(state_file_key((dir / "real" / "y.state").string()), real);
+    EXPECT_EQ(state_file_key((dir / "z.state").string()), real);
+    std::ofstream(dir / "real" / "x.state").put('x');
+    EXPECT_EQ(state_file_key((dir / "z.state").string()), real);
+    EXPECT_NE(state_file_key((dir / "real" / "w.state").string()), real);
+    // Relative to the working directory, as the daemon opens it.
+    const fs::path cwd = fs::current_path();
+    fs::current_path(dir / "real");
+    EXPECT_EQ(state_file_key("x.state"), real);
+    EXPECT_EQ(state_file_key("./x.state"), real);
+    fs::current_path(cwd);
+    // A loop of links resolves to no file, and to no crash.
+    fs::create_symlink("b.state", dir / "a.state");
+    fs::create_symlink("a.state", dir / "b.state");
+    EXPECT_NE(state_file_key((dir / "a.state").string()), real);
     fs::remove_all(dir);
 }
 

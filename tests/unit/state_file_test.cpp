@@ -191,6 +191,27 @@ TEST_F(StateFileTest, TruncatedFileIsMovedAside) {
     EXPECT_NE(f.notes().front().text.find("truncated"), std::string::npos);
 }
 
+// docs/operations.md, "Retentive memory": the file is created at exactly the header and the
+// image, so bytes after them mean something else wrote into it; it is handled as corrupted.
+TEST_F(StateFileTest, TrailingJunkIsMovedAside) {
+    {
+        StateFile f(path_, layout(), fixed_now());
+        Image(layout(), f.storage()).set_word(Area::D, 5, 55);
+    }
+    auto bytes = read_file();
+    bytes.resize(bytes.size() + 100 * 1024, 'j');
+    write_file(bytes);
+    StateFile f(path_, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Created);
+    const std::string& t = f.notes().front().text;
+    EXPECT_TRUE(f.notes().front().warning);
+    EXPECT_NE(t.find("corrupted: 102400 bytes after the image"), std::string::npos) << t;
+    ASSERT_EQ(bad_files().size(), 1u);
+    EXPECT_EQ(fs::file_size(bad_files()[0]), file_size() + 100 * 1024);
+    EXPECT_EQ(fs::file_size(path_), file_size());
+    EXPECT_EQ(Image(layout(), f.storage()).word(Area::D, 5), 0);
+}
+
 TEST_F(StateFileTest, HeaderBitFlipIsCaughtByTheHeaderChecksum) {
     { StateFile f(path_, layout(), fixed_now()); }
     auto bytes = read_file();
@@ -367,6 +388,78 @@ TEST_F(StateFileTest, ProcessesCreatingOneNewFileAtOnceLetExactlyOneWin) {
 
 // The blocks of a new file are allocated up front, so a write into the mapping can never fault
 // (SIGBUS) later because the disk has filled up meanwhile.
+// docs/operations.md, "Retentive memory": no file of the set is reached through a symlink as its
+// last component. A `.new` planted as a link is removed as a link; its target is never written.
+TEST_F(StateFileTest, ATemporaryPlantedAsALinkIsRemovedAndItsTargetNeverWritten) {
+    const fs::path victim = dir_ / "victim";
+    { std::ofstream(victim) << "precious"; }
+    fs::create_symlink(victim, path_ + ".new");
+    {
+        StateFile f(path_, layout(), fixed_now());
+        EXPECT_EQ(f.origin(), StateOrigin::Created);
+        Image(layout(), f.storage()).set_word(Area::D, 1, 11);
+        bool logged = false;
+        for (const auto& n : f.notes())
+            logged = logged || (n.warning && n.text.find("symbolic link") != std::string::npos);
+        EXPECT_TRUE(logged);
+    }
+    EXPECT_EQ(fs::file_size(victim), 8u);
+    EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(path_)));
+    EXPECT_FALSE(fs::exists(fs::symlink_status(path_ + ".new")));
+    EXPECT_EQ(header().state, image::kStateClosed);
+}
+
+TEST_F(StateFileTest, AStateFileThatIsALinkIsRefusedAndItsTargetLeftAlone) {
+    const fs::path victim = dir_ / "victim";
+    { std::ofstream(victim) << "precious"; }
+    fs::create_symlink(victim, path_);
+    try {
+        StateFile f(path_, layout(), fixed_now());
+        FAIL() << "a symlink was used as the state file";
+    } catch (const std::system_error& e) {
+        EXPECT_NE(std::string(e.what()).find(path_ + " is a symbolic link"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(fs::file_size(victim), 8u);
+    EXPECT_TRUE(fs::is_symlink(path_));
+    EXPECT_TRUE(bad_files().empty());
+}
+
+TEST_F(StateFileTest, ALockThatIsADanglingLinkIsRefusedAndItsTargetNotCreated) {
+    const fs::path target = dir_ / "created-by-nobody";
+    fs::create_symlink(target, path_ + ".lock");
+    try {
+        StateFile f(path_, layout(), fixed_now());
+        FAIL() << "a symlink was followed as the lock";
+    } catch (const std::system_error& e) {
+        EXPECT_NE(std::string(e.what()).find(path_ + ".lock is a symbolic link"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_FALSE(fs::exists(fs::symlink_status(target)));
+    EXPECT_FALSE(fs::exists(fs::symlink_status(path_)));
+}
+
+TEST_F(StateFileTest, ALockThatIsNotARegularFileIsRefused) {
+    ASSERT_EQ(::mkfifo((path_ + ".lock").c_str(), 0600), 0);
+    EXPECT_THROW(StateFile(path_, layout(), fixed_now()), std::system_error);
+    EXPECT_FALSE(fs::exists(path_));
+}
+
+// Directories on the way may be links: the file is made and reopened in the one they lead to.
+TEST_F(StateFileTest, AFileReachedThroughALinkedDirectoryIsUsed) {
+    fs::create_directory(dir_ / "real");
+    fs::create_directory_symlink(dir_ / "real", dir_ / "linked");
+    const std::string through = (dir_ / "linked" / "plc.state").string();
+    {
+        StateFile f(through, layout(), fixed_now());
+        Image(layout(), f.storage()).set_word(Area::D, 3, 33);
+    }
+    EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(dir_ / "real" / "plc.state")));
+    StateFile f(through, layout(), fixed_now());
+    EXPECT_EQ(f.origin(), StateOrigin::Clean);
+    EXPECT_EQ(Image(layout(), f.storage()).word(Area::D, 3), 33);
+}
+
 TEST_F(StateFileTest, ANewFileHasEveryBlockReserved) {
     StateFile f(path_, layout(), fixed_now());
     struct stat st {};

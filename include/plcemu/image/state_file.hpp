@@ -66,9 +66,14 @@ public:
     /// Takes the lock on `path.lock` first, then opens `path` for `layout` (whose
     /// retentive ranges are recorded), or creates it. A file that is corrupted or does not match
     /// is renamed to `path.bad-YYYYmmdd-HHMMSS` (local time `now`) and a new one created; what
-    /// happened is in notes(). Throws std::system_error, naming `path`, when the lock is held by
-    /// another process ("in use by another process"), when the file's blocks cannot be reserved
-    /// ("cannot reserve N bytes", e.g. a full disk), or when it cannot be created or mapped.
+    /// happened is in notes(). Every file of the set (`path`, `path.lock`, `path.new`) is opened
+    /// in `path`'s directory without following a symlink as its last component: a `path` or
+    /// `path.lock` that is a symlink (or not a regular file) is refused, a `path.new` left over
+    /// is removed (a symlink as a link) and created exclusively. Throws std::system_error, naming
+    /// `path`, when the lock is held by another process ("in use by another process"), when a
+    /// file of the set is a symlink ("is a symbolic link") or not a regular file, when the
+    /// file's blocks cannot be reserved ("cannot reserve N bytes", e.g. a full disk), or when it
+    /// cannot be created or mapped.
     StateFile(const std::string& path, const Layout& layout, std::time_t now);
     /// Closes cleanly (see close()).
     ~StateFile();
@@ -96,6 +101,10 @@ public:
     void close() noexcept;
 
 private:
+    void open_directory();
+    void close_directory() noexcept;
+    int open_in_directory(const std::string& name, int flags, const char* what);
+    std::string sibling(const std::string& name) const;
     void lock();
     void unlock() noexcept;
     bool try_open(const Layout& layout, std::string& why_bad);
@@ -106,6 +115,8 @@ private:
     void write_header_checksum() noexcept;
 
     std::string path_;
+    std::string name_;  // the last component of path_
+    int dir_fd_ = -1;   // path_'s directory, open while the constructor runs
     int lock_fd_ = -1;
     int fd_ = -1;
     std::byte* base_ = nullptr;
