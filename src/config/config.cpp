@@ -4,19 +4,16 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <set>
-#include <sstream>
 #include <string_view>
 #include <tuple>
 
+#include "config/config_file.hpp"
 #include "config/yaml_tree.hpp"
 #include "plcemu/config/listener_key.hpp"
 #include "plcemu/config/tree.hpp"
@@ -919,17 +916,6 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors&
     return out;
 }
 
-std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw ConfigError({path, 0, 0},
-                          std::string("cannot open the config file: ") + std::strerror(errno));
-    }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 }  // namespace
 
 std::string plc_id(const Config& config) {
@@ -987,7 +973,7 @@ Config read_config(const Node& root, const std::string& name) {
     return c;
 }
 
-Config load_config(const std::string& path) { return parse_config(read_file(path), path); }
+Config load_config(const std::string& path) { return parse_config(read_config_file(path), path); }
 
 std::vector<Config> parse_plcs(const std::string& text, const std::string& name) {
     const Node root = parse_yaml_tree(text, name);
@@ -999,6 +985,8 @@ std::vector<Config> parse_plcs(const std::string& text, const std::string& name)
     return one;
 }
 
-std::vector<Config> load_plcs(const std::string& path) { return parse_plcs(read_file(path), path); }
+std::vector<Config> load_plcs(const std::string& path) {
+    return parse_plcs(read_config_file(path), path);
+}
 
 }  // namespace plcemu::config

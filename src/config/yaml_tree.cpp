@@ -17,14 +17,36 @@ namespace {
 // The YAML library's own messages are longer but may quote a character of the file.
 constexpr std::size_t kYamlMsgChars = 200;
 
+// A YAML alias shares its node, so a few lines of anchors can stand for an exponential tree: the
+// copy stops at a node count and a depth no real config reaches.
+constexpr std::size_t kMaxNodes = 1'000'000;
+constexpr std::size_t kMaxDepth = 64;
+
+Position position(const std::string& file, const YAML::Mark& mark) {
+    return mark.line < 0 || mark.column < 0 ? Position{file, 1, 1}
+                                            : Position{file, mark.line + 1, mark.column + 1};
+}
+
+[[noreturn]] void too_big(const Position& at) {
+    throw ConfigError(at, "the config nests too deeply or repeats too much (more than " +
+                              std::to_string(kMaxDepth) + " levels or " +
+                              std::to_string(kMaxNodes) + " nodes)");
+}
+
 // The document as the YAML library's parser reports it, kept as its node builder would keep it
 // (YAML::Load): a graph in which an alias is the anchored node itself, so that an alias of a
 // collection still open makes a cycle. The library's builder allocates several objects per node
 // and reference-counts them; this one keeps one record per node in a single vector, which makes
-// reading a config about twice as fast (docs/development.md, "Fuzzing").
+// reading a config about twice as fast (docs/development.md, "Fuzzing"). The limits are kept
+// here already, as the parser reports each node: a document nested past them (100,000 flow
+// levels) or larger than them stops at the first node past, at its own line and column, before
+// the YAML library's own recursion limit or the memory of a huge graph is reached.
 class Graph final : public YAML::EventHandler {
 public:
     static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+
+    explicit Graph(const std::string& file)
+        : file_(file) {}
 
     struct Record {
         Node::Kind kind = Node::Kind::Null;
@@ -69,6 +91,10 @@ public:
 
 private:
     std::size_t open(Node::Kind kind, const YAML::Mark& mark, YAML::anchor_t anchor) {
+        // A node's depth is the number of collections open around it, as TreeBuilder counts.
+        if (records.size() >= kMaxNodes || stack_.size() > kMaxDepth) {
+            too_big(position(file_, mark));
+        }
         records.push_back({kind, mark, {}, {}});
         const std::size_t r = records.size() - 1;
         // The parser numbers anchors from 1 in the order they appear.
@@ -92,21 +118,19 @@ private:
         close(r);
     }
 
+    const std::string& file_;
     std::vector<std::size_t> stack_;    // the collections open
     std::vector<std::size_t> anchors_;  // anchor number -> record
 };
 
-// The graph as a plain tree. A YAML alias shares its node, so a few lines of anchors can stand
-// for an exponential tree: the copy stops at a node count and a depth no real config reaches.
+// The graph as a plain tree, within the same limits: aliases make the tree larger and deeper than
+// the graph.
 struct TreeBuilder {
-    static constexpr std::size_t kMaxNodes = 1'000'000;
-    static constexpr int kMaxDepth = 64;
-
     const Graph& graph;
     const std::string& file;
     std::size_t nodes = 0;
 
-    Node operator()(std::size_t r, int depth) {
+    Node operator()(std::size_t r, std::size_t depth) {
         Node n;
         if (r == Graph::kNone) {
             // No document: a null node at the start of the file.
@@ -115,14 +139,8 @@ struct TreeBuilder {
             return n;
         }
         const Graph::Record& g = graph.records[r];
-        n.pos = g.mark.line < 0 || g.mark.column < 0
-                    ? Position{file, 1, 1}
-                    : Position{file, g.mark.line + 1, g.mark.column + 1};
-        if (++nodes > kMaxNodes || depth > kMaxDepth) {
-            throw ConfigError(n.pos, "the config nests too deeply or repeats too much (more than " +
-                                         std::to_string(kMaxDepth) + " levels or " +
-                                         std::to_string(kMaxNodes) + " nodes)");
-        }
+        n.pos = position(file, g.mark);
+        if (++nodes > kMaxNodes || depth > kMaxDepth) too_big(n.pos);
         n.kind = g.kind;
         switch (g.kind) {
             case Node::Kind::Scalar:
@@ -149,7 +167,7 @@ struct TreeBuilder {
 }  // namespace
 
 Node parse_yaml_tree(const std::string& text, const std::string& name) {
-    Graph graph;
+    Graph graph(name);
     try {
         std::istringstream in(text);
         YAML::Parser parser(in);

@@ -4,10 +4,10 @@
 
 #include <asio.hpp>
 
+#include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <memory>
-#include <thread>
 
 #include "daemon/listeners.hpp"
 #include "daemon/master_link.hpp"
@@ -15,6 +15,7 @@
 #include "daemon/retirer.hpp"
 #include "daemon/persistence.hpp"
 #include "daemon/reload.hpp"
+#include "daemon/reload_thread.hpp"
 #include "daemon/scan_driver.hpp"
 #include "daemon/scan_timer.hpp"
 #include "daemon/station_guard.hpp"
@@ -32,6 +33,18 @@ void apply_overrides(config::Config& config, const Overrides& o) {
 }
 
 namespace {
+
+// The config's PLCs, with the command line's overrides (which a `plcs:` list does not take: its
+// PLCs have ports of their own).
+std::vector<config::Config> load(const std::string& path, const Overrides& overrides) {
+    std::vector<config::Config> v = config::load_plcs(path);
+    if (v.front().index >= 0 && overrides.port) {
+        throw config::ConfigError({path, 0, 0},
+                                  "--port: a config with plcs: sets each PLC's port itself");
+    }
+    for (auto& c : v) apply_overrides(c, overrides);
+    return v;
+}
 
 // One PLC of the process: its state file, its Plc, its master port and its scan driver, on the
 // event loop the Runtime owns (which also owns the listeners, shared or not). A reload builds the
@@ -289,7 +302,7 @@ public:
     Runtime& operator=(const Runtime&) = delete;
 
     int run() {
-        std::vector<config::Config> loaded = load();
+        std::vector<config::Config> loaded = load(config_path_, overrides_);
         spdlog::set_level(spdlog::level::from_str(loaded.front().log.level));
         // Everything the config can get wrong, found before any file or port is touched.
         probe_all(loaded);
@@ -315,25 +328,23 @@ public:
         arm_watchdog_timer();
         notify_.ready(status_line());
         io_.run();
+        // A reload still preparing (a big config takes seconds to build) is not waited for.
+        const bool abandoned = reload_thread_.abandon();
+        if (abandoned) spdlog::info("reload: abandoned, the daemon stops");
         join_threads();
         for (auto& h : hosts_) h->close();
         hosts_.clear();
+        if (abandoned) {
+            // The state files are closed; the reload's thread still runs and may be using what
+            // exit() would destroy (the profiles' tables), so the process ends here, at once.
+            spdlog::default_logger()->flush();
+            std::fflush(nullptr);
+            std::_Exit(0);
+        }
         return 0;
     }
 
 private:
-    // The config's PLCs, with the command line's overrides (which a `plcs:` list does not take:
-    // its PLCs have ports of their own).
-    std::vector<config::Config> load() const {
-        std::vector<config::Config> v = config::load_plcs(config_path_);
-        if (v.front().index >= 0 && overrides_.port) {
-            throw config::ConfigError({config_path_, 0, 0},
-                                      "--port: a config with plcs: sets each PLC's port itself");
-        }
-        for (auto& c : v) apply_overrides(c, overrides_);
-        return v;
-    }
-
     // Every PLC's config and dispatcher, in `plcs:` order, for the listeners.
     std::vector<ListenerMember> members() const {
         std::vector<ListenerMember> v;
@@ -403,11 +414,12 @@ private:
         reloading_ = true;
         notify_.reloading();
         spdlog::info("SIGHUP: reloading {}", config_path_);
-        if (reload_thread_.joinable()) reload_thread_.join();
-        auto prepare = [this] {
-            auto p = std::make_shared<Prepared>();
+        auto p = std::make_shared<Prepared>();
+        // The work owns copies of what it reads: a shutdown may leave it running after the
+        // Runtime is gone.
+        auto work = [p, path = config_path_, overrides = overrides_] {
             try {
-                p->configs = load();
+                p->configs = load(path, overrides);
                 // Built on images of their own (the live ones are not touched), and never
                 // scanned: their programs, bound and checked, are the ones the live PLCs will run.
                 p->programs = probe_all(p->configs);
@@ -416,19 +428,13 @@ private:
             } catch (const std::exception& e) {
                 p->errors = {e.what()};
             }
-            asio::post(io_, [this, p] { finish_reload(std::move(*p)); });
         };
-        try {
-            reload_thread_ = std::thread(prepare);
-        } catch (const std::system_error& e) {
-            // No thread to be had: prepare on the loop rather than not at all.
-            spdlog::warn("reload: no thread ({}); preparing on the event loop", e.what());
-            prepare();
-        }
+        reload_thread_.start(
+            work, [this, p] { asio::post(io_, [this, p] { finish_reload(std::move(*p)); }); });
     }
 
     void join_threads() noexcept {
-        if (reload_thread_.joinable()) reload_thread_.join();
+        reload_thread_.join();
         retirer_.stop();
     }
 
@@ -499,7 +505,7 @@ private:
     std::vector<std::unique_ptr<Host>> hosts_;
     Listeners listeners_{io_};
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
-    std::thread reload_thread_;
+    ReloadThread reload_thread_;
     bool reloading_ = false;
     bool reload_again_ = false;
     asio::steady_timer watchdog_timer_{io_};

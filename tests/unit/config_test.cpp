@@ -359,6 +359,20 @@ TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
                  "MOV: duplicate operand 's'");
 }
 
+// Nesting past 64 levels is refused at the first node past them, while the YAML is parsed
+// (docs/configuration.md, "The config file"): not the YAML library's own recursion error.
+TEST(Config, DeepNestingIsRefusedAtTheFirstLevelPastTheLimit) {
+    const std::string flow =
+        "profile: fbs\nprogram: " + std::string(100'000, '[') + std::string(100'000, ']') + "\n";
+    expect_error(flow, 2, 74, "the config nests too deeply or repeats too much (more than 64");
+    std::string block;
+    for (int i = 0; i < 3000; ++i) block += std::string(static_cast<std::size_t>(i), ' ') + "k:\n";
+    expect_error(block, 65, 65, "the config nests too deeply");
+    // 64 levels are taken.
+    expect_error("profile: fbs\nx: " + std::string(63, '[') + std::string(63, ']') + "\n", 2, 1,
+                 "unknown key 'x'");
+}
+
 // A tree read without YAML (config/tree.hpp) goes through the same loader: values, the path, and
 // errors at the positions the tree's nodes carry.
 TEST(Config, ReadConfigTakesATreeAsParseConfigTakesText) {
