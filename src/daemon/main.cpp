@@ -14,6 +14,7 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "export_tags.hpp"
+#include "parent_watch.hpp"
 #include "print_map.hpp"
 
 namespace {
@@ -162,6 +163,7 @@ int main(int argc, char** argv) {
             std::cout << config_path << ": ok\n";
             return 0;
         }
+        if (!plcemu::daemon::watch_parent()) return 0;
         return plcemu::daemon::run_daemon(config_path, overrides);
     } catch (const plcemu::config::ConfigError& e) {
         spdlog::error("config: {}", e.what());
