@@ -26,4 +26,4 @@ try:
 except ImportError:  # WireMap and Plc work without pytest (scripts/trace.py uses WireMap)
     pass
 else:
-    from .plugin import plcemud, pytest_runtest_makereport  # noqa: F401
+    from .plugin import plcemud, pytest_runtest_makereport, pytest_unconfigure  # noqa: F401

@@ -68,6 +68,14 @@ class Process:
 
     def _start(self):
         env = {k: v for k, v in os.environ.items() if k != "STATE_DIRECTORY"}
+        # The daemon stops (SIGTERM) when this process dies, even by SIGKILL, when no code of
+        # ours runs to stop it: plcemud sets a parent-death signal on itself (Linux
+        # PR_SET_PDEATHSIG) and checks that this pid is still its parent. Not prctl in a
+        # preexec_fn: Python code between fork and exec can deadlock when other threads hold
+        # locks (a test's server threads), and it rules out subprocess's vfork/posix_spawn path.
+        # The kernel sends it when the *thread* that started the daemon ends: start daemons
+        # from a thread that outlives them (pytest's main thread does).
+        env["PLCEMUD_PARENT_PID"] = str(os.getpid())
         args = [self.binary, "-c", str(self.config_path), *self._args()]
         with open(self.log_path, "ab") as log:  # appended across restarts
             self.proc = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=log,

@@ -15,6 +15,7 @@
 #include "plcemu/profiles/profile.hpp"
 #include "export_tags.hpp"
 #include "log_format.hpp"
+#include "parent_watch.hpp"
 #include "print_map.hpp"
 
 namespace {
@@ -165,6 +166,7 @@ int main(int argc, char** argv) {
             std::cout << config_path << ": ok\n";
             return 0;
         }
+        if (!plcemu::daemon::watch_parent()) return 0;
         return plcemu::daemon::run_daemon(config_path, overrides);
     } catch (const plcemu::config::ConfigError& e) {
         // Every error the config has, one per line (docs/configuration.md, "Configuration").

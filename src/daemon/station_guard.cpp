@@ -29,11 +29,7 @@ bool ListenerStationGuard::taken(std::uint8_t station) const noexcept {
         const std::string who = listeners_.holder(index_, station);
         if (who.empty()) return false;
         const auto now = modbus::LogLimiter::Clock::now();
-        limiter_.flush(now, [&](modbus::LogCause cause, std::uint64_t n) {
-            spdlog::warn("{}{} more {} in the last {} s (not logged one by one)", prefix_, n,
-                         modbus::describe(cause),
-                         std::chrono::duration_cast<std::chrono::seconds>(kWindow).count());
-        });
+        limiter_.flush_to_log(now, prefix_);
         if (limiter_.allow(modbus::LogCause::StationTaken, now)) {
             spdlog::warn("{}R4055: station {} refused: it is {}; the station stays as it was",
                          prefix_, int(station), who);

@@ -1,5 +1,7 @@
 #include "log_limiter.hpp"
 
+#include <spdlog/spdlog.h>
+
 namespace plcemu::modbus {
 
 bool LogLimiter::allow(LogCause cause, Clock::time_point now) noexcept {
@@ -17,6 +19,14 @@ bool LogLimiter::allow(LogCause cause, Clock::time_point now) noexcept {
     return false;
 }
 
+void LogLimiter::flush_to_log(Clock::time_point now, std::string_view prefix) noexcept {
+    flush(now, [&](LogCause cause, std::uint64_t n) {
+        spdlog::warn("{}{} more {} in the last {} s (not logged one by one)", prefix, n,
+                     describe(cause),
+                     std::chrono::duration_cast<std::chrono::seconds>(window_).count());
+    });
+}
+
 std::string_view describe(LogCause cause) noexcept {
     switch (cause) {
         case LogCause::RefusedNotAllowed:
@@ -29,6 +39,12 @@ std::string_view describe(LogCause cause) noexcept {
             return "disconnects";
         case LogCause::StationTaken:
             return "station changes refused (R4055)";
+        case LogCause::BadHeader:
+            return "bad MBAP headers";
+        case LogCause::FrameLeft:
+            return "reconnects for part of a frame left";
+        case LogCause::Flood:
+            return "connections closed for bytes not asked for";
         case LogCause::Count:
             break;
     }

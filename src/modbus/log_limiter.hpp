@@ -1,8 +1,8 @@
 #pragma once
 // Rate limit for log lines that remote peers can cause (refused connects, connects and
-// disconnects, refused station changes): the first few lines of each cause in a window are logged,
-// the rest are counted and summed up in one line when the window ends. spdlog has no such limit of
-// its own.
+// disconnects, refused station changes, an MBUS slave's faults): the first few lines of each
+// cause in a window are logged, the rest are counted and summed up in one line when the window
+// ends. spdlog has no such limit of its own.
 
 #include <array>
 #include <chrono>
@@ -16,9 +16,12 @@ namespace plcemu::modbus {
 enum class LogCause : std::uint8_t {
     RefusedNotAllowed,  ///< a peer outside modbus.tcp.allow
     RefusedFull,        ///< max_clients reached
-    Connected,          ///< a client connected
-    Disconnected,       ///< a client went away or was closed
+    Connected,          ///< a client connected (or the MBUS master to a slave)
+    Disconnected,       ///< a client went away or was closed (or a slave's connection)
     StationTaken,       ///< a master asked for a station another unit has (R4055)
+    BadHeader,          ///< a slave sent the MBUS master bytes that are no MBAP frame
+    FrameLeft,          ///< a slave left part of a frame (its length field lied)
+    Flood,              ///< a slave sent the MBUS master more than it asked for
     Count,
 };
 
@@ -47,8 +50,8 @@ public:
         }
     }
 
-    /// The window.
-    Clock::duration window() const noexcept { return window_; }
+    /// flush() as warnings: "PREFIX N more CAUSE in the last W s (not logged one by one)".
+    void flush_to_log(Clock::time_point now, std::string_view prefix) noexcept;
 
 private:
     struct Budget {

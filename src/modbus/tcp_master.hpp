@@ -2,7 +2,9 @@
 // Modbus TCP master on the event loop: one connection per endpoint, opened when a transaction
 // needs it and kept for the next; MBAP framing with the slave side's codec. Nothing blocks: a
 // slave that is down, silent, slow or sends garbage costs its own transaction's deadline and
-// never more than one small buffer per endpoint.
+// never more than one small buffer per endpoint; one that misbehaves transfer after transfer is
+// reconnected less and less often, one that sends what nobody asked for is closed, and their
+// log lines are rate-limited (docs/profile-vb.md, "Transports: `mbus:`").
 
 #include <asio.hpp>
 #include <cstdint>

@@ -435,10 +435,7 @@ void TcpServer::State::check_connections() {
         }
     }
     for (const auto& [c, why] : doomed) c->close(why);
-    limiter.flush(now, [&](LogCause cause, std::uint64_t n) {
-        spdlog::warn("tcp: {} more {} in the last {} s (not logged one by one)", n, describe(cause),
-                     std::chrono::duration_cast<std::chrono::seconds>(limiter.window()).count());
-    });
+    limiter.flush_to_log(now, "tcp: ");
 }
 
 void TcpServer::State::arm_sweep() {

@@ -7,6 +7,8 @@
 
 #include <vector>
 
+#include "support/log_capture.hpp"
+
 namespace plcemu::modbus {
 namespace {
 
@@ -47,6 +49,21 @@ TEST(LogLimiter, AQuietCauseGetsAFreshBurstAfterTheWindow) {
     EXPECT_TRUE(l.allow(LogCause::Disconnected, t0));
     EXPECT_TRUE(l.allow(LogCause::Disconnected, t0 + 11s));
     EXPECT_FALSE(l.allow(LogCause::Disconnected, t0 + 12s));
+}
+
+TEST(LogLimiter, FlushToLogWritesOneWarningPerCauseWithItsPrefixCountAndWindow) {
+    testing::LogCapture log("log-limiter-test");
+    LogLimiter l(1, 2s);
+    const Clock::time_point t0{1h};
+    for (int i = 0; i < 5; ++i) l.allow(LogCause::BadHeader, t0);
+    for (int i = 0; i < 3; ++i) l.allow(LogCause::Connected, t0);
+    l.flush_to_log(t0 + 1s, "mbus: 127.0.0.1:502: ");
+    EXPECT_EQ(log.log(), "");
+    l.flush_to_log(t0 + 2s, "mbus: 127.0.0.1:502: ");
+    EXPECT_EQ(log.count("mbus: 127.0.0.1:502: 4 more bad MBAP headers in the last 2 s (not logged "
+                        "one by one)"),
+              1U);
+    EXPECT_EQ(log.count("mbus: 127.0.0.1:502: 2 more connects in the last 2 s"), 1U);
 }
 
 }  // namespace

@@ -5,9 +5,10 @@
 // before: nothing runs on the loop meanwhile); a reply is taken only with the request's
 // transaction ID and unit ID; a bad MBAP header is status 6 and closes the connection; a length
 // field that lied costs only its own transfer; a reply may come in pieces or two to a segment; a
-// late reply to an abandoned request is dropped; the callback may start a transfer or stop the
-// port. Deadlines are hundreds of ms and only bound the wait: the tests assert order and
-// outcomes, and count loop handlers, not wall time.
+// late reply to an abandoned request is dropped, but a flood of frames nobody asked for closes the
+// connection; faults in a row hold the reconnect back and are logged once per cause; the
+// callback may start a transfer or stop the port. Deadlines are hundreds of ms and only bound
+// the wait: the tests assert order and outcomes, and count loop handlers, not wall time.
 
 #include "modbus/tcp_master.hpp"
 
@@ -545,6 +546,62 @@ TEST_F(TcpMasterTest, StoppingFromTheCallbackWithAnotherFrameBufferedIsSafe) {
     reply(0, mbap(tid, kStation, kReplyPdu) + mbap(tid, kStation, kReplyPdu));
     ASSERT_TRUE(run_until([&] { return called; }));
     ASSERT_TRUE(run_until([&] { return peers_[0]->eof; }));
+}
+
+// A slave sending frames nobody asked for (another transaction's, without end) is closed once
+// more than 4 × 260 bytes came since the request: status 6, one line.
+TEST_F(TcpMasterTest, ASlaveFloodingFramesNobodyAskedForIsClosed) {
+    listen();
+    transact();
+    ASSERT_TRUE(request_in(0));
+    const Bytes stale = mbap(static_cast<std::uint16_t>(last_tid(0) + 1), kStation, kReplyPdu);
+    // 1040 bytes are late replies a slow slave may still send: the connection stays.
+    Bytes some;
+    while (some.size() + stale.size() <= 4 * 260) some = some + stale;
+    reply(0, some);
+    run_for(100ms);
+    EXPECT_FALSE(ended());
+    EXPECT_FALSE(peers_[0]->eof);
+    reply(0, stale);
+    ASSERT_TRUE(run_until([&] { return ended(); }));
+    EXPECT_EQ(result_->outcome, MasterOutcome::Garbled);
+    EXPECT_LT(result_->at - sent_at_, kDeadline);
+    ASSERT_TRUE(run_until([&] { return peers_[0]->eof; }));
+    EXPECT_EQ(count("bytes not asked for since the last request; closing"), 1U);
+}
+
+// Faults in a row (here bad headers) hold the reconnect back: the first at once, the next after
+// 100 ms, then 200 ms; a transfer that ends while it waits is the fault's outcome (status 6),
+// without a connection. The fault's lines come once per endpoint and cause.
+TEST_F(TcpMasterTest, ReconnectsAfterFaultsInARowBackOffAndAreLoggedOnce) {
+    listen();
+    const Bytes bad_protocol = {0, 0, 0x12, 0x34, 0, 3, kStation, 3, 0};
+    for (std::size_t peer = 0; peer < 2; ++peer) {
+        transact();
+        ASSERT_TRUE(request_in(peer));
+        reply(peer, bad_protocol);
+        ASSERT_TRUE(run_until([&] { return ended(); }));
+        EXPECT_EQ(result_->outcome, MasterOutcome::Garbled);
+    }
+    // Two faults: the next connect waits 100 ms, longer than this transfer's 50 ms.
+    transact(kReadPdu, 50ms);
+    ASSERT_TRUE(run_until([&] { return ended(); }));
+    EXPECT_EQ(result_->outcome, MasterOutcome::Garbled);
+    run_for(100ms);
+    EXPECT_EQ(peers_.size(), 2U);
+    // Past the back-off, the next transfer connects; a third fault makes it 200 ms.
+    transact();
+    ASSERT_TRUE(request_in(2));
+    const auto third = Clock::now();
+    reply(2, bad_protocol);
+    ASSERT_TRUE(run_until([&] { return ended(); }));
+    transact(kReadPdu, 1000ms);
+    ASSERT_TRUE(run_until([&] { return peers_.size() == 4; }));
+    EXPECT_GE(Clock::now() - third, 200ms);
+    ASSERT_TRUE(request_in(3));
+    answer(3);  // an answer ends the back-off: the next fault reconnects at once
+    EXPECT_EQ(count("bad MBAP header; closing"), 1U);
+    EXPECT_EQ(count("connected to"), 1U);
 }
 
 }  // namespace
