@@ -860,8 +860,7 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors&
                                 "move it into each entry of plcs:");
         }
     }
-    // The other keys, the ones refused above left out (each is refused once): only the keys
-    // count there.
+    // The other keys, checked by name only (a key refused above is refused once).
     Node rest;
     rest.kind = Node::Kind::Map;
     rest.pos = root.pos;
