@@ -72,8 +72,9 @@ def limited(soft, hard):
 
 def test_a_limit_that_cannot_be_raised_is_not_said_to_be_raised_and_the_count_holds(start_plcemud):
     d = start_plcemud(BASE_CONFIG, preexec_fn=limited(64, 64))
+    assert d.wait_log("listening on tcp"), d.log_text()
     log = d.log_text()
-    assert "raised" not in log, log
+    assert "limit raised" not in log, log
     line = next(x for x in log.splitlines() if "descriptors but the limit is 64" in x)
     assert "cannot be raised (hard limit 64): about " in line, line
     clients = int(line.split("): about ")[1].split()[0])
@@ -89,16 +90,18 @@ def test_a_limit_that_cannot_be_raised_is_not_said_to_be_raised_and_the_count_ho
 
 
 def test_a_limit_too_low_for_any_client_says_so(start_plcemud):
-    d = start_plcemud(BASE_CONFIG, preexec_fn=limited(28, 28))
+    d = start_plcemud(BASE_CONFIG, preexec_fn=limited(26, 26))
+    assert d.wait_log("listening on tcp"), d.log_text()
     log = d.log_text()
-    assert "raised" not in log, log
-    assert "the limit is 28 and cannot be raised (hard limit 28): the daemon's own descriptors " \
+    assert "limit raised" not in log, log
+    assert "the limit is 26 and cannot be raised (hard limit 26): the daemon's own descriptors " \
            "leave none for clients" in log, log
     assert "clients beyond" not in log
 
 
 def test_a_limit_raised_to_the_hard_limit_says_so(start_plcemud):
     d = start_plcemud(BASE_CONFIG, preexec_fn=limited(64, 100))
+    assert d.wait_log("listening on tcp"), d.log_text()
     log = d.log_text()
     assert "descriptor limit raised from 64 to 100 (the hard limit) for modbus.tcp.max_clients 64" \
         in log, log
