@@ -104,7 +104,7 @@ def test_one_fault_then_good_replies_polls_on(start_plcemud):
     def reply(q):
         if next(count) == 0:
             return [q[0:2] + b"\x12\x34\x00\x03\x01\x03\x00"]
-        return [mbap(q, b"\x03\x02\x00\x2a")]
+        return [mbap(q, b"\x03\x14" + b"\x00\x2a" * 10)]  # set 1 reads 10 registers
 
     rogue = RogueSlave(reply)
     try:
