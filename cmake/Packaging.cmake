@@ -73,13 +73,17 @@ add_custom_target(plcemu_package_files ALL DEPENDS ${_gz})
 install(FILES ${_pkg}/plcemud.service ${_pkg}/plcemud@.service
         DESTINATION ${PLCEMU_SYSTEMD_UNITDIR})
 install(FILES ${_pkg}/plcemud.yaml DESTINATION ${CMAKE_INSTALL_FULL_SYSCONFDIR}/plcemu)
-install(FILES ${_src}/config/default.yaml ${_src}/config/example.yaml
-        DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)
+# Every configuration of config/ (the README and docs/ name them: vb.yaml, vb-pid.yaml,
+# vb-mbus.yaml with the vb-mbus-slave.yaml it polls, fb-example.yaml, ...), not the state files
+# a run leaves beside them.
+install(DIRECTORY ${_src}/config/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples
+        FILES_MATCHING PATTERN "*.yaml")
 install(FILES ${_src}/README.md ${_src}/packaging/copyright ${_pkg}/changelog.gz
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# The pages and the figures they show (docs/images/).
 if(EXISTS ${_src}/docs)
   install(DIRECTORY ${_src}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs
-          FILES_MATCHING PATTERN "*.md")
+          FILES_MATCHING PATTERN "*.md" PATTERN "*.png")
 endif()
 install(FILES ${_pkg}/plcemud.8.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man8)
 install(FILES ${_pkg}/plcemud.yaml.5.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man5)
@@ -94,13 +98,14 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # plcemu_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${PLCEMU_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_SECTION misc)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "FATEK FBs PLC emulator (Modbus TCP/RTU slave)")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "FATEK FBs/FB and VIGOR VB PLC emulator (Modbus TCP/RTU slave)")
 # The extended description; CPack puts the summary above it and indents it.
 set(CPACK_DEBIAN_PACKAGE_DESCRIPTION
-    "plcemud emulates a FATEK FBs PLC as a Modbus TCP and RTU slave: the FBs
-register image and Modbus address map, a scan-cycle engine running the
-manual's temperature and PID instructions, and a simulated thermal plant,
-so that a SCADA or HMI project can be run before the plant exists.
+    "plcemud emulates a FATEK FBs, VIGOR VB or FATEK FB PLC as a Modbus TCP and
+RTU slave: the family's register image and Modbus address map, a scan-cycle
+engine running the manuals' temperature and PID instructions, and a
+simulated thermal plant, so that a SCADA or HMI project can be run before
+the plant exists.
 
 The package installs the daemon, its man pages, a configuration in
 /etc/plcemu and two systemd units (plcemud.service, plcemud@.service),

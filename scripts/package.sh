@@ -11,6 +11,9 @@
 # Usage: scripts/package.sh [--lintian] [--reuse-build]
 #   --lintian                               also run lintian on the package (errors fail)
 #   PLCEMU_MAINTAINER="Name <address>"      Maintainer field (default: the last commit's author)
+#   PLCEMU_WERROR=OFF                       let compiler warnings pass (default: they fail the
+#                                           build, as in the test build, so that the Release
+#                                           build stays as clean as it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -43,6 +46,7 @@ build=build-package
 [[ $reuse == yes ]] || rm -rf "$build"
 rm -f "$build"/plcemu_*.deb
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DPLCEMU_TESTS=OFF -DPLCEMU_PACKAGE=ON \
+    -DPLCEMU_WERROR="${PLCEMU_WERROR:-ON}" \
     -DCMAKE_INSTALL_PREFIX=/usr -DPLCEMU_MAINTAINER="$maintainer" \
     -DCMAKE_CXX_FLAGS="$cppflags $cxxflags" -DCMAKE_EXE_LINKER_FLAGS="$ldflags" >/dev/null
 cmake --build "$build" -j"$(nproc)" >/dev/null

@@ -26,7 +26,8 @@ else
 fi
 [[ -f $deb ]] || { echo "test-package: no package '$deb'" >&2; exit 1; }
 deb=$(realpath "$deb")
-echo "== test-package: $deb ($(stat -c %s "$deb") bytes)"
+size=$(stat -c %s "$deb")
+echo "== test-package: $deb ($size bytes)"
 
 fail() { echo "test-package: FAIL: $*" >&2; exit 1; }
 installed() { dpkg-query -W -f='${Status}' plcemu 2>/dev/null | grep -q "install ok installed"; }
@@ -50,6 +51,13 @@ if dpkg-query -W plcemu >/dev/null 2>&1; then
 fi
 "${sudo[@]}" rm -rf /var/lib/plcemu /var/lib/private/plcemu
 
+# docs/operations.md gives the package's size ("plcemu_0.1.0_amd64.deb`, about N kB"): it must
+# be within 25 % of this one's.
+stated=$(tr '\n' ' ' <docs/operations.md | grep -oP '_amd64\.deb`, +about \K[0-9]+(?= kB)' || true)
+[[ -n $stated ]] || fail "docs/operations.md states no package size"
+((size * 4 >= stated * 1000 * 3 && size * 4 <= stated * 1000 * 5)) ||
+    fail "docs/operations.md says about $stated kB; the package is $((size / 1000)) kB"
+
 echo "== install"
 install_pkg
 installed || fail "not installed"
@@ -59,6 +67,13 @@ for f in /usr/bin/plcemud /lib/systemd/system/plcemud.service /lib/systemd/syste
          /usr/share/doc/plcemu/changelog.gz /usr/share/man/man8/plcemud.8.gz \
          /usr/share/man/man5/plcemud.yaml.5.gz; do
     [[ -f $f ]] || fail "missing $f"
+done
+# Every configuration of config/ (the README and docs name them) and every figure the docs show.
+for f in config/*.yaml; do
+    cmp -s "$f" "/usr/share/doc/plcemu/examples/${f#config/}" || fail "missing or stale examples/${f#config/}"
+done
+for f in docs/images/*; do
+    cmp -s "$f" "/usr/share/doc/plcemu/$f" || fail "missing or stale /usr/share/doc/plcemu/$f"
 done
 dpkg-query -W -f='${Conffiles}\n' plcemu | grep -q '^ /etc/plcemu/plcemud.yaml ' ||
     fail "/etc/plcemu/plcemud.yaml is not a conffile"
@@ -136,10 +151,22 @@ run_plc 0
 
 check_removed() {
     [[ ! -e /usr/bin/plcemud ]] || fail "/usr/bin/plcemud left after purge"
+    # Neither the links of enabled units nor deb-systemd-helper's mask stay behind.
+    if compgen -G '/etc/systemd/system/*.wants/plcemud*' >/dev/null ||
+        [[ -L /etc/systemd/system/plcemud.service ]]; then
+        fail "links left after purge: $(ls -l /etc/systemd/system/*.wants/plcemud* \
+              /etc/systemd/system/plcemud.service 2>/dev/null)"
+    fi
     [[ ! -e /etc/plcemu ]] || fail "/etc/plcemu left after purge"
     [[ ! -e /lib/systemd/system/plcemud.service ]] || fail "plcemud.service left after purge"
     ! dpkg-query -W plcemu >/dev/null 2>&1 || fail "plcemu still known to dpkg after purge"
 }
+
+# An administrator enables the unit and an instance (systemctl works on the unit files without
+# a running systemd too); purge must remove the links (checked by check_removed).
+"${sudo[@]}" systemctl enable plcemud.service plcemud@check.service >/dev/null 2>&1 ||
+    fail "systemctl enable plcemud plcemud@check"
+[[ -L /etc/systemd/system/multi-user.target.wants/plcemud.service ]] || fail "enable made no link"
 
 echo "== purge, keeping the state (/etc/plcemu/keep-state)"
 "${sudo[@]}" touch /etc/plcemu/keep-state
@@ -151,7 +178,9 @@ echo "== install again: the kept state is used"
 install_pkg
 run_plc 1234
 
-echo "== purge, keeping the state (PLCEMU_KEEP_STATE=1)"
+echo "== remove, then purge, keeping the state (PLCEMU_KEEP_STATE=1)"
+"${sudo[@]}" systemctl enable plcemud.service >/dev/null 2>&1 || fail "systemctl enable plcemud"
+quiet "${sudo[@]}" apt-get remove -y -qq plcemu
 purge_pkg PLCEMU_KEEP_STATE=1
 check_removed
 "${sudo[@]}" test -f /var/lib/plcemu/plcemud.state || fail "PLCEMU_KEEP_STATE=1: the state was removed"
