@@ -120,6 +120,13 @@ def test_every_queued_scan_of_every_stepped_plc_runs_in_exact_simulated_time(tmp
     d = spawn(tmp_path, plcs(port), [port])
     try:
         with socket.create_connection(("127.0.0.1", port), timeout=5) as s:
+            # Past each PLC's first scan: a PLC frozen before it steps its first scan at
+            # simulated time 0, and N steps then end one scan period short of N periods.
+            deadline = time.monotonic() + 10
+            while time.monotonic() < deadline and not all(
+                sim_seconds(s, SIM_BASE + i) > 0 for i in range(1, 1 + STEPPERS)
+            ):
+                time.sleep(0.1)
             freeze(s)
             start = [sim_seconds(s, SIM_BASE + i) for i in range(1, 1 + STEPPERS)]
             # Two writes of 3000 scans of 10 ms each: 60 simulated seconds on every PLC.

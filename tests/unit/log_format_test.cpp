@@ -20,7 +20,7 @@ std::string line_of(const std::string& message) {
 
 TEST(LogFormat, TheMessageIsEscapedAndTheLineEndsOnce) {
     const std::string line = line_of("unknown key 'a\u202Eb\nc\x1b[2J\xff' in config");
-    EXPECT_NE(line.find(" warn  unknown key 'a\\u202Eb\\nc\\x1B[2J\\xFF' in config\n"),
+    EXPECT_NE(line.find(" warning unknown key 'a\\u202Eb\\nc\\x1B[2J\\xFF' in config\n"),
               std::string::npos)
         << line;
     EXPECT_EQ(line.find('\n'), line.size() - 1);
