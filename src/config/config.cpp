@@ -936,25 +936,6 @@ std::string default_state_file(const Config& config) {
     return stem + ".state";
 }
 
-std::string state_file_path(const Config& config, const std::string& state_directory) {
-    std::string name = default_state_file(config);
-    if (name.front() == '/') return name;
-    std::string dir = state_directory.substr(0, state_directory.find(':'));
-    if (dir.empty()) {
-        const auto slash = config.path.rfind('/');
-        if (slash == std::string::npos) {
-            dir.assign(1, '.');
-        } else if (slash == 0) {
-            dir.assign(1, '/');
-        } else {
-            dir.assign(config.path, 0, slash);
-        }
-    }
-    if (dir.back() != '/') dir += '/';
-    dir += name;
-    return dir;
-}
-
 Config parse_config(const std::string& text, const std::string& name) {
     return read_config(parse_yaml_tree(text, name), name);
 }

@@ -44,6 +44,25 @@ std::string serial_line_key(const std::string& device) {
     return fs::path(device).lexically_normal().string();
 }
 
+std::string state_file_path(const Config& config, const std::string& state_directory) {
+    std::string name = default_state_file(config);
+    if (name.front() == '/') return name;
+    std::string dir = state_directory.substr(0, state_directory.find(':'));
+    if (dir.empty()) {
+        const auto slash = config.path.rfind('/');
+        if (slash == std::string::npos) {
+            dir.assign(1, '.');
+        } else if (slash == 0) {
+            dir.assign(1, '/');
+        } else {
+            dir.assign(config.path, 0, slash);
+        }
+    }
+    if (dir.back() != '/') dir += '/';
+    dir += name;
+    return dir;
+}
+
 std::string state_file_key(const std::string& path) {
     namespace fs = std::filesystem;
     std::error_code ec;

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <climits>
 #include <csignal>
 #include <cstdlib>
 
@@ -18,8 +19,10 @@ bool watch_parent() noexcept {
     const char* text = std::getenv("PLCEMUD_PARENT_PID");
     if (text == nullptr || *text == '\0') return true;
     char* end = nullptr;
+    errno = 0;
     const long pid = std::strtol(text, &end, 10);
-    if (*end != '\0' || pid <= 1) {
+    // A pid_t is an int: a larger value (or one strtol clamped) names no process.
+    if (*end != '\0' || errno == ERANGE || pid <= 1 || pid > INT_MAX) {
         spdlog::warn("PLCEMUD_PARENT_PID={}: not a process ID; ignored", text);
         return true;
     }

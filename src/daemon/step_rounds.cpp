@@ -1,12 +1,21 @@
 #include "step_rounds.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
+#include <exception>
 
 namespace plcemu::daemon {
 
-void StepRounds::add(Stepper& s) {
-    if (std::find(queue_.begin(), queue_.end(), &s) == queue_.end()) queue_.push_back(&s);
-    post();
+void StepRounds::add(Stepper& s) noexcept {
+    // Called on the request path: out of memory here leaves the steps queued in their driver,
+    // taken into the rounds at the next request that asks for steps.
+    try {
+        if (std::find(queue_.begin(), queue_.end(), &s) == queue_.end()) queue_.push_back(&s);
+        post();
+    } catch (const std::exception& e) {
+        spdlog::error("stepping: {}; the scans asked for wait for the next step request", e.what());
+    }
 }
 
 void StepRounds::remove(Stepper& s) noexcept {

@@ -35,7 +35,7 @@ public:
     StepRounds& operator=(const StepRounds&) = delete;
 
     /// Takes `s` into the rounds (once: a stepper already in them keeps its place).
-    void add(Stepper& s);
+    void add(Stepper& s) noexcept;
     /// Takes `s` out; it may be freed afterwards.
     void remove(Stepper& s) noexcept;
     /// Steppers in the rounds.

@@ -195,9 +195,10 @@ void StateFile::close_directory() noexcept {
 }
 
 int StateFile::open_in_directory(const std::string& name, int flags, const char* what) {
-    // O_NONBLOCK: a FIFO planted under the name must not hold the start; it is refused below.
-    const int fd =
-        ::openat(dir_fd_, name.c_str(), flags | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0600);
+    // O_NONBLOCK: a FIFO planted under the name must not hold the start; O_NOCTTY: nor may a
+    // terminal planted there become the daemon's. Both are refused below.
+    const int fd = ::openat(dir_fd_, name.c_str(),
+                            flags | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC, 0600);
     if (fd < 0) {
         if (errno == ELOOP) {
             throw std::system_error(

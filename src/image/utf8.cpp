@@ -8,8 +8,8 @@ Utf8Char utf8_char(std::string_view s) noexcept {
     };
     const unsigned char c = b(0);
     if (c < 0x80) return {c, 1};
-    // Unicode's table 3-7 (RFC 3629 §4): the second byte's range depends on the lead (no overlongs, no
-    // surrogates, nothing above U+10FFFF); later bytes are 80–BF.
+    // Unicode's table 3-7 (RFC 3629 §4): the second byte's range depends on the lead (no overlongs,
+    // no surrogates, nothing above U+10FFFF); later bytes are 80–BF.
     std::size_t length = 0;
     unsigned char low = 0x80;
     unsigned char high = 0xBF;

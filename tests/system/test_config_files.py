@@ -183,14 +183,14 @@ def test_sigterm_during_the_reload_of_a_big_config_exits_at_once_with_the_state_
         f.write(big_program(cfg, 100_000))
     d.proc.send_signal(signal.SIGHUP)
     assert d.wait_log("SIGHUP: reloading")
-    time.sleep(1.0)
+    time.sleep(0.3)  # into the parse, which takes seconds under the sanitizers
     assert "reload: done" not in d.log_text()
     t0 = time.monotonic()
     d.proc.send_signal(signal.SIGTERM)
     assert d.proc.wait(timeout=10) == 0, d.log_text()[-3000:]
     took = time.monotonic() - t0
     log = d.log_text()
-    assert took < 2.0, (took, log[-2000:])
+    assert took < 3.0, (took, log[-2000:])
     assert "reload: abandoned, the daemon stops" in log
     assert f"state file {state} closed" in log
     d = start_plcemud(cfg, name="big2")
