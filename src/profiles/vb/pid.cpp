@@ -186,8 +186,9 @@ public:
         // A rerun (EN OFF→ON, or a stopping error mended, after the loop has sampled) has the
         // loop's memory to compute with: it samples at once (VB manual FNC88: "rerun the PID
         // instruction for the instant response of output value (D)").
-        const bool rerun = first && s_.sampled;
-        if (first) first_execution(img);
+        // With b4 ON it starts the tuning instead, on the PV as it is now.
+        const bool rerun = first && s_.sampled && !p.on(kAutoTune);
+        if (first) first_execution(img, rerun);
         if (s_.tuning && !p.on(kAutoTune)) {
             // A master or the program cleared b4: the tuning is aborted and the PID goes on from
             // the current D with the parameters as they are.
@@ -203,7 +204,7 @@ public:
                 return;
             }
         }
-        if (rerun && !s_.tuning) {
+        if (rerun) {
             sample(ctx, p, rerun_sampling(ctx, p.ts));
             return;
         }
@@ -287,10 +288,10 @@ private:
     // content value of D200 will be kept"). The very first one starts the PV history at the
     // current PV with Dn−1 = 0 and writes nothing; a rerun keeps the history (PVnf−1, PVnf−2,
     // EVn−1, Dn−1), which the real PLC holds in S3+7…S3+19 across EN OFF.
-    void first_execution(const image::Image& img) {
+    void first_execution(const image::Image& img, bool rerun) {
         s_.running = true;
         s_.acc = engine::Duration{0};
-        if (!s_.sampled) {
+        if (!rerun) {
             s_.pvnf1 = s_.pvnf2 = d(img, b_.pv);
             s_.dn1 = 0;
             s_.restart = true;
