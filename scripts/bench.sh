@@ -1,15 +1,21 @@
 #!/usr/bin/env bash
 # Benchmarks. Builds Release into build-bench/, runs the closed-loop load client against plcemud
-# and three yardsticks (noop: a do-nothing epoll server, the machine's ceiling; libmodbus: a plain
-# libmodbus select() server; pymodbus: pymodbus' asyncio server) with 1, 4 and 16 connections,
-# and prints one `name value unit` line per figure on stdout. Lines starting with `#` are notes;
-# build output goes to stderr. It reports speed and never fails on it.
+# and three yardsticks (noop: a do-nothing epoll server; libmodbus: a plain libmodbus select()
+# server; pymodbus: pymodbus' asyncio server) and prints one `name value unit` line per figure on
+# stdout. Lines starting with `#` are notes; build output goes to stderr. It reports speed and
+# never fails on it.
+#
+# plcemud, noop and libmodbus are compared in alternating rounds (plcemud noop libmodbus,
+# plcemud noop libmodbus, ...) at 1 and 16 connections, so that a change in the machine's load
+# falls on every server alike; each figure is the median of the rounds with its min and max, and
+# the ratios are ratios of medians.
 #
 #   scripts/bench.sh                     # 5 s per run after a 1 s warm-up
 #   BENCH_SECONDS=2 scripts/bench.sh     # shorter runs (BENCH_WARMUP sets the warm-up)
+#   BENCH_ROUNDS=6 scripts/bench.sh      # rounds of the alternating comparison (4 by default)
 #   BENCH_PLCS=100 scripts/bench.sh      # the many-PLC run with 100 PLCs instead of 500
-#   BENCH_ONLY=many_plcs scripts/bench.sh   # one hook alone (engine, plcemud, scan_lateness,
-#                                           # rtu_turnaround, many_plcs, stepping)
+#   BENCH_ONLY=many_plcs scripts/bench.sh   # one hook alone (engine, plcemud, servers,
+#                                           # scan_lateness, rtu_turnaround, many_plcs, stepping)
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
@@ -18,6 +24,7 @@ readonly RUN_SECONDS="${BENCH_SECONDS:-5}"
 readonly WARMUP_SECONDS="${BENCH_WARMUP:-1}"
 readonly BUILD=build-bench
 readonly CONNECTIONS=(1 4 16)
+readonly ROUNDS="${BENCH_ROUNDS:-4}"
 # Debian's interpreter: the one on PATH may lack python3-pymodbus.
 readonly PY=/usr/bin/python3
 
@@ -129,12 +136,24 @@ bench_server() {
     stop_server
 }
 
-# ratio NAME A B: A's throughput over B's, at 1 and 16 connections.
+# median_of NAME UNIT: `NAME.median`, `.min` and `.max` of the values given one a line on stdin.
+median_of() {
+    sort -g | awk -v n="$1" -v u="$2" '
+        { v[NR] = $1 }
+        END {
+            if (!NR) exit
+            m = NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
+            printf "%s.median %.0f %s\n", n, m, u
+            printf "%s.min %.0f %s\n%s.max %.0f %s\n", n, v[1], u, n, v[NR], u
+        }'
+}
+
+# ratio NAME A B: the ratio of A's median throughput to B's, at 1 and 16 connections.
 ratio() {
     local c a b
     for c in 1 16; do
-        a=${FIG[$2.c$c.rps]:-}
-        b=${FIG[$3.c$c.rps]:-}
+        a=${FIG[$2.c$c.rps.median]:-}
+        b=${FIG[$3.c$c.rps.median]:-}
         if [[ -n $a && -n $b && $b != 0 ]]; then
             awk -v n="ratio.$1.c$c" -v a="$a" -v b="$b" \
                 'BEGIN { printf "%s %.2f ratio\n", n, a / b }'
@@ -152,6 +171,51 @@ bench_plcemud() {
     fi
     port=$(free_port)
     bench_server plcemud "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port"
+}
+
+# ---- Hook: servers compared ------------------------------------------------------------------
+# plcemud, the do-nothing server and libmodbus in ROUNDS alternating rounds at 1 and 16
+# connections; each server is started afresh for each round. Prints each round's figure as a
+# note, then `<server>.c<N>.rps.median|min|max` and the ratios of the medians.
+bench_servers() {
+    local round name port c out rps servers=(noop libmodbus)
+    declare -A runs=()  # "<server>.c<N>" -> the rounds' req/s, one a line
+    if [[ $BUILD_OK == 1 && -x $BUILD/plcemud ]]; then
+        servers=(plcemud noop libmodbus)
+    else
+        note "servers: $BUILD/plcemud not built; comparing the yardsticks alone"
+    fi
+    note "servers: $ROUNDS rounds of ${servers[*]}, each ${WARMUP_SECONDS} s warm-up and ${RUN_SECONDS} s measured at 1 and 16 connections"
+    for round in $(seq "$ROUNDS"); do
+        for name in "${servers[@]}"; do
+            port=$(free_port)
+            case $name in
+                plcemud) start_server "$name" "$port" "$BUILD/plcemud" -c config/default.yaml \
+                    --port "$port" || continue ;;
+                noop) start_server "$name" "$port" "$BUILD/noop_server" --port "$port" || continue ;;
+                libmodbus) start_server "$name" "$port" "$BUILD/libmodbus_peer" --port "$port" ||
+                    continue ;;
+            esac
+            for c in 1 16; do
+                if out=$("$BUILD/load_client" --port "$port" --connections "$c" \
+                    --seconds "$RUN_SECONDS" --warmup "$WARMUP_SECONDS" --label "$name.c$c"); then
+                    rps=$(awk '$1 ~ /\.rps$/ { print $2 }' <<<"$out")
+                    note "round $round: $name.c$c $rps req/s"
+                    runs[$name.c$c]+="$rps"$'\n'
+                else
+                    note "round $round: $name.c$c: load_client could not connect"
+                fi
+            done
+            stop_server
+        done
+    done
+    for name in "${servers[@]}"; do
+        for c in 1 16; do
+            emit < <(printf '%s' "${runs[$name.c$c]:-}" | median_of "$name.c$c.rps" req/s)
+        done
+    done
+    ratio plcemud_vs_noop plcemud noop
+    ratio plcemud_vs_libmodbus plcemud libmodbus
 }
 
 # ---- Hook: scan-engine benchmark --------------------------------------------------------------
@@ -323,6 +387,7 @@ if [[ -n ${BENCH_ONLY:-} ]]; then
 fi
 note "each run: ${WARMUP_SECONDS} s warm-up, ${RUN_SECONDS} s measured; FC03 of 125 registers"
 bench_engine
+# One run each at 1, 4 and 16 connections (latency percentiles, fairness, peak RSS)...
 bench_plcemud
 port=$(free_port)
 bench_server noop "$port" "$BUILD/noop_server" --port "$port"
@@ -330,9 +395,9 @@ port=$(free_port)
 bench_server libmodbus "$port" "$BUILD/libmodbus_peer" --port "$port"
 port=$(free_port)
 bench_server pymodbus "$port" "$PY" bench/pymodbus_server.py --port "$port"
+# ...and the throughput comparison, which one run per server cannot make.
+bench_servers
 bench_scan_lateness
 bench_rtu_turnaround
 bench_many_plcs
 bench_stepping
-ratio plcemud_vs_noop plcemud noop
-ratio plcemud_vs_libmodbus plcemud libmodbus

@@ -1,5 +1,7 @@
 #include "export_tags.hpp"
 
+#include "hmi_tags.hpp"
+
 #include <algorithm>
 #include <iterator>
 #include <cstdio>
@@ -134,9 +136,10 @@ void simulator_rows(const config::Config& config, std::vector<TagRow>& rows) {
     }
 }
 
-// CSV field: quoted when it holds a comma, a quote or a line break (RFC 4180).
-std::string csv(const std::string& s) {
-    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+}  // namespace
+
+std::string csv_field(const std::string& s, bool always) {
+    if (!always && s.find_first_of(",\"\n\r") == std::string::npos) return s;
     std::string q = "\"";
     for (char c : s) {
         if (c == '"') q += '"';
@@ -147,7 +150,7 @@ std::string csv(const std::string& s) {
 
 // A byte that is not UTF-8 (a file name's, say) becomes U+FFFD, as JSON text must be Unicode
 // (RFC 8259 §8.1); docs/configuration.md says so.
-std::string json(const std::string& s) {
+std::string json_string(const std::string& s) {
     std::string q = "\"";
     for (std::size_t i = 0; i < s.size();) {
         const char c = s[i];
@@ -171,8 +174,6 @@ std::string json(const std::string& s) {
     }
     return q + '"';
 }
-
-}  // namespace
 
 const char* table_key(Table table) {
     switch (table) {
@@ -306,7 +307,7 @@ void write_tags(std::ostream& out, const std::vector<TagRow>& rows, bool as_json
         for (const auto& r : rows) {
             const auto f = fields(r);
             for (std::size_t k = 0; k < f.size(); ++k)
-                out << (k ? "," : "") << (f[k].number ? f[k].value : csv(f[k].value));
+                out << (k ? "," : "") << (f[k].number ? f[k].value : csv_field(f[k].value));
             out << '\n';
         }
         return;
@@ -317,11 +318,43 @@ void write_tags(std::ostream& out, const std::vector<TagRow>& rows, bool as_json
         out << (i ? ",\n" : "\n") << "  {";
         for (std::size_t k = 0; k < f.size(); ++k) {
             out << (k ? ", " : "") << '"' << f[k].key
-                << "\": " << (f[k].number ? f[k].value : json(f[k].value));
+                << "\": " << (f[k].number ? f[k].value : json_string(f[k].value));
         }
         out << "}";
     }
     out << (rows.empty() ? "]\n" : "\n]\n");
+}
+
+bool parse_tag_format(const std::string& name, TagFormat& format) {
+    static const std::pair<const char*, TagFormat> kNames[] = {
+        {"csv", TagFormat::Csv},         {"json", TagFormat::Json},
+        {"kepware", TagFormat::Kepware}, {"ignition", TagFormat::Ignition},
+        {"weintek", TagFormat::Weintek},
+    };
+    for (const auto& [n, f] : kNames) {
+        if (name != n) continue;
+        format = f;
+        return true;
+    }
+    return false;
+}
+
+void write_tags(std::ostream& out, const std::vector<TagRow>& rows, TagFormat format) {
+    switch (format) {
+        case TagFormat::Csv:
+        case TagFormat::Json:
+            write_tags(out, rows, format == TagFormat::Json);
+            return;
+        case TagFormat::Kepware:
+            write_kepware(out, rows);
+            return;
+        case TagFormat::Ignition:
+            write_ignition(out, rows);
+            return;
+        case TagFormat::Weintek:
+            write_weintek(out, rows);
+            return;
+    }
 }
 
 }  // namespace plcemu::daemon

@@ -1,7 +1,7 @@
 #pragma once
-// `plcemud --export-tags csv|json`: one row per device the configuration gives meaning to, with
-// the Modbus unit, table and address that serve it, for an HMI/SCADA tag import
-// (docs/configuration.md, "Tag export").
+// `plcemud --export-tags csv|json|kepware|ignition|weintek`: one row per device the
+// configuration gives meaning to, with the Modbus unit, table and address that serve it, for an
+// HMI/SCADA tag import (docs/configuration.md, "Tag export").
 
 #include <cstdint>
 #include <ostream>
@@ -57,5 +57,21 @@ std::string endpoint_of(const config::Config& config);
 /// Writes `rows` as CSV (a header, then one line a row) or as a JSON array of objects with the
 /// same keys; rows of `plcs:` entries add the `plc` and `endpoint` keys.
 void write_tags(std::ostream& out, const std::vector<TagRow>& rows, bool json);
+
+/// What `--export-tags` writes: the project's own CSV or JSON, or the import file of an HMI tool
+/// (docs/configuration.md, "Tag export").
+enum class TagFormat { Csv, Json, Kepware, Ignition, Weintek };
+
+/// The format named "csv", "json", "kepware", "ignition" or "weintek"; false for another name.
+bool parse_tag_format(const std::string& name, TagFormat& format);
+
+/// Writes `rows` in `format`.
+void write_tags(std::ostream& out, const std::vector<TagRow>& rows, TagFormat format);
+
+/// A CSV field, quoted when it holds a comma, a quote or a line break, or `always` (RFC 4180).
+std::string csv_field(const std::string& s, bool always = false);
+
+/// A JSON string literal: quotes, backslashes and control characters escaped.
+std::string json_string(const std::string& s);
 
 }  // namespace plcemu::daemon

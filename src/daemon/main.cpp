@@ -30,7 +30,7 @@ const char* kUsage =
     "      --print-map      print the Modbus address map and exit\n"
     "      --format FMT     with --print-map: text (default) or csv\n"
     "      --export-tags FMT  write one tag per device the configuration gives meaning to, as\n"
-    "                       csv or json, and exit (needs -c)\n"
+    "                       csv, json, kepware, ignition or weintek, and exit (needs -c)\n"
     "      --port N         override modbus.tcp.port\n"
     "      --time-scale X   override time_scale (simulated seconds per real second)\n"
     "      --version        print the version and exit\n"
@@ -74,7 +74,8 @@ int main(int argc, char** argv) {
     bool check = false;
     bool print = false;
     bool csv = false;
-    std::string tags;  // --export-tags: "csv" or "json"
+    std::string tags;  // --export-tags: the format's name
+    plcemu::daemon::TagFormat tag_format = plcemu::daemon::TagFormat::Csv;
     plcemu::daemon::Overrides overrides;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -100,8 +101,8 @@ int main(int argc, char** argv) {
         } else if (a == "--print-map") {
             print = true;
         } else if (a == "--export-tags") {
-            if (!value(tags) || (tags != "csv" && tags != "json"))
-                return usage_error("--export-tags takes csv or json");
+            if (!value(tags) || !plcemu::daemon::parse_tag_format(tags, tag_format))
+                return usage_error("--export-tags takes csv, json, kepware, ignition or weintek");
         } else if (a == "--format") {
             if (!value(v) || (v != "csv" && v != "text"))
                 return usage_error("--format takes text or csv");
@@ -146,7 +147,7 @@ int main(int argc, char** argv) {
             // Every PLC of a `plcs:` file, each row saying which and where (docs/configuration.md,
             // "Tag export").
             const auto e = plcemu::daemon::export_tags(plcemu::config::load_plcs(config_path));
-            plcemu::daemon::write_tags(std::cout, e.rows, tags == "json");
+            plcemu::daemon::write_tags(std::cout, e.rows, tag_format);
             // Devices the configuration names that no Modbus address serves (a modbus.map that
             // leaves them out) are said on stderr: an import cannot reach them.
             for (const auto& u : e.unreachable)

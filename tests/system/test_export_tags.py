@@ -310,8 +310,10 @@ def test_devices_off_the_map_are_said_on_stderr_not_exported(tmp_path):
 
 
 @pytest.mark.parametrize("args,needle", [
-    (["--export-tags", "xml", "-c", "CONFIG"], "--export-tags takes csv or json"),
-    (["-c", "CONFIG", "--export-tags"], "--export-tags takes csv or json"),
+    (["--export-tags", "xml", "-c", "CONFIG"],
+     "--export-tags takes csv, json, kepware, ignition or weintek"),
+    (["-c", "CONFIG", "--export-tags"],
+     "--export-tags takes csv, json, kepware, ignition or weintek"),
     (["--export-tags", "csv"], "--export-tags needs a configuration file (-c FILE)"),
 ])
 def test_bad_usage_exits_2(args, needle):

@@ -120,6 +120,35 @@ def test_operation_errors(start_plcemud):
     assert mv(c) == 500
 
 
+def test_rerun_gives_the_instant_response_to_a_new_set_value(start_plcemud):
+    """docs/profile-vb.md, "Rerun" (VB manual FNC88: "can rerun the PID instruction for the
+    instant response of output value (D)"): Ts 2 s, Kp 100 %, TI 10 s, Reverse, PV 900; three
+    samplings at SV 1000 leave D102 at 60. SV 1500 and M0 OFF then ON: D102 is 680 in the
+    rising scan (P 500, I 120), stays there for Ts, then the I term adds 120."""
+    c = start(start_plcemud, 0x01)  # Reverse, no alarm, no limit
+    for offset, value in ((3, 100), (4, 100), (6, 0)):
+        write(c, S3 + offset, value)
+    write(c, SV, 1000)
+    write(c, PV, 900)
+    write(c, MV, 0)
+    enable(c)
+    step(c, 3 * SAMPLING_SCANS)
+    assert mv(c) == 60
+
+    write(c, SV, 1500)
+    assert not c.write_coil(M0, False, slave=1).isError()
+    step(c, 1)
+    assert mv(c) == 60  # EN OFF keeps D
+    assert not c.write_coil(M0, True, slave=1).isError()
+    step(c, 1)
+    assert mv(c) == 680
+    step(c, SAMPLING_SCANS - 1)
+    assert mv(c) == 680
+    step(c, 1)
+    assert mv(c) == 800
+    assert error(c) == (False, 0)
+
+
 def test_pv_change_alarm(start_plcemud):
     """S3+24 b0/b1: PV rose more than S3+20, fell more than S3+21 in one sampling (D201 =
     0023h, D220 = D221 = 20); re-evaluated at every sampling."""

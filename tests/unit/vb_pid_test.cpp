@@ -1,8 +1,8 @@
 // FNC88 PID (VB manual FNC88; docs/profile-vb.md, "FNC88 PID"), one rule per test: operands and
 // the 25-word block, the parameter checks that stop it, the overflow codes that clamp and go on,
-// sampling (accumulator, Ts ≤ scan, first execution), the velocity-form law, bumpless manual,
-// the MV limit, the change alarms, EN, and relay auto-tuning with a scripted PV. The closed loop
-// on the plant is vb_pid_closed_loop_test.cpp.
+// sampling (accumulator, Ts ≤ scan, first execution, rerun), the velocity-form law, bumpless
+// manual, the MV limit, the change alarms, EN, and relay auto-tuning with a scripted PV. The closed
+// loop on the plant is vb_pid_closed_loop_test.cpp.
 
 #include <gtest/gtest.h>
 
@@ -173,8 +173,8 @@ TEST(VbPid, FirstFailingCheckIsStored) {
     EXPECT_EQ(loop.code(), kBadGain);
 }
 
-// The execution after a stop that passes every check is a first execution: nothing is computed,
-// and the first sampling comes Ts later.
+// The execution after a stop that passes every check is a first execution; before any sampling
+// the loop has no memory, so nothing is computed and the first sampling comes Ts later.
 TEST(VbPid, StoppedPidResumesWithAFirstExecution) {
     Loop loop;
     loop.block(0, kReverse, 100, 1);
@@ -609,7 +609,7 @@ TEST(VbPid, NegativeAlarmSettingsAreComparedAsTheyStand) {
 // ---------------------------------------------------------------------------------------------
 // EN (VB manual FNC88: "the content value of D will be kept")
 
-TEST(VbPid, EnOffKeepsDAndTheAlarmsAndTheNextRiseIsAFirstExecution) {
+TEST(VbPid, EnOffKeepsDAndTheAlarmsAndTheRerunSamplesAtOnce) {
     Loop loop;
     loop.block(100, kReverse | kPvAlarmOn, 100, 1);
     loop.param(kPvRiseAlarm, -1);
@@ -622,14 +622,68 @@ TEST(VbPid, EnOffKeepsDAndTheAlarmsAndTheNextRiseIsAFirstExecution) {
     loop.scan(100);
     EXPECT_EQ(loop.mv(), 300);
     EXPECT_EQ(loop.param(kAlarms), kPvRose);
-    // EN ON again: the first execution computes nothing; the first sampling comes Ts later and
-    // uses the gains as they are now.
+    // EN ON again: the rerun samples in its own scan with the gains as they are now and the
+    // loop's memory (EVn−1 = 100, PVnf−1 = 900): P 900, I 1000·0.5.
     loop.param(kIntegral, 2);
     loop.set_m(0, true);
-    loop.scan(10);
-    EXPECT_EQ(loop.mv(), 300);
     loop.scan();
-    EXPECT_EQ(loop.mv(), 800);  // 1000·0.5
+    EXPECT_EQ(loop.mv(), 1700);
+    EXPECT_EQ(loop.param(kAlarms), kPvFell);  // ΔPV −900
+    // Then every Ts from there.
+    loop.scan(9);
+    EXPECT_EQ(loop.mv(), 1700);
+    loop.scan();
+    EXPECT_EQ(loop.mv(), 2200);
+}
+
+// VB manual FNC88: "When the control parameters (S1) or (S3)+3 ~ (S3)+6 of setting values are
+// changed, can rerun the PID instruction for the instant response of output value (D)." Ts 2 s,
+// Kp 100 %, TI 10 s, Reverse, PV 900: three samplings at SV 1000 leave D = 60; SV 1500 gives
+// ΔMV = 1·(500 + 0.2·600) = 620 at the next sampling, and at once with a rerun.
+TEST(VbPid, RerunGivesTheInstantResponseToANewSetValue) {
+    for (const bool rerun : {false, true}) {
+        SCOPED_TRACE(rerun ? "rerun" : "EN kept ON");
+        Loop loop;
+        loop.block(2000, kReverse, 100, 100);
+        loop.at(1000, 900);
+        loop.scan(1 + 3 * 200);
+        ASSERT_EQ(loop.mv(), 60);
+        loop.sv(1500);
+        if (rerun) {
+            loop.set_m(0, false);
+            loop.scan();
+            loop.set_m(0, true);
+            loop.scan();  // the rising scan: the proportional kick and the I term, at once
+            EXPECT_EQ(loop.mv(), 680);
+            loop.scan(199);
+            EXPECT_EQ(loop.mv(), 680);
+            loop.scan();  // Ts after the rerun: I only, 0.2·600
+            EXPECT_EQ(loop.mv(), 800);
+        } else {
+            loop.scan(199);
+            EXPECT_EQ(loop.mv(), 60);
+            loop.scan();
+            EXPECT_EQ(loop.mv(), 680);
+        }
+        EXPECT_FALSE(loop.error());
+    }
+}
+
+// A rerun whose Ts is not above the scan interval samples with the scan interval and 6740, as
+// every sampling then does.
+TEST(VbPid, RerunWithTsNotAboveTheScanRaises6740) {
+    Loop loop;
+    loop.block(100, kReverse, 100, 1);
+    loop.at(1000, 900);
+    loop.scan(11);
+    ASSERT_EQ(loop.mv(), 100);
+    loop.set_m(0, false);
+    loop.scan();
+    loop.param(kSampling, 5);
+    loop.set_m(0, true);
+    loop.scan();  // I: 1·(10/100)·100
+    EXPECT_EQ(loop.mv(), 110);
+    EXPECT_EQ(loop.code(), kSamplingTooShort);
 }
 
 // ---------------------------------------------------------------------------------------------

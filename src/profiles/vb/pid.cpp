@@ -183,7 +183,12 @@ public:
             return;
         }
         const bool first = !s_.running;
-        if (first) first_execution(img);
+        // A rerun (EN OFF→ON, or a stopping error mended, after the loop has sampled) has the
+        // loop's memory to compute with: it samples at once (VB manual FNC88: "rerun the PID
+        // instruction for the instant response of output value (D)").
+        // With b4 ON it starts the tuning instead, on the PV as it is now.
+        const bool rerun = first && s_.sampled && !p.on(kAutoTune);
+        if (first) first_execution(img, rerun);
         if (s_.tuning && !p.on(kAutoTune)) {
             // A master or the program cleared b4: the tuning is aborted and the PID goes on from
             // the current D with the parameters as they are.
@@ -199,7 +204,12 @@ public:
                 return;
             }
         }
-        // The first execution computes nothing: the first sampling comes Ts later.
+        if (rerun) {
+            sample(ctx, p, rerun_sampling(ctx, p.ts));
+            return;
+        }
+        // The very first execution has no memory to compute with: the first sampling comes Ts
+        // later.
         if (first) return;
         if (const auto ts = sampling_due(ctx, p.ts)) sample(ctx, p, *ts);
     }
@@ -211,6 +221,7 @@ private:
     /// keeps it here and writes nothing there).
     struct State {
         bool running = false;     // executed with EN ON since the last stop: not a first execution
+        bool sampled = false;     // sampled since the power-up: a first execution is a rerun
         engine::Duration acc{0};  // sampling accumulator
         double pvnf1 = 0;         // PVnf−1
         double pvnf2 = 0;         // PVnf−2
@@ -273,16 +284,30 @@ private:
         stop();
     }
 
-    // VB manual FNC88, first execution: the PV history starts at the current PV, Dn−1 = 0, the
-    // accumulator at 0; D is not written.
-    void first_execution(const image::Image& img) {
+    // VB manual FNC88, first execution: the accumulator at 0 and MVn−1 = D as it stands ("the
+    // content value of D200 will be kept"). The very first one starts the PV history at the
+    // current PV with Dn−1 = 0 and writes nothing; a rerun keeps the history (PVnf−1, PVnf−2,
+    // EVn−1, Dn−1), which the real PLC holds in S3+7…S3+19 across EN OFF.
+    void first_execution(const image::Image& img, bool rerun) {
         s_.running = true;
         s_.acc = engine::Duration{0};
-        s_.pvnf1 = s_.pvnf2 = d(img, b_.pv);
-        s_.dn1 = 0;
-        s_.restart = true;
+        if (!rerun) {
+            s_.pvnf1 = s_.pvnf2 = d(img, b_.pv);
+            s_.dn1 = 0;
+            s_.restart = true;
+        }
         s_.written = img.word(Area::D, b_.mv);
         s_.mv = static_cast<std::int16_t>(s_.written);
+    }
+
+    // The Ts a rerun samples with: Ts, or the scan interval with 6740 when Ts is not above it
+    // (as sampling_due); the accumulator stays at 0, so the next sampling comes Ts later.
+    double rerun_sampling(engine::ScanContext& ctx, int ts_ms) const {
+        if (ctx.dt > engine::Duration{0} && std::chrono::milliseconds(ts_ms) <= ctx.dt) {
+            raise(ctx.image, kSamplingTooShort);
+            return milliseconds(ctx.dt);
+        }
+        return static_cast<double>(ts_ms);
     }
 
     // The Ts to sample with when this execution samples. Ts ≤ the scan interval samples at
@@ -448,6 +473,7 @@ private:
         s_.pvnf1 = pvnf;
         s_.ev1 = ev;
         s_.dn1 = dn;
+        s_.sampled = true;
     }
 
     Bound b_;
