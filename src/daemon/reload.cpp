@@ -143,6 +143,8 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
         out.push_back("program: changed (" + std::to_string(b.program.size()) + " instructions)");
     }
     changed_sections(a, b, out);
+    const auto plant = config::plant_changes(a.plant, b.plant, profiles::of(b).naming());
+    out.insert(out.end(), plant.begin(), plant.end());
     cmp("simulator.unit", a.simulator.unit, b.simulator.unit);
     cmp("simulator.writable",
         a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),

@@ -192,10 +192,27 @@ TEST(ExportTags, DevicesTheMapLeavesOutAreReportedNotExported) {
     EXPECT_TRUE(said);
 }
 
+// Every row has a name of its own: a device's is the device (one PLC, no prefix), a simulator
+// register's "sim.…" (5 clock registers and 8 per plant channel).
 TEST(ExportTags, NamesAreUnique) {
     const TagExport e = rows_of(kFbsTemperature);
     std::set<std::string> names;
-    for (const auto& r : e.rows) EXPECT_TRUE(names.insert(r.name).second) << r.name;
+    std::size_t sim = 0;
+    for (const auto& r : e.rows) {
+        EXPECT_TRUE(names.insert(r.name).second) << r.name;
+        if (r.device.empty()) {
+            EXPECT_EQ(r.name.rfind("sim.", 0), 0u) << r.name;
+            ++sim;
+        } else {
+            EXPECT_EQ(r.name, r.device);
+        }
+    }
+    EXPECT_EQ(sim, 5u + 8u * 32u);
+    for (const char* n : {"Y30", "Y39", "M100", "R100", "R149", "R300", "R4012", "R5000", "R5005",
+                          "sim.time_scale", "sim.ch0.ambient", "sim.ch31.heater_power"}) {
+        EXPECT_EQ(names.count(n), 1u) << n;
+    }
+    EXPECT_EQ(names.size(), e.rows.size());
 }
 
 TEST(ExportTags, CsvQuotesAndJsonEscapes) {

@@ -11,6 +11,7 @@
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/modbus/address_map.hpp"
+#include "profiles/fb/temperature_config.hpp"
 #include "support/config_errors.hpp"
 #include "support/profiles.hpp"
 #include "support/wire.hpp"
@@ -187,13 +188,34 @@ TEST(FbTemperatureModules, Refusals) {
     }
 }
 
+// docs/profile-fb.md, "Temperature modules": each accepted name becomes its module, in chain
+// order: an FB-2A…4 by its Tp code with 4 points, an FB-4AJ/K multiplexed with its points.
 TEST(FbTemperatureModules, Accepted) {
-    EXPECT_NO_THROW(config::parse_config(
+    const fb::TemperatureConfig slim = fb::temperature_config(config::parse_config(
         "profile: fb\ntemperature: {modules: [FB-2AK4, FB-2AT4-3, FB-2AH4-3]}\n", "fb.yaml"));
-    for (const char* m : {"FB-4AJ12", "FB-4AJ16", "FB-4AK18", "FB-4AK24"}) {
-        EXPECT_NO_THROW(config::parse_config(
-            "profile: fb\ntemperature: {modules: [" + std::string(m) + "]}\n", "fb.yaml"))
-            << m;
+    ASSERT_EQ(slim.modules.size(), 3u);
+    const int tp[] = {0, 5, 4};
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_FALSE(slim.modules[i].multiplexed) << i;
+        EXPECT_EQ(slim.modules[i].sensor, tp[i]) << i;
+        EXPECT_EQ(slim.modules[i].points, 4) << i;
+    }
+    EXPECT_EQ(slim.modules[1].name, "FB-2AT4-3");
+    EXPECT_EQ(fb::declared_at(slim.modules[1]), "fb.yaml:2:34");
+    struct Case {
+        const char* name;
+        int sensor, points;
+    };
+    for (const Case& c : {Case{"FB-4AJ12", 1, 12}, Case{"FB-4AJ16", 1, 16}, Case{"FB-4AK18", 0, 18},
+                          Case{"FB-4AK24", 0, 24}}) {
+        const fb::TemperatureConfig t = fb::temperature_config(config::parse_config(
+            "profile: fb\ntemperature: {modules: [" + std::string(c.name) + "]}\n", "fb.yaml"));
+        ASSERT_EQ(t.modules.size(), 1u) << c.name;
+        EXPECT_EQ(t.modules[0].name, c.name);
+        EXPECT_TRUE(t.modules[0].multiplexed) << c.name;
+        EXPECT_EQ(t.modules[0].sensor, c.sensor) << c.name;
+        EXPECT_EQ(t.modules[0].points, c.points) << c.name;
+        EXPECT_EQ(fb::multiplexed_module(t.modules), &t.modules[0]) << c.name;
     }
 }
 

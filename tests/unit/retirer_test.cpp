@@ -44,10 +44,20 @@ TEST(Retirer, DestroysOffTheCallersThreadInOrderWithoutBlockingIt) {
     EXPECT_NE(where, std::this_thread::get_id());
 }
 
-TEST(Retirer, StopWithNothingQueuedAndTwiceIsFine) {
+// Stopping twice is harmless, and an object retired after the stop is not lost: the next stop
+// (or the destructor) frees it, on the caller's thread since no thread runs any more.
+TEST(Retirer, StopWithNothingQueuedAndTwiceIsFineAndALaterRetireIsStillDestroyed) {
+    std::vector<int> log;
+    std::mutex m;
+    std::thread::id where;
     Retirer<Tracked> r;
     r.stop();
     r.stop();
+    r.retire(std::make_unique<Tracked>(log, m, 7, &where));
+    EXPECT_TRUE(log.empty());
+    r.stop();
+    EXPECT_EQ(log, (std::vector<int>{7}));
+    EXPECT_EQ(where, std::this_thread::get_id());
 }
 
 }  // namespace

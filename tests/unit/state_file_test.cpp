@@ -697,5 +697,29 @@ TEST(Reload, ChangesAreListed) {
     EXPECT_TRUE(daemon::config_changes(a, a).empty());
 }
 
+// docs/operations.md, "Reload (SIGHUP)": `plant:` key by key; a channel key that only follows a
+// changed default is not repeated, one written in the channel is.
+TEST(Reload, PlantChangesAreListedKeyByKey) {
+    const auto a = plc_config(
+        "plant:\n"
+        "  defaults: {ambient: 20}\n"
+        "  channels: {0: {tau: 120}, 1: {noise: 0.5}, 2: {ambient: 20}}\n");
+    const auto b = plc_config(
+        "plant:\n"
+        "  seed: 7\n"
+        "  defaults: {ambient: 30}\n"
+        "  channels: {0: {tau: 300, drive: R10, faults: {heater_open: true}}, 2: {ambient: 22},\n"
+        "             3: {k: 100}}\n");
+    EXPECT_EQ(daemon::config_changes(a, b),
+              (std::vector<std::string>{
+                  "plant.defaults.ambient: 20 -> 30", "plant.channels.0.tau: 120 -> 300",
+                  "plant.channels.0.drive: default -> R10",
+                  "plant.channels.0.faults.heater_open: false -> true",
+                  "plant.channels.2.ambient: 20 -> 22", "plant.channels.3: added",
+                  "plant.channels.1: removed", "plant.seed: 1 -> 7"}));
+    EXPECT_TRUE(daemon::config_changes(b, b).empty());
+    EXPECT_TRUE(config::plant_changes(a.plant, a.plant, profiles::of(a).naming()).empty());
+}
+
 }  // namespace
 }  // namespace plcemu

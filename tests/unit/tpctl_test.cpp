@@ -124,6 +124,16 @@ std::string load_error(const std::string& program) {
 
 std::string tpctl(const std::string& operands) { return "  - TPCTL: {" + operands + "}\n"; }
 
+// Checks that the program is refused at tpctl_test.yaml:line:col with `needle` in the message.
+void expect_tpctl_error(const std::string& program, int line, int col, const std::string& needle) {
+    testing::expect_config_error(testing::config_failure([&] {
+                                     const config::Config cfg = config::parse_config(
+                                         config_text(program), "tpctl_test.yaml");
+                                     (void)daemon::build_program(cfg);
+                                 }),
+                                 "tpctl_test.yaml", line, col, needle);
+}
+
 const char* kOps =
     "en: M0, hc: 1, md: 0, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, ir: R130, "
     "dr: R140, or: R200, ";
@@ -142,40 +152,33 @@ TEST(Tpctl, OperandsOfTheManualExampleBind) {
 
 TEST(Tpctl, OperandRangesAreTheManualsAndErrorsNameThePosition) {
     // Sv…WR: R0–R3839, R5000–R8071, D0–D3999 only; a block may not run into R3840.
-    std::string e = load_error(tpctl(std::string(kOps) + "wr: R3835"));
-    EXPECT_NE(e.find("tpctl_test.yaml:4:"), std::string::npos) << e;
-    EXPECT_NE(e.find("TPCTL.wr"), std::string::npos) << e;
-    EXPECT_NE(e.find("R3835-R3843"), std::string::npos) << e;
-    e =
-        load_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 10, sv: R3900, os: R110, pr: R120, "
-                         "ir: R130, dr: R140, or: R200, wr: R300"));
-    EXPECT_NE(e.find("TPCTL.sv"), std::string::npos) << e;
-    e =
-        load_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
-                         "ir: R130, dr: R140, or: D3995, wr: R300"));
-    EXPECT_NE(e.find("TPCTL.or"), std::string::npos) << e;
-    e =
-        load_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 10, sv: WM100, os: R110, pr: R120, "
-                         "ir: R130, dr: R140, or: R200, wr: R300"));
-    EXPECT_NE(e.find("TPCTL.sv"), std::string::npos) << e;
+    expect_tpctl_error(tpctl(std::string(kOps) + "wr: R3835"), 4, 123,
+                       "TPCTL.wr: expected 9 register(s) in R0-R3839, R5000-R8071 or "
+                       "D0-D3999, got R3835-R3843");
+    expect_tpctl_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 10, sv: R3900, os: R110, pr: R120, "
+                             "ir: R130, dr: R140, or: R200, wr: R300"),
+                       4, 49, "TPCTL.sv: expected 10 register(s)");
+    expect_tpctl_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
+                             "ir: R130, dr: R140, or: D3995, wr: R300"),
+                       4, 99, "TPCTL.or: expected 10 word(s) in R, D, got 'D3995'");
+    expect_tpctl_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 10, sv: WM100, os: R110, pr: R120, "
+                             "ir: R130, dr: R140, or: R200, wr: R300"),
+                       4, 49, "TPCTL.sv: expected 10 word(s) in R, D, got 'WM100'");
     // Yn is a Y with Zn points.
-    e =
-        load_error(tpctl("en: M0, yn: M30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
-                         "ir: R130, dr: R140, or: R200, wr: R300"));
-    EXPECT_NE(e.find("TPCTL.yn"), std::string::npos) << e;
-    e =
-        load_error(tpctl("en: M0, yn: Y250, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
-                         "ir: R130, dr: R140, or: R200, wr: R300"));
-    EXPECT_NE(e.find("TPCTL.yn"), std::string::npos) << e;
+    expect_tpctl_error(tpctl("en: M0, yn: M30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
+                             "ir: R130, dr: R140, or: R200, wr: R300"),
+                       4, 25, "TPCTL.yn: expected 10 consecutive device(s) in Y, got 'M30'");
+    expect_tpctl_error(tpctl("en: M0, yn: Y250, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
+                             "ir: R130, dr: R140, or: R200, wr: R300"),
+                       4, 25, "TPCTL.yn: expected 10 consecutive device(s) in Y, got 'Y250'");
     // Md is the constant 0 or 1; unknown operands are typos.
-    e =
-        load_error(tpctl("en: M0, md: 2, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
-                         "ir: R130, dr: R140, or: R200, wr: R300"));
-    EXPECT_NE(e.find("TPCTL.md"), std::string::npos) << e;
-    e = load_error(tpctl(std::string(kOps) + "wr: R300, alarm: M101"));
-    EXPECT_NE(e.find("unknown operand 'alarm'"), std::string::npos) << e;
-    e = load_error(tpctl(std::string(kOps) + "wr: R300, err: R5"));
-    EXPECT_NE(e.find("TPCTL.err"), std::string::npos) << e;
+    expect_tpctl_error(tpctl("en: M0, md: 2, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
+                             "ir: R130, dr: R140, or: R200, wr: R300"),
+                       4, 25, "TPCTL.md: 2 is out of range 0..1");
+    expect_tpctl_error(tpctl(std::string(kOps) + "wr: R300, alarm: M101"), 4, 136,
+                       "TPCTL: unknown operand 'alarm'");
+    expect_tpctl_error(tpctl(std::string(kOps) + "wr: R300, err: R5"), 4, 134,
+                       "TPCTL.err: expected a Y, M or S output, got 'R5'");
 }
 
 TEST(Tpctl, WorkingRegistersCantBeRepeatedRefusedAtLoad) {
@@ -183,30 +186,33 @@ TEST(Tpctl, WorkingRegistersCantBeRepeatedRefusedAtLoad) {
     const std::string second = tpctl(
         "en: M2, hc: 0, yn: Y50, sn: 10, zn: 5, sv: R400, os: R410, pr: R420, ir: R430, "
         "dr: R440, or: R450, wr: R305");
-    const std::string e = load_error(first + second);
     // Names the second entry's wr and the first entry's position.
-    EXPECT_NE(e.find("tpctl_test.yaml:6:"), std::string::npos) << e;
-    EXPECT_NE(e.find("TPCTL.wr"), std::string::npos) << e;
-    EXPECT_NE(e.find("tpctl_test.yaml:4:"), std::string::npos) << e;
-    EXPECT_NE(e.find("can't be repeated"), std::string::npos) << e;
+    expect_tpctl_error(first + second, 6, 116,
+                       "TPCTL.wr: R305-R313 overlaps the working registers R300-R308 of the TPCTL "
+                       "at tpctl_test.yaml:4:5 (WR can't be repeated)");
     // Separate WR: accepted.
     EXPECT_EQ(load_error(first + tpctl("en: M2, hc: 0, yn: Y50, sn: 10, zn: 5, sv: R400, "
                                        "os: R410, pr: R420, ir: R430, dr: R440, or: R450, "
                                        "wr: R460")),
               "");
     // One's outputs inside the other's WR, and shared PWM outputs, are refused too.
-    EXPECT_NE(load_error(first + tpctl("en: M2, hc: 0, yn: Y50, sn: 10, zn: 5, sv: R400, "
-                                       "os: R410, pr: R420, ir: R430, dr: R440, or: R304, "
-                                       "wr: R460")),
-              "");
-    EXPECT_NE(load_error(first + tpctl("en: M2, hc: 0, yn: Y35, sn: 10, zn: 5, sv: R400, "
-                                       "os: R410, pr: R420, ir: R430, dr: R440, or: R450, "
-                                       "wr: R460")),
-              "");
+    expect_tpctl_error(first + tpctl("en: M2, hc: 0, yn: Y50, sn: 10, zn: 5, sv: R400, "
+                                     "os: R410, pr: R420, ir: R430, dr: R440, or: R304, "
+                                     "wr: R460"),
+                       6, 106,
+                       "TPCTL.or: R304-R308 overlaps the outputs or working registers of the "
+                       "TPCTL at tpctl_test.yaml:4:5");
+    expect_tpctl_error(first + tpctl("en: M2, hc: 0, yn: Y35, sn: 10, zn: 5, sv: R400, "
+                                     "os: R410, pr: R420, ir: R430, dr: R440, or: R450, "
+                                     "wr: R460"),
+                       6, 32,
+                       "TPCTL.yn: Y35-Y39 overlaps the PWM outputs of the TPCTL at "
+                       "tpctl_test.yaml:4:5");
     // An operand inside the instruction's own WR.
-    const std::string own = load_error(tpctl(
-        std::string(kOps).replace(std::string(kOps).find("sv: R100"), 8, "sv: R305") + "wr: R300"));
-    EXPECT_NE(own.find("TPCTL.sv"), std::string::npos) << own;
+    expect_tpctl_error(
+        tpctl(std::string(kOps).replace(std::string(kOps).find("sv: R100"), 8, "sv: R305") +
+              "wr: R300"),
+        4, 63, "TPCTL.sv: R305-R314 overlaps this instruction's working registers R300-R308");
 }
 
 // FBs manual §21.3: "each module occupies 1 IR and 8 DO"; the declared chain's modules follow

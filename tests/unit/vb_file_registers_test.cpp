@@ -41,32 +41,34 @@ TEST(VbFileRegisters, PresetsWinOverRetainedValues) {
 }
 
 TEST(VbFileRegisters, NoOperandWritesThem) {
-    // What loading `program` says, with `more` config after the file registers.
-    auto refused = [](const std::string& program, const std::string& more = "") {
-        try {
-            VbPlc p(program, std::string(kHead) + more);
-        } catch (const config::ConfigError& e) {
-            return std::string(e.what());
-        }
-        return std::string("accepted");
+    // Checks that loading `program`, with `more` config after the file registers, is refused at
+    // vb.yaml:line:col by the operand `what` naming the registers it would write.
+    auto refused = [](const std::string& program, int line, int col, const std::string& what,
+                      const std::string& more = "") {
+        SCOPED_TRACE(program);
+        testing::expect_config_error(
+            testing::config_failure([&] { VbPlc p(program, std::string(kHead) + more); }),
+            "vb.yaml", line, col,
+            what +
+                " overlaps D1000-D1009, the file registers (file_registers:), program data "
+                "the program only reads");
     };
-    EXPECT_NE(refused("  - MOV: {en: M0, s: K1, d: D1009}\n").find("file registers"),
-              std::string::npos);
-    EXPECT_NE(refused("  - WOR: {en: M0, s1: K1, s2: K2, d: D1000}\n").find("file registers"),
-              std::string::npos);
-    EXPECT_NE(refused("  - TPID: {en: M0, s1: D0, s2: D10, s3: D900, s4: D2000, n: 16}\n")
-                  .find("file registers"),
-              std::string::npos);
-    EXPECT_NE(refused("  - TPID: {en: M0, s1: D0, s2: D10, s3: D100, s4: D1009, n: 1}\n")
-                  .find("file registers"),
-              std::string::npos);
-    EXPECT_EQ(refused("  - TPID: {en: M0, s1: D1000, s2: D1001, s3: D100, s4: D2000, n: 1}\n"),
-              "accepted");
+    auto accepted = [](const std::string& program, const std::string& more = "") {
+        return !testing::config_failure([&] {
+                    VbPlc p(program, std::string(kHead) + more);
+                }).thrown;
+    };
+    refused("  - MOV: {en: M0, s: K1, d: D1009}\n", 5, 29, "MOV.d: D1009");
+    refused("  - WOR: {en: M0, s1: K1, s2: K2, d: D1000}\n", 5, 38, "WOR.d: D1000");
+    refused("  - TPID: {en: M0, s1: D0, s2: D10, s3: D900, s4: D2000, n: 16}\n", 5, 41,
+            "TPID.s3: D900-D1069");
+    refused("  - TPID: {en: M0, s1: D0, s2: D10, s3: D100, s4: D1009, n: 1}\n", 5, 51,
+            "TPID.s4: D1009-D1014");
+    EXPECT_TRUE(accepted("  - TPID: {en: M0, s1: D1000, s2: D1001, s3: D100, s4: D2000, n: 1}\n"));
     // MBUS writes its working area S2; its table S1 is only read.
     const std::string mbus = "mbus: {tcp: {host: 127.0.0.1, port: 5021}}\n";
-    EXPECT_NE(refused("  - MBUS: {en: M0, s1: D0, s2: D998}\n", mbus).find("file registers"),
-              std::string::npos);
-    EXPECT_EQ(refused("  - MBUS: {en: M0, s1: D1000, s2: D100}\n", mbus), "accepted");
+    refused("  - MBUS: {en: M0, s1: D0, s2: D998}\n", 6, 32, "MBUS.s2: D998-D1001", mbus);
+    EXPECT_TRUE(accepted("  - MBUS: {en: M0, s1: D1000, s2: D100}\n", mbus));
 }
 
 }  // namespace

@@ -285,12 +285,23 @@ TEST(VbSpecials, PowerUpValues) {
     EXPECT_EQ(rig.d(9129), 50);
 }
 
-// The VB has no station register: the configured station stays.
+// The VB has no station register (docs/profile-vb.md, "Station"): the configured station stays
+// when a master writes the FATEK station request (55h in the high byte, R4055 on an FBs) to the
+// VB's registers at that address (D4055, plain latched storage) and in its special block
+// (D9055 = register 8055, plain storage). Both writes land; neither moves the station.
 TEST(VbSpecials, StationStays) {
     Rig rig("station: 247\nsimulator: {unit: 0}\n");
-    rig.plc.image().set_word(Area::D, 9055, 0x5505);
+    for (const std::uint16_t addr : {std::uint16_t{4055}, std::uint16_t{8055}}) {
+        EXPECT_EQ(rig.wire.tcp(247, testing::write_single_pdu(0x06, addr, 0x5505)),
+                  testing::write_single_pdu(0x06, addr, 0x5505))
+            << addr;
+    }
     rig.scan(3);
+    EXPECT_EQ(rig.d(4055), 0x5505);
+    EXPECT_EQ(rig.d(9055), 0x5505);
     EXPECT_EQ(rig.plc.engine().station(), 247);
+    EXPECT_EQ(testing::reply_words(rig.wire.tcp(247, testing::read_pdu(0x03, 8055, 1))),
+              std::vector<std::uint16_t>{0x5505});
 }
 
 // ---- CNT with the VB's direction relays

@@ -118,6 +118,14 @@ struct PlantConfig {
     std::uint64_t seed = 1;                               ///< noise seed (deterministic)
 };
 
+/// What differs between two `plant:` sections, one line per key as a reload logs it, in config
+/// order: "plant.seed: 1 -> 2", "plant.defaults.tau: 120 -> 60", "plant.channels.3.drive:
+/// default -> D10", "plant.channels.5: added" / "removed". Devices are written in `naming`'s
+/// notation. A channel's key that only follows a changed `defaults` key is not repeated.
+std::vector<std::string> plant_changes(const PlantConfig& before,
+                                       const PlantConfig& after,
+                                       const image::Naming& naming);
+
 /// `simulator`
 struct SimulatorConfig {
     int unit = 247;  ///< Modbus unit of the simulator-control registers (0 = none)
