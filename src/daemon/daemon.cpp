@@ -84,7 +84,7 @@ public:
         Start start = Start::Fresh;
         if (cfg_->persistence.enabled) {
             const char* dir = std::getenv("STATE_DIRECTORY");
-            const std::string path = state_file_path(*cfg_, dir ? dir : "");
+            const std::string path = config::state_file_path(*cfg_, dir ? dir : "");
             state_ =
                 std::make_unique<image::StateFile>(path, plc_layout(*cfg_), std::time(nullptr));
             for (const auto& n : state_->notes()) {

@@ -15,9 +15,6 @@
 
 namespace plcemu::daemon {
 
-/// Where the state file lives: the loader works it out too, to compare the entries of `plcs:`.
-using config::state_file_path;
-
 /// Syncs the state files of every PLC of the process, each every period of its own, on one
 /// thread: msync may wait for the disk, and the scan loop must not (and 500 PLCs need not 500
 /// threads). The thread starts with the first file.

@@ -627,20 +627,20 @@ TEST_F(StateFileTest, ReloadKeepsTheWholeImageAndDoesNotCountAPowerUp) {
 TEST(StateFilePath, DefaultIsBesideTheConfigNamedAfterIt) {
     auto cfg = plc_config();
     cfg.path = "/etc/plcemu/line1.yaml";
-    EXPECT_EQ(daemon::state_file_path(cfg, ""), "/etc/plcemu/line1.state");
+    EXPECT_EQ(config::state_file_path(cfg, ""), "/etc/plcemu/line1.state");
     cfg.path = "plc.yaml";
-    EXPECT_EQ(daemon::state_file_path(cfg, ""), "./plc.state");
+    EXPECT_EQ(config::state_file_path(cfg, ""), "./plc.state");
 }
 
 TEST(StateFilePath, SystemdStateDirectoryWinsForRelativeNames) {
     auto cfg = plc_config();
     cfg.path = "/etc/plcemu/plcemud.yaml";
-    EXPECT_EQ(daemon::state_file_path(cfg, "/var/lib/plcemu"), "/var/lib/plcemu/plcemud.state");
-    EXPECT_EQ(daemon::state_file_path(cfg, "/var/lib/a:/var/lib/b"), "/var/lib/a/plcemud.state");
+    EXPECT_EQ(config::state_file_path(cfg, "/var/lib/plcemu"), "/var/lib/plcemu/plcemud.state");
+    EXPECT_EQ(config::state_file_path(cfg, "/var/lib/a:/var/lib/b"), "/var/lib/a/plcemud.state");
     cfg.persistence.file = "other.state";
-    EXPECT_EQ(daemon::state_file_path(cfg, "/var/lib/plcemu"), "/var/lib/plcemu/other.state");
+    EXPECT_EQ(config::state_file_path(cfg, "/var/lib/plcemu"), "/var/lib/plcemu/other.state");
     cfg.persistence.file = "/srv/x.state";
-    EXPECT_EQ(daemon::state_file_path(cfg, "/var/lib/plcemu"), "/srv/x.state");
+    EXPECT_EQ(config::state_file_path(cfg, "/var/lib/plcemu"), "/srv/x.state");
 }
 
 // ---- config keys
