@@ -76,7 +76,16 @@ public:
     Host& operator=(const Host&) = delete;
 
     const config::Config& config() const { return *cfg_; }
-    modbus::Dispatcher& dispatcher() { return plc_->dispatcher(); }
+    // What the listeners' protocols reach of the PLC: its station (live), its Modbus side and
+    // its simulator unit.
+    listener::Seat seat() const {
+        return {cfg_->label,
+                &plc_->engine().station(),
+                &plc_->dispatcher(),
+                &plc_->unit(),
+                static_cast<std::uint8_t>(cfg_->simulator.unit),
+                cfg_->simulator.unit != 0 ? sim_.get() : nullptr};
+    }
 
     // Opens the state file, builds the Plc and its master port and starts scanning; throws when
     // one cannot. The Runtime opens the listeners.
@@ -261,8 +270,6 @@ private:
         // keeps it read-only too unless simulator.writable says otherwise.
         sim_ = std::make_unique<simulator::SimulatorUnit>(
             plc_->plant(), *driver_, cfg_->simulator.writable.value_or(!cfg_->modbus.read_only));
-        plc_->dispatcher().set_simulator(sim_.get(),
-                                         static_cast<std::uint8_t>(cfg_->simulator.unit));
         // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
         driver_->on_scan([this] { notify_.watchdog(Notifier::Clock::now()); });
         if (now) driver_->start();
@@ -345,11 +352,11 @@ public:
     }
 
 private:
-    // Every PLC's config and dispatcher, in `plcs:` order, for the listeners.
+    // Every PLC's config and seat, in `plcs:` order, for the listeners.
     std::vector<ListenerMember> members() const {
         std::vector<ListenerMember> v;
         v.reserve(hosts_.size());
-        for (const auto& h : hosts_) v.push_back({&h->config(), &h->dispatcher()});
+        for (const auto& h : hosts_) v.push_back({&h->config(), h->seat()});
         return v;
     }
 

@@ -6,20 +6,21 @@
 #include <utility>
 
 #include "daemon/fd_limit.hpp"
+#include "daemon/protocols.hpp"
 #include "plcemu/config/listener_key.hpp"
 
 namespace plcemu::daemon {
 
-modbus::TcpOptions tcp_options(const config::Config& c) {
-    modbus::TcpOptions o;
+listener::TcpOptions tcp_options(const config::Config& c) {
+    listener::TcpOptions o;
     o.bind = c.modbus.tcp.bind;
     o.port = c.modbus.tcp.port;
     o.max_clients = c.modbus.tcp.max_clients;
     o.idle_timeout_s = c.modbus.tcp.idle_timeout_s;
     o.frame_timeout_ms = c.modbus.tcp.frame_timeout_ms;
     for (const auto& a : c.modbus.tcp.allow) {
-        modbus::Cidr cidr;
-        if (!modbus::Cidr::parse(a, cidr)) {
+        listener::Cidr cidr;
+        if (!listener::Cidr::parse(a, cidr)) {
             throw config::ConfigError({c.path, 0, 0},
                                       "modbus.tcp.allow: bad CIDR '" + config::excerpt(a) + "'");
         }
@@ -74,10 +75,26 @@ std::vector<std::size_t> members_with(const std::vector<Group>& groups, std::siz
     return {};
 }
 
-modbus::UnknownUnitPolicy policy(const config::Config& c) {
-    return c.modbus.tcp.unknown_unit == config::UnknownUnit::Silent
-               ? modbus::UnknownUnitPolicy::Silent
-               : modbus::UnknownUnitPolicy::Exception;
+listener::UnknownUnit policy(const config::Config& c) {
+    return c.modbus.tcp.unknown_unit == config::UnknownUnit::Silent ? listener::UnknownUnit::Silent
+                                                                     : listener::UnknownUnit::Refuse;
+}
+
+// The protocols today's config sections name: `modbus.tcp` and `modbus.rtu`.
+constexpr std::string_view kTcpProtocol = "modbus-tcp";
+constexpr std::string_view kSerialProtocol = "modbus-rtu";
+
+std::vector<listener::Seat> seats(const std::vector<std::size_t>& members,
+                                  const std::vector<ListenerMember>& plcs) {
+    std::vector<listener::Seat> v;
+    v.reserve(members.size());
+    for (std::size_t i : members) v.push_back(plcs[i].seat);
+    return v;
+}
+
+// A TCP listener's protocol, with no PLCs yet (route() seats them).
+std::unique_ptr<listener::StreamProtocol> stream_protocol(std::string_view name) {
+    return protocol(name).stream({});
 }
 
 }  // namespace
@@ -85,16 +102,17 @@ modbus::UnknownUnitPolicy policy(const config::Config& c) {
 struct Listeners::Tcp {
     std::string key;
     std::vector<std::size_t> members;
-    modbus::TcpOptions options;
-    modbus::UnitRouter router;  // the server holds it: a Tcp never moves
-    std::unique_ptr<modbus::TcpServer> server;
+    listener::TcpOptions options;
+    // What it speaks; the server holds it, so it outlives the server.
+    std::unique_ptr<listener::StreamProtocol> protocol = stream_protocol(kTcpProtocol);
+    std::unique_ptr<listener::TcpListener> server;
 };
 
 struct Listeners::Rtu {
     std::string key;
     std::vector<std::size_t> members;
-    modbus::UnitRouter router;
-    std::unique_ptr<modbus::RtuServer> server;
+    std::unique_ptr<listener::SerialProtocol> protocol;
+    std::unique_ptr<listener::SerialListener> server;
 };
 
 struct Listeners::Staged {
@@ -140,7 +158,7 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
         t->key = std::move(g.key);
         t->members = std::move(g.members);
         t->options = tcp_options(*plcs[t->members.front()].config);
-        t->server = std::make_unique<modbus::TcpServer>(io_, t->router, t->options);
+        t->server = std::make_unique<listener::TcpListener>(io_, *t->protocol, t->options);
         tcp_.push_back(std::move(t));
     }
     route(plcs);
@@ -155,14 +173,17 @@ void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start)
         auto r = std::make_unique<Rtu>();
         r->key = std::move(g.key);
         r->members = std::move(g.members);
-        for (std::size_t i : r->members) r->router.add(*plcs[i].dispatcher);
         const config::RtuConfig& c = *plcs[r->members.front()].config->modbus.rtu;
+        r->protocol = protocol(kSerialProtocol)
+                          .serial({seats(r->members, plcs), listener::UnknownUnit::Silent,
+                                   {c.device, c.baud, c.parity, c.data_bits, c.stop_bits}});
         const std::string& label = plcs_[r->members.front()].config->label;
         const std::string prefix = r->members.size() == 1 && !label.empty() ? label + ": " : "";
         try {
-            r->server = std::make_unique<modbus::RtuServer>(
-                io_, r->router,
-                modbus::RtuOptions{c.device, c.baud, c.parity, c.data_bits, c.stop_bits});
+            r->server = std::make_unique<listener::SerialListener>(
+                io_, *r->protocol,
+                listener::LineSettings{c.device, c.baud, c.parity, c.data_bits, c.stop_bits},
+                "rtu");
         } catch (const std::exception& e) {
             if (at_start) throw;
             // The line stays listed without a server: its PLCs keep their unit IDs there (a
@@ -180,9 +201,8 @@ void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start)
 
 void Listeners::route(const std::vector<ListenerMember>& plcs) {
     for (auto& t : tcp_) {
-        t->router.clear();
-        for (std::size_t i : t->members) t->router.add(*plcs[i].dispatcher);
-        t->router.set_unknown_unit_policy(policy(*plcs[t->members.front()].config));
+        t->protocol->units().assign(seats(t->members, plcs));
+        t->protocol->units().set_unknown_unit(policy(*plcs[t->members.front()].config));
     }
 }
 
@@ -244,7 +264,7 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
         const std::string prefix = label.empty() ? "" : label + ": ";
         try {
             s.fresh->server =
-                std::make_unique<modbus::TcpServer>(io_, s.fresh->router, s.fresh->options);
+                std::make_unique<listener::TcpListener>(io_, *s.fresh->protocol, s.fresh->options);
             staged_.push_back(std::move(s));
             continue;
         } catch (const std::exception& e) {
@@ -265,7 +285,7 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
         stopped_for_stage_.push_back(static_cast<std::size_t>(running - tcp_.begin()));
         try {
             s.fresh->server =
-                std::make_unique<modbus::TcpServer>(io_, s.fresh->router, s.fresh->options);
+                std::make_unique<listener::TcpListener>(io_, *s.fresh->protocol, s.fresh->options);
             staged_.push_back(std::move(s));
         } catch (const std::exception& e) {
             spdlog::error("reload: {}{}", prefix, e.what());
@@ -285,7 +305,7 @@ void Listeners::unstage() {
     for (std::size_t i : stopped_for_stage_) {
         Tcp& t = *tcp_[i];
         try {
-            t.server = std::make_unique<modbus::TcpServer>(io_, t.router, t.options);
+            t.server = std::make_unique<listener::TcpListener>(io_, *t.protocol, t.options);
         } catch (const std::exception& e) {
             spdlog::error("tcp: cannot listen on {} again: {}; serving no TCP there", t.key,
                           e.what());
@@ -342,10 +362,11 @@ std::string Listeners::holder(std::size_t index, std::uint8_t unit) const {
     };
     auto check = [&](const auto& l, const std::string& where) -> std::string {
         for (std::size_t j : l->members) {
-            const modbus::Dispatcher& d = *plcs_[j].dispatcher;
-            const char* what = j != index && d.station() == unit ? " station on "
-                               : d.simulator_unit() == unit      ? " simulator unit on "
-                                                                 : nullptr;
+            const listener::Seat& d = plcs_[j].seat;
+            const char* what = j != index && *d.station == unit ? " station on "
+                               : d.simulator != nullptr && d.simulator_unit == unit
+                                   ? " simulator unit on "
+                                   : nullptr;
             if (what == nullptr) continue;
             std::string who = j == index ? "its own" : plcs_[j].config->label + "'s";
             who += what;

@@ -1,8 +1,8 @@
 #pragma once
 // The process's listeners, keyed by what they listen on: one TCP listener per bind address and
-// port, one serial slave per device, each with a router to the PLCs that share it
-// (docs/configuration.md, "Sharing a listener"). The Runtime owns it; the PLCs' dispatchers are
-// registered in `plcs:` order.
+// port, one serial line per device, each naming the protocol it carries and holding the unit
+// table of the PLCs that share it (docs/configuration.md, "Sharing a listener"). The Runtime
+// owns it; the PLCs are seated in `plcs:` order.
 
 #include <asio.hpp>
 #include <cstdint>
@@ -10,20 +10,20 @@
 #include <string>
 #include <vector>
 
-#include "modbus/rtu_server.hpp"
-#include "modbus/tcp_server.hpp"
-#include "modbus/unit_router.hpp"
+#include "listener/serial_listener.hpp"
+#include "listener/tcp_listener.hpp"
 #include "plcemu/config/config.hpp"
+#include "plcemu/listener/protocol.hpp"
 
 namespace plcemu::daemon {
 
 /// The TCP listener settings of a config; throws ConfigError on a bad modbus.tcp.allow entry.
-modbus::TcpOptions tcp_options(const config::Config& c);
+listener::TcpOptions tcp_options(const config::Config& c);
 
 /// One PLC as the listeners see it.
 struct ListenerMember {
-    const config::Config* config;    ///< its config (listener settings, label)
-    modbus::Dispatcher* dispatcher;  ///< where its requests go
+    const config::Config* config;  ///< its config (listener settings, label)
+    listener::Seat seat;           ///< what the protocols reach of it
 };
 
 /// Every listener of the process.
@@ -48,7 +48,7 @@ public:
     void unstage();
     /// A reload's second half, after the PLCs took their new configs: the staged listeners
     /// replace the old ones, kept ones take the new limits, serial lines are reopened with their
-    /// new settings, and every router learns the PLCs' new dispatchers.
+    /// new settings, and every unit table learns the PLCs' new seats.
     void apply(const std::vector<ListenerMember>& plcs);
 
     /// What answers `unit` on a listener of the PLC at `index`, other than that PLC's station:

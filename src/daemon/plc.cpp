@@ -151,13 +151,8 @@ Plc::Plc(std::shared_ptr<const config::Config> config,
     const std::string model =
         config_->model.empty() ? std::string(profile.default_model()) : config_->model;
     dispatcher_ = std::make_unique<modbus::Dispatcher>(
-        *unit_, engine_->station(),
         modbus::Identity{std::string(profile.vendor()), model, version()});
     for (const auto& [fc, handler] : profile.functions()) dispatcher_->set_function(fc, handler);
-    dispatcher_->set_unknown_unit_policy(config_->modbus.tcp.unknown_unit ==
-                                                 config::UnknownUnit::Silent
-                                             ? modbus::UnknownUnitPolicy::Silent
-                                             : modbus::UnknownUnitPolicy::Exception);
 }
 
 Plc::~Plc() = default;

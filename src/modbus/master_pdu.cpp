@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "plcemu/modbus/limits.hpp"
+
 namespace plcemu::modbus {
 
 namespace {
@@ -15,23 +17,16 @@ constexpr std::uint8_t kWriteCoil = 5;
 constexpr std::uint8_t kWriteRegister = 6;
 constexpr std::uint8_t kWriteCoils = 15;
 constexpr std::uint8_t kWriteRegisters = 16;
-constexpr std::uint8_t kExceptionBit = 0x80;
-// Modbus application protocol 6.1–6.12: the largest quantities of one request.
-constexpr std::uint16_t kMaxBits = 1968;
-constexpr std::uint16_t kMaxRegisters = 123;
+// The master asks for no more in a read than it may write (plcemu/modbus/limits.hpp), so that
+// one table of values serves both directions.
+constexpr std::uint16_t kMaxBits = kMaxWriteBits;
+constexpr std::uint16_t kMaxRegisters = kMaxWriteRegisters;
 // Function code, address, quantity (or value).
 constexpr std::size_t kHeader = 5;
 
 bool bit_function(std::uint8_t f) {
     return f == kReadCoils || f == kReadDiscreteInputs || f == kWriteCoils;
 }
-
-void put16(std::uint8_t* p, std::uint16_t v) {
-    p[0] = static_cast<std::uint8_t>(v >> 8);
-    p[1] = static_cast<std::uint8_t>(v & 0xFF);
-}
-
-std::uint16_t get16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] << 8 | p[1]); }
 
 std::size_t bit_bytes(std::uint16_t quantity) { return (quantity + 7u) / 8u; }
 
@@ -49,7 +44,7 @@ std::size_t encode_request(std::uint8_t function,
                            std::span<std::uint8_t> out) noexcept {
     if (out.size() < kHeader) return 0;
     out[0] = function;
-    put16(&out[1], address);
+    put_be16(&out[1], address);
     switch (function) {
         case kReadCoils:
         case kReadDiscreteInputs:
@@ -57,16 +52,16 @@ std::size_t encode_request(std::uint8_t function,
         case kReadInput: {
             const std::uint16_t max = bit_function(function) ? kMaxBits : kMaxRegisters;
             if (quantity < 1 || quantity > max) return 0;
-            put16(&out[3], quantity);
+            put_be16(&out[3], quantity);
             return kHeader;
         }
         case kWriteCoil:
             if (values.empty()) return 0;
-            put16(&out[3], values[0] != 0 ? 0xFF00 : 0x0000);
+            put_be16(&out[3], values[0] != 0 ? 0xFF00 : 0x0000);
             return kHeader;
         case kWriteRegister:
             if (values.empty()) return 0;
-            put16(&out[3], values[0]);
+            put_be16(&out[3], values[0]);
             return kHeader;
         case kWriteCoils: {
             const std::size_t bytes = bit_bytes(quantity);
@@ -74,7 +69,7 @@ std::size_t encode_request(std::uint8_t function,
                 out.size() < kHeader + 1 + bytes) {
                 return 0;
             }
-            put16(&out[3], quantity);
+            put_be16(&out[3], quantity);
             out[kHeader] = static_cast<std::uint8_t>(bytes);
             std::fill_n(&out[kHeader + 1], bytes, std::uint8_t{0});
             for (std::size_t i = 0; i < quantity; ++i) {
@@ -89,9 +84,9 @@ std::size_t encode_request(std::uint8_t function,
                 out.size() < kHeader + 1 + bytes) {
                 return 0;
             }
-            put16(&out[3], quantity);
+            put_be16(&out[3], quantity);
             out[kHeader] = static_cast<std::uint8_t>(bytes);
-            for (std::size_t i = 0; i < quantity; ++i) put16(&out[kHeader + 1 + 2 * i], values[i]);
+            for (std::size_t i = 0; i < quantity; ++i) put_be16(&out[kHeader + 1 + 2 * i], values[i]);
             return kHeader + 1 + bytes;
         }
         default:
@@ -118,7 +113,7 @@ ReplyCheck check_reply(std::span<const std::uint8_t> request,
         case kReadDiscreteInputs:
         case kReadHolding:
         case kReadInput: {
-            const std::uint16_t quantity = get16(&request[3]);
+            const std::uint16_t quantity = be16(&request[3]);
             const bool bits = bit_function(function);
             const std::size_t bytes = bits ? bit_bytes(quantity) : 2u * quantity;
             if (reply.size() != 2 + bytes || reply[1] != bytes || values.size() < quantity) {
@@ -126,7 +121,7 @@ ReplyCheck check_reply(std::span<const std::uint8_t> request,
             }
             for (std::size_t i = 0; i < quantity; ++i) {
                 values[i] = bits ? static_cast<std::uint16_t>(reply[2 + i / 8] >> (i % 8) & 1u)
-                                 : get16(&reply[2 + 2 * i]);
+                                 : be16(&reply[2 + 2 * i]);
             }
             out.verdict = ReplyVerdict::Ok;
             return out;

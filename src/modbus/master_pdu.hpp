@@ -7,10 +7,12 @@
 #include <cstdint>
 #include <span>
 
+#include "plcemu/modbus/limits.hpp"
+
 namespace plcemu::modbus {
 
 /// Largest request PDU a master builds: FC16 with 123 registers.
-inline constexpr std::size_t kMaxRequestPdu = 253;
+inline constexpr std::size_t kMaxRequestPdu = kMaxPdu;
 
 /// Builds the request PDU of `function` (1–4 reads, 5, 6, 15, 16 writes) into `out`: FC05 writes
 /// FF00h for a non-zero value, FC15/16 take `quantity` values. Returns its size; 0 for another

@@ -1,5 +1,7 @@
 #include "mbap.hpp"
 
+#include <algorithm>
+
 namespace plcemu::modbus {
 
 MbapFrame next_mbap_frame(std::span<const std::uint8_t> buffered) noexcept {
@@ -17,6 +19,24 @@ MbapFrame next_mbap_frame(std::span<const std::uint8_t> buffered) noexcept {
     f.status = MbapStatus::Frame;
     f.size = total;
     return f;
+}
+
+std::size_t write_mbap(std::uint16_t transaction,
+                       std::uint8_t unit,
+                       std::span<const std::uint8_t> pdu,
+                       std::span<std::uint8_t> out) noexcept {
+    const std::size_t n = kMbapPrefix + 1 + pdu.size();
+    if (pdu.empty() || n > out.size() || n > kMaxTcpAdu) return 0;
+    const auto length = static_cast<std::uint16_t>(pdu.size() + 1);
+    out[0] = static_cast<std::uint8_t>(transaction >> 8);
+    out[1] = static_cast<std::uint8_t>(transaction & 0xFF);
+    out[2] = 0;
+    out[3] = 0;
+    out[4] = static_cast<std::uint8_t>(length >> 8);
+    out[5] = static_cast<std::uint8_t>(length & 0xFF);
+    out[kMbapPrefix] = unit;
+    std::copy(pdu.begin(), pdu.end(), out.begin() + kMbapPrefix + 1);
+    return n;
 }
 
 }  // namespace plcemu::modbus

@@ -1,6 +1,7 @@
 #pragma once
-// Modbus TCP framing: where the next MBAP frame of a byte stream ends. A pure function, so the
-// TCP server and the fuzz harness split a stream the same way.
+// Modbus TCP framing (MBAP): where the next frame of a byte stream ends, what a whole frame
+// holds, and how one is written. The one writer and reader of MBAP headers, shared by the slave
+// side (src/modbus_slave/tcp.cpp), the MBUS master (tcp_master.cpp) and the fuzz harnesses.
 
 #include <cstddef>
 #include <cstdint>
@@ -31,5 +32,25 @@ struct MbapFrame {
 /// Looks at the bytes received and not yet served. The header is judged once the unit ID is in
 /// (7 bytes): protocol identifier 0 and a length field of 2..254, else Bad.
 MbapFrame next_mbap_frame(std::span<const std::uint8_t> buffered) noexcept;
+
+/// The transaction identifier of a whole frame.
+inline std::uint16_t mbap_transaction(std::span<const std::uint8_t> frame) noexcept {
+    return static_cast<std::uint16_t>(frame[0] << 8 | frame[1]);
+}
+/// The unit ID of a whole frame.
+inline std::uint8_t mbap_unit(std::span<const std::uint8_t> frame) noexcept {
+    return frame[kMbapPrefix];
+}
+/// The PDU of a whole frame: what follows the unit ID.
+inline std::span<const std::uint8_t> mbap_pdu(std::span<const std::uint8_t> frame) noexcept {
+    return frame.subspan(kMbapPrefix + 1);
+}
+
+/// Writes a frame into `out`: transaction identifier, protocol identifier 0, the length, the
+/// unit ID and `pdu`. Returns its size; 0 when `pdu` is empty or the frame would not fit.
+std::size_t write_mbap(std::uint16_t transaction,
+                       std::uint8_t unit,
+                       std::span<const std::uint8_t> pdu,
+                       std::span<std::uint8_t> out) noexcept;
 
 }  // namespace plcemu::modbus

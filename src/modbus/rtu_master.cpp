@@ -7,6 +7,7 @@
 #include <array>
 #include <system_error>
 
+#include "rtu_frame.hpp"
 #include "rtu_framer.hpp"
 #include "rtu_reply.hpp"
 
@@ -53,7 +54,7 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
         active = true;
         station = to;
         done = std::move(d);
-        next_size = rtu_request(to, pdu, next);
+        next_size = write_rtu(to, pdu, next);
         // The deadline runs from the request, whatever the line is doing (VB manual FNC149:
         // D9129 is how long the slave may take to respond).
         deadline.expires_after(timeout);

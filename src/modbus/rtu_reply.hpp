@@ -21,10 +21,4 @@ struct RtuReply {
 /// the CRC when the frame is whole, its CRC good and its address the station's; else Garbled.
 RtuReply rtu_reply(const RtuFrame& frame, std::uint8_t station) noexcept;
 
-/// Writes the request frame for `station` into `out`: the address, `pdu` and the CRC, low byte
-/// first. Returns its size; 0 when it does not fit.
-std::size_t rtu_request(std::uint8_t station,
-                        std::span<const std::uint8_t> pdu,
-                        std::span<std::uint8_t> out) noexcept;
-
 }  // namespace plcemu::modbus

@@ -4,16 +4,10 @@
 
 #include <string>
 
+#include "plcemu/modbus/line_settings.hpp"
+
 namespace plcemu::modbus {
 
-/// Serial line settings (default 9600 8E1).
-struct RtuOptions {
-    std::string device;  ///< e.g. /dev/ttyUSB0 or a pty
-    int baud = 9600;     ///< bits per second
-    char parity = 'E';   ///< 'N', 'E' or 'O'
-    int data_bits = 8;   ///< 7 or 8
-    int stop_bits = 1;   ///< 1 or 2
-};
 
 /// The settings as users write them: "/dev/ttyUSB0 9600 8E1".
 std::string describe(const RtuOptions& o);

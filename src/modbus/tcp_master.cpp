@@ -94,17 +94,8 @@ struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
         station = to;
         done = std::move(d);
         ++tid;
-        const auto length = static_cast<std::uint16_t>(pdu.size() + 1);
-        // Sized once and filled in place: GCC 12 at -O2 takes two inserts into a reserved
-        // vector for writes past its end (-Warray-bounds, -Wstringop-overflow).
-        auto frame = std::make_shared<std::vector<std::uint8_t>>(kMbapPrefix + length);
-        auto& f = *frame;
-        f[0] = static_cast<std::uint8_t>(tid >> 8);
-        f[1] = static_cast<std::uint8_t>(tid & 0xFF);
-        f[4] = static_cast<std::uint8_t>(length >> 8);
-        f[5] = static_cast<std::uint8_t>(length & 0xFF);
-        f[kMbapPrefix] = to;
-        std::copy(pdu.begin(), pdu.end(), f.begin() + kMbapPrefix + 1);
+        auto frame = std::make_shared<std::vector<std::uint8_t>>(kMbapPrefix + 1 + pdu.size());
+        frame->resize(write_mbap(tid, to, pdu, *frame));
         // The deadline runs from the send, whatever the connection is doing (VB manual FNC149:
         // D9129 is how long the slave may take to respond).
         deadline.expires_after(timeout);
@@ -273,7 +264,8 @@ struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
             std::memcpy(frame.data(), c.buf.data(), f.size);
             std::memmove(c.buf.data(), c.buf.data() + f.size, c.used - f.size);
             c.used -= f.size;
-            const auto id = static_cast<std::uint16_t>(frame[0] << 8 | frame[1]);
+            const std::span<const std::uint8_t> whole{frame.data(), f.size};
+            const std::uint16_t id = mbap_transaction(whole);
             // A reply to an abandoned or timed-out transaction is dropped; beyond a few of
             // them, a slave sending what nobody asked for is closed.
             if (!active || conn != index || id != tid) {
@@ -286,8 +278,8 @@ struct TcpMasterState : std::enable_shared_from_this<TcpMasterState> {
             }
             c.faults = 0;  // the slave answers: its next fault reconnects at once
             const unsigned epoch = c.epoch;
-            finish(frame[kMbapPrefix] == station ? MasterOutcome::Reply : MasterOutcome::Garbled,
-                   {frame.data() + kMbapPrefix + 1, f.size - kMbapPrefix - 1});
+            finish(mbap_unit(whole) == station ? MasterOutcome::Reply : MasterOutcome::Garbled,
+                   mbap_pdu(whole));
             if (stopped || c.epoch != epoch) return false;
         }
     }

@@ -23,6 +23,9 @@
 #include "support/profiles.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/modbus/address_map.hpp"
+#include "modbus/mbap.hpp"
+#include "modbus_slave/rtu.hpp"
+#include "modbus_slave/tcp.hpp"
 #include "simulator/simulator_unit.hpp"
 
 namespace plcemu::fuzz {
@@ -133,6 +136,10 @@ public:
 
     /// The PLC.
     daemon::Plc& plc() { return *plc_; }
+    /// Modbus TCP on a listener of the PLC's own, as the daemon serves it.
+    modbus_slave::ModbusTcp& tcp() { return *tcp_; }
+    /// Modbus RTU on a serial line of the PLC's own, as the daemon serves it.
+    modbus_slave::ModbusRtu& rtu() { return *rtu_; }
 
     /// True when a request for `unit` goes to the simulator unit.
     bool is_sim(std::uint8_t unit) { return unit == sim_unit_ && unit != plc_->engine().station(); }
@@ -151,7 +158,7 @@ public:
         copy_bytes(s.data(), image_.data(), s.size());  // also undoes power_up()'s writes
         if (plant_touched) plc_->plant() = *plant_;
         plant_touched_ = false;
-        plc_->dispatcher().set_unknown_unit_policy(policy_);
+        tcp_->units().set_unknown_unit(policy_);
         reset_time();
     }
 
@@ -187,19 +194,24 @@ private:
         station_ = plc_->engine().station();
         sim_unit_ = static_cast<std::uint8_t>(config->simulator.unit);
         policy_ = config->modbus.tcp.unknown_unit == config::UnknownUnit::Silent
-                      ? modbus::UnknownUnitPolicy::Silent
-                      : modbus::UnknownUnitPolicy::Exception;
+                      ? listener::UnknownUnit::Silent
+                      : listener::UnknownUnit::Refuse;
         attach_simulator();
     }
 
     void attach_simulator() {
+        tcp_.reset();
+        rtu_.reset();
         tap_.reset();
         sim_.reset();
         time_.emplace(plc_->engine());
         reset_time();
         sim_.emplace(plc_->plant(), *time_);
         tap_.emplace(*sim_, plant_touched_);
-        plc_->dispatcher().set_simulator(&*tap_, sim_unit_);
+        const listener::Seat seat{"",       &plc_->engine().station(), &plc_->dispatcher(),
+                                  &plc_->unit(), sim_unit_,         &*tap_};
+        tcp_.emplace(listener::ProtocolSetup{{seat}, policy_, {}});
+        rtu_.emplace(listener::ProtocolSetup{{seat}, listener::UnknownUnit::Silent, {}});
     }
 
     // The simulator unit as the dispatcher sees it, noting every write that lands (a write is
@@ -243,12 +255,14 @@ private:
     std::optional<FakeTime> time_;
     std::optional<simulator::SimulatorUnit> sim_;
     std::optional<Tap> tap_;
+    std::optional<modbus_slave::ModbusTcp> tcp_;  // over the PLC and tap_
+    std::optional<modbus_slave::ModbusRtu> rtu_;
     bool plant_touched_ = false;    // a write reached the simulator unit since the last reset
     std::vector<std::byte> image_;  // the image as built
     std::optional<plant::ThermalPlant> plant_;  // the plant as built
     std::uint8_t station_ = 0;                  // the station as built
     std::uint8_t sim_unit_ = 0;                 // the simulator unit's ID
-    modbus::UnknownUnitPolicy policy_{};        // the unknown-unit policy as built
+    listener::UnknownUnit policy_{};            // the unknown-unit policy as built
 };
 
 /// What an input made the PLC do, for comparing two runs of it: every reply, then the image,
@@ -395,7 +409,7 @@ void run_input(const std::uint8_t* data, std::size_t size, Body body) {
 class Peer {
 public:
     /// The buffer handed to the dispatcher.
-    modbus::ReplyBuffer buffer() { return out_; }
+    std::span<std::uint8_t> buffer() { return out_; }
 
     /// The first `n` bytes of the buffer: the reply just built.
     std::span<const std::uint8_t> take(std::size_t n) const {
@@ -404,7 +418,7 @@ public:
     }
 
 private:
-    std::array<std::uint8_t, modbus::kMaxReplyAdu> out_{};
+    std::array<std::uint8_t, modbus::kMaxTcpAdu> out_{};
 };
 
 /// Function codes that only read: a request with one of these never changes the image.

@@ -51,8 +51,8 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
     static fuzz::Peer peer;
     static fuzz::Snapshot before;
     daemon::Plc& plc = rig.plc();
-    plc.dispatcher().set_unknown_unit_policy(silent ? modbus::UnknownUnitPolicy::Silent
-                                                    : modbus::UnknownUnitPolicy::Exception);
+    rig.tcp().units().set_unknown_unit(silent ? listener::UnknownUnit::Silent
+                                              : listener::UnknownUnit::Refuse);
     bool have_before = false;  // `before` holds the image as it is now
     unsigned frames = 0;
     for (;;) {
@@ -64,7 +64,7 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
         stream = stream.subspan(f.size);
 
         if (!have_before) before.take(plc.image());
-        const auto rep = peer.take(plc.dispatcher().serve_tcp(req, peer.buffer()));
+        const auto rep = peer.take(rig.tcp().answer(req, peer.buffer()));
         fuzz::exchange() = {req, rep};
         fuzz::record(rep);
         check_reply(rig, silent, req, rep);

@@ -1,13 +1,38 @@
 #include "support/wire.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "modbus/crc.hpp"
 
 namespace plcemu::testing {
 
-Wire::Wire(modbus::Responder& d)
-    : d_(d) {}
+namespace {
+
+listener::ProtocolSetup setup(std::vector<listener::Seat> seats) {
+    return {std::move(seats), listener::UnknownUnit::Refuse, {}};
+}
+
+}  // namespace
+
+Wire::Wire(modbus::Dispatcher& d,
+           modbus::Unit& unit,
+           const std::uint8_t& station,
+           modbus::Unit* sim,
+           std::uint8_t sim_unit)
+    : Wire(std::vector<listener::Seat>{{"", &station, &d, &unit, sim_unit, sim}}) {}
+
+Wire::Wire(daemon::Plc& plc)
+    : Wire(plc.dispatcher(), plc.unit(), plc.engine().station()) {}
+
+Wire::Wire(std::vector<listener::Seat> seats)
+    : tcp_(setup(seats)),
+      rtu_(setup(seats)) {}
+
+void Wire::set_unknown_unit(listener::UnknownUnit u) {
+    tcp_.units().set_unknown_unit(u);
+    rtu_.units().set_unknown_unit(u);
+}
 
 std::vector<std::uint8_t> Wire::reply(std::size_t n) const {
     return {out_.begin(), out_.begin() + static_cast<std::ptrdiff_t>(n)};
@@ -23,7 +48,7 @@ std::vector<std::uint8_t> Wire::tcp(std::uint8_t unit, const std::vector<std::ui
                                   static_cast<std::uint8_t>((pdu.size() + 1) & 0xFF),
                                   unit};
     adu.insert(adu.end(), pdu.begin(), pdu.end());
-    auto r = reply(d_.serve_tcp(adu, out_));
+    auto r = reply(tcp_.answer(adu, out_));
     if (r.empty()) return r;
     if (r.size() < 8 || r[0] != adu[0] || r[1] != adu[1] || r[2] != 0 || r[3] != 0 ||
         r[6] != unit || static_cast<std::size_t>(r[4] << 8 | r[5]) != r.size() - 6) {
@@ -38,7 +63,9 @@ std::vector<std::uint8_t> Wire::rtu(std::uint8_t unit, const std::vector<std::ui
     const std::uint16_t crc = modbus::crc16(f.data(), f.size());
     f.push_back(static_cast<std::uint8_t>(crc & 0xFF));
     f.push_back(static_cast<std::uint8_t>(crc >> 8));
-    auto r = reply(d_.serve_rtu(f, out_));
+    const auto a = rtu_.serve({modbus::RtuVerdict::Ok, f});
+    std::copy(a.begin(), a.end(), out_.begin());
+    auto r = reply(a.size());
     if (r.empty()) return r;
     if (r.size() < 4 || r[0] != unit) throw std::runtime_error("malformed RTU reply");
     const std::uint16_t got = static_cast<std::uint16_t>(r[r.size() - 2] | r[r.size() - 1] << 8);

@@ -1,12 +1,15 @@
 #pragma once
-// Test support: drives a Dispatcher (or a router) the way the TCP and RTU transports do, and
-// returns the reply bytes.
+// Test support: drives the Modbus TCP and RTU protocols of a listener the way the listeners do
+// (one PLC on a listener of its own, or several sharing one), and returns the reply bytes.
 
 #include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "modbus_slave/rtu.hpp"
+#include "modbus_slave/tcp.hpp"
+#include "plcemu/daemon/plc.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 
 namespace plcemu::testing {
@@ -14,7 +17,24 @@ namespace plcemu::testing {
 /// Sends requests to a dispatcher and reads what it writes back.
 class Wire {
 public:
-    explicit Wire(modbus::Responder& d);
+    /// One PLC on a listener of its own: `station` is read on every request, `sim` (when given)
+    /// answers `sim_unit`. Everything given must outlive the wire.
+    Wire(modbus::Dispatcher& d,
+         modbus::Unit& unit,
+         const std::uint8_t& station,
+         modbus::Unit* sim = nullptr,
+         std::uint8_t sim_unit = 0);
+    /// A built PLC on a listener of its own.
+    explicit Wire(daemon::Plc& plc);
+    /// Several PLCs sharing a listener.
+    explicit Wire(std::vector<listener::Seat> seats);
+
+    /// Sets the policy for unit IDs nobody has.
+    void set_unknown_unit(listener::UnknownUnit u);
+    /// The TCP side's unit table.
+    listener::UnitTable& tcp_units() { return tcp_.units(); }
+    /// The RTU side's unit table.
+    listener::UnitTable& rtu_units() { return rtu_.units(); }
 
     /// Serves a TCP request with unit `unit` and PDU `pdu`; returns the reply PDU (without
     /// MBAP), empty when nothing was sent. Checks the MBAP header of the reply.
@@ -26,8 +46,9 @@ public:
 private:
     std::vector<std::uint8_t> reply(std::size_t n) const;
 
-    modbus::Responder& d_;
-    std::array<std::uint8_t, modbus::kMaxReplyAdu> out_{};
+    modbus_slave::ModbusTcp tcp_;
+    modbus_slave::ModbusRtu rtu_;
+    std::array<std::uint8_t, 260> out_{};
     std::uint16_t tid_ = 0x1234;
 };
 

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "modbus/tcp_server.hpp"
+#include "listener/tcp_listener.hpp"
 
-namespace plcemu::modbus {
+namespace plcemu::listener {
 namespace {
 
 bool allows(const std::string& entry, const std::string& peer) {
@@ -34,4 +34,4 @@ TEST(Cidr, PlainEntries) {
 }
 
 }  // namespace
-}  // namespace plcemu::modbus
+}  // namespace plcemu::listener

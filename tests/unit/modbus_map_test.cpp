@@ -66,8 +66,8 @@ protected:
     image::Image img_{test::fbs_layout()};
     PlcUnit unit_{img_, test::fbs().map(), {}};
     std::uint8_t station_ = 1;
-    Dispatcher disp_{unit_, station_, Identity{"FATEK", "FBs-24MC", "9.9.9"}};
-    wire::Wire wire_{disp_};
+    Dispatcher disp_{Identity{"FATEK", "FBs-24MC", "9.9.9"}};
+    wire::Wire wire_{disp_, unit_, station_};
 
     Bytes tcp(const Bytes& pdu, std::uint8_t unit = 1) { return wire_.tcp(unit, pdu); }
     Bytes rtu(const Bytes& pdu, std::uint8_t unit = 1) { return wire_.rtu(unit, pdu); }
@@ -697,7 +697,7 @@ TEST_F(ModbusMap, TcpUnitIds) {
     EXPECT_EQ(wire::reply_words(tcp(wire::read_pdu(0x03, 7, 1), 255)),
               std::vector<std::uint16_t>{77});
     // "Stay silent" policy.
-    disp_.set_unknown_unit_policy(UnknownUnitPolicy::Silent);
+    wire_.set_unknown_unit(listener::UnknownUnit::Silent);
     EXPECT_TRUE(tcp(wire::read_pdu(0x03, 7, 1), 1).empty());
     EXPECT_FALSE(tcp(wire::read_pdu(0x03, 7, 1), 17).empty());
 }
@@ -830,8 +830,8 @@ protected:
         {});
     PlcUnit unit_{img_, *map_, {}};
     std::uint8_t station_ = 1;
-    Dispatcher disp_{unit_, station_, Identity{"V", "M", "1"}};
-    wire::Wire wire_{disp_};
+    Dispatcher disp_{Identity{"V", "M", "1"}};
+    wire::Wire wire_{disp_, unit_, station_};
 
     Bytes tcp(const Bytes& pdu) { return wire_.tcp(1, pdu); }
 };

@@ -383,7 +383,7 @@ program:
 )";
     auto run = [&](std::vector<std::uint8_t>& storage, std::vector<double>& temps) {
         daemon::Plc plc(config::parse_config(yaml, "det.yaml"));
-        testing::Wire wire(plc.dispatcher());
+        testing::Wire wire(plc);
         auto& e = plc.engine();
         e.run_scans(500);
         wire.tcp(1, testing::write_coils_pdu(2800, {true, true, true}));  // M800-M802

@@ -23,6 +23,7 @@
 #include "modbus/crc.hpp"
 #include "modbus/rtu_framer.hpp"
 #include "modbus/rtu_master.hpp"
+#include "modbus/rtu_frame.hpp"
 #include "modbus/rtu_reply.hpp"
 #include "support/pty_loop.hpp"
 
@@ -371,9 +372,9 @@ TEST(RtuReply, OnlyAWholeFrameOfTheStationIsAReply) {
 
     std::array<std::uint8_t, RtuFramer::kMaxFrame> out{};
     const Bytes pdu{3, 0, 0, 0, 2};
-    const std::size_t n = rtu_request(5, pdu, out);
+    const std::size_t n = write_rtu(5, pdu, out);
     EXPECT_EQ(Bytes(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n)), kReadFrame);
-    EXPECT_EQ(rtu_request(5, Bytes(254, 1), out), 0u) << "no frame holds a 254-byte PDU";
+    EXPECT_EQ(write_rtu(5, Bytes(254, 1), out), 0u) << "no frame holds a 254-byte PDU";
 }
 
 }  // namespace

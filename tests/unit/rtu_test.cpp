@@ -24,7 +24,8 @@
 
 #include "modbus/crc.hpp"
 #include "modbus/rtu_framer.hpp"
-#include "modbus/rtu_server.hpp"
+#include "listener/serial_listener.hpp"
+#include "modbus_slave/rtu.hpp"
 #include "support/profiles.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/modbus/address_map.hpp"
@@ -279,8 +280,8 @@ protected:
     image::Image img_{test::fbs_layout()};
     PlcUnit unit_{img_, test::fbs().map(), {}};
     std::uint8_t station_ = 7;
-    Dispatcher disp_{unit_, station_, Identity{"FATEK", "FBs-24MC", "9.9.9"}};
-    plcemu::testing::Wire wire_{disp_};
+    Dispatcher disp_{Identity{"FATEK", "FBs-24MC", "9.9.9"}};
+    plcemu::testing::Wire wire_{disp_, unit_, station_};
     RtuFramer framer_{RtuTiming::for_line(9600, 'E', 8, 1)};
     Clock::time_point t_ = Clock::time_point{} + 1s;
 
@@ -319,7 +320,7 @@ TEST_F(RtuStation, BroadcastWritesApplyWithoutAnswer) {
     EXPECT_EQ(img_.word(image::Area::R, 5), 0xABCD);
 }
 
-// The RTU server on a pty that goes away and comes back: reopened by path, with back-off,
+// The serial listener carrying Modbus RTU on a pty that goes away and comes back: reopened by path, with back-off,
 // logged once each way, and no reopen after stop().
 class RtuReopen : public RtuStation {
 protected:
@@ -330,6 +331,10 @@ protected:
     std::size_t count(const std::string& needle) const { return loop_.count(needle); }
     static double cpu_seconds() { return testing::PtyLoop::cpu_seconds(); }
     PluggablePty& pty() { return loop_.pty(); }
+    // Modbus RTU for the station, on a 115200 8N1 line.
+    modbus_slave::ModbusRtu protocol_{{{{"", &station_, &disp_, &unit_, 0, nullptr}},
+                                       listener::UnknownUnit::Silent,
+                                       {"", 115200, 'N', 8, 1}}};
 
     // Sends a read of R4055 on the master end until the station's reply comes back (a request
     // written before the device is reopened is flushed by the open) or `limit` has passed.
@@ -362,7 +367,7 @@ protected:
 };
 
 TEST_F(RtuReopen, DeviceThatComesBackIsReopenedWithoutSpinning) {
-    RtuServer server(io_, disp_, {pty().link(), 115200, 'N', 8, 1});
+    listener::SerialListener server(io_, protocol_, {pty().link(), 115200, 'N', 8, 1}, "rtu");
     ASSERT_TRUE(answered());
 
     pty().unplug();
@@ -382,7 +387,7 @@ TEST_F(RtuReopen, DeviceThatComesBackIsReopenedWithoutSpinning) {
 }
 
 TEST_F(RtuReopen, StopDuringTheBackOffLeavesNothingToRun) {
-    RtuServer server(io_, disp_, {pty().link(), 115200, 'N', 8, 1});
+    listener::SerialListener server(io_, protocol_, {pty().link(), 115200, 'N', 8, 1}, "rtu");
     pty().unplug();
     ASSERT_TRUE(run_until([&] { return count("lost") == 1; }, 2000ms)) << loop_.log();
     server.stop();

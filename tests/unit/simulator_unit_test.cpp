@@ -51,9 +51,8 @@ struct Rig {
         engine->add_subsystem(std::move(p));
         time = std::make_unique<FakeTime>(*engine);
         unit = std::make_unique<SimulatorUnit>(*plant, *time, writable);
-        dispatcher = std::make_unique<modbus::Dispatcher>(plc, station, modbus::Identity{});
-        dispatcher->set_simulator(unit.get(), kSim);
-        wire = std::make_unique<testing::Wire>(*dispatcher);
+        dispatcher = std::make_unique<modbus::Dispatcher>(modbus::Identity{});
+        wire = std::make_unique<testing::Wire>(*dispatcher, plc, station, unit.get(), kSim);
     }
     std::vector<std::uint16_t> read(std::uint16_t addr, std::uint16_t qty) {
         const auto r = wire->tcp(kSim, read_pdu(0x03, addr, qty));

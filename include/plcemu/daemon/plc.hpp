@@ -66,7 +66,7 @@ public:
     engine::Engine& engine() { return *engine_; }
     /// The PLC's Modbus unit.
     modbus::PlcUnit& unit() { return *unit_; }
-    /// The request dispatcher.
+    /// The PLC's Modbus function codes and identity.
     modbus::Dispatcher& dispatcher() { return *dispatcher_; }
     /// The config it was built from.
     const config::Config& config() const { return *config_; }

@@ -1,6 +1,6 @@
 #pragma once
-// Request dispatch: unit ID, function code, validation, address resolution, reply. The one
-// place where refusals become Modbus exceptions.
+// Request dispatch: function code, validation, address resolution, reply PDU. The one place
+// where refusals become Modbus exceptions.
 
 #include <array>
 #include <cstddef>
@@ -9,16 +9,10 @@
 #include <span>
 #include <string>
 
-#include "plcemu/modbus/responder.hpp"
+#include "plcemu/modbus/limits.hpp"
 #include "plcemu/modbus/unit.hpp"
 
 namespace plcemu::modbus {
-
-/// Which framing a request arrived in.
-enum class Transport : std::uint8_t { Tcp, Rtu };
-
-/// What the dispatcher does with TCP unit IDs other than the station, 255 and the simulator.
-enum class UnknownUnitPolicy : std::uint8_t { Exception, Silent };
 
 /// Identification strings for FC 11h and 2Bh/0Eh.
 struct Identity {
@@ -29,13 +23,10 @@ struct Identity {
 
 /// Counters, for logs and tests.
 struct DispatchStats {
-    std::uint64_t requests = 0;    ///< requests for a unit served here, answered or not
+    std::uint64_t requests = 0;    ///< requests served, answered or not
     std::uint64_t exceptions = 0;  ///< exception replies sent
-    std::uint64_t ignored = 0;     ///< requests dropped without an answer
 };
 
-/// The largest PDU.
-inline constexpr std::size_t kMaxPdu = 253;
 /// Where a function handler builds its reply PDU.
 using PduBuffer = std::span<std::uint8_t, kMaxPdu>;
 struct FunctionRequest;
@@ -43,56 +34,41 @@ struct FunctionReply;
 /// One function code's handler (plcemu/modbus/function_handler.hpp).
 using FunctionHandler = FunctionReply (*)(const FunctionRequest&, PduBuffer out) noexcept;
 
-/// The exception reply to `adu` (a TCP ADU or an RTU frame) with code `s`, framed like the
-/// request, into `out`. Returns its length.
-std::size_t exception_reply(Transport t,
-                            std::span<const std::uint8_t> adu,
-                            Status s,
-                            ReplyBuffer out) noexcept;
+/// A request as a listener's unit table routed it: a PDU for one unit.
+struct Request {
+    std::span<const std::uint8_t> pdu;  ///< function code first; at least one byte
+    Unit& unit;                         ///< the unit addressed: the PLC, or its simulator unit
+    std::uint8_t slave_id;              ///< the ID it answers as (FC 11h): the station, or the unit
+    bool broadcast = false;             ///< RTU unit 0: served, never answered
+};
 
-/// One PLC's side of the protocol: its station (and the simulator unit beside it), the function
-/// codes, the reply.
-class Dispatcher final : public Responder {
+/// Writes the exception PDU answering function `fc` with code `s` into `out`; returns its size.
+std::size_t exception_pdu(std::uint8_t fc, Status s, PduBuffer out) noexcept;
+
+/// One PLC's side of the protocol: its function codes and identity. A function from a request
+/// to a reply PDU, an exception PDU or nothing; it never sees a header, a CRC or a socket (the
+/// framing belongs to the transport, the unit IDs to the listener's unit table).
+class Dispatcher final {
 public:
-    /// `plc` and `station` must outlive the dispatcher; `station` is read on every request
-    /// (it changes when a master writes 55xxh to R4055).
-    Dispatcher(Unit& plc, const std::uint8_t& station, Identity identity);
-    ~Dispatcher() override;
+    explicit Dispatcher(Identity identity);
+    ~Dispatcher();
     Dispatcher(const Dispatcher&) = delete;
     Dispatcher& operator=(const Dispatcher&) = delete;
 
-    /// Serves a second unit (the simulator-control unit) under `unit_id` (0 = none).
-    void set_simulator(Unit* sim, std::uint8_t unit_id);
     /// Serves function code `fc` (below 80h) with `handler`, or refuses it with exception 01
     /// when `handler` is null: a profile adds or refuses codes (see
     /// plcemu/modbus/function_handler.hpp).
     void set_function(std::uint8_t fc, FunctionHandler handler);
-    /// Sets the TCP policy for unknown unit IDs.
-    void set_unknown_unit_policy(UnknownUnitPolicy p) { unknown_unit_ = p; }
-    /// The station now (R4055 may have changed it since the start).
-    std::uint8_t station() const { return station_; }
-    /// The simulator-control unit's ID, 0 when there is none.
-    std::uint8_t simulator_unit() const { return sim_ != nullptr ? sim_unit_ : 0; }
 
-    /// Serves one complete TCP ADU (MBAP header + PDU); the reply ADU goes to `out`. Returns its
-    /// length, 0 when nothing is to be sent.
-    std::size_t serve_tcp(std::span<const std::uint8_t> adu, ReplyBuffer out) noexcept override;
-    /// Serves one complete RTU frame (address, PDU, CRC already checked); the reply frame with
-    /// its CRC goes to `out`. Returns its length, 0 when nothing is to be sent (broadcasts).
-    std::size_t serve_rtu(std::span<const std::uint8_t> frame, ReplyBuffer out) noexcept override;
+    /// Serves one request; the reply PDU, or the exception PDU that refuses it, goes to `out`.
+    /// Returns its size, 0 when nothing is to be sent (a broadcast).
+    std::size_t answer(const Request& request, PduBuffer out) noexcept;
 
     /// Counters since start.
     const DispatchStats& stats() const { return stats_; }
 
 private:
-    std::size_t serve(Transport t, std::span<const std::uint8_t> adu, ReplyBuffer out) noexcept;
-
-    Unit& plc_;
-    const std::uint8_t& station_;
     Identity identity_;
-    Unit* sim_ = nullptr;
-    std::uint8_t sim_unit_ = 0;
-    UnknownUnitPolicy unknown_unit_ = UnknownUnitPolicy::Exception;
     std::array<FunctionHandler, 128> functions_;
     DispatchStats stats_;
 };

@@ -84,14 +84,26 @@ using FunctionTable = std::array<FunctionHandler, 128>;
 /// The codes every profile serves: 01–06, 08, 0Fh, 10h, 11h, 16h, 17h, 2Bh.
 FunctionTable standard_functions();
 
-/// Big-endian word at `p`.
-inline std::uint16_t be16(const std::uint8_t* p) {
-    return static_cast<std::uint16_t>(p[0] << 8 | p[1]);
-}
 
 namespace functions {
-/// FC 01–06, 0Fh, 10h, 16h: reads and writes of the four tables, in place.
-FunctionReply data_access(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 01: read coils.
+FunctionReply read_coils(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 02: read discrete inputs.
+FunctionReply read_discrete_inputs(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 03: read holding registers.
+FunctionReply read_holding_registers(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 04: read input registers.
+FunctionReply read_input_registers(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 05: write single coil.
+FunctionReply write_single_coil(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 06: write single register.
+FunctionReply write_single_register(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 0Fh: write multiple coils.
+FunctionReply write_multiple_coils(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 10h: write multiple registers.
+FunctionReply write_multiple_registers(const FunctionRequest& r, PduBuffer out) noexcept;
+/// FC 16h: mask write register.
+FunctionReply mask_write_register(const FunctionRequest& r, PduBuffer out) noexcept;
 /// FC 08: diagnostics, subfunction 00 (return query data).
 FunctionReply diagnostics(const FunctionRequest& r, PduBuffer out) noexcept;
 /// FC 11h: report slave ID.

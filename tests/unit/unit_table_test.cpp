@@ -1,4 +1,4 @@
-// The router of a listener several PLCs share (docs/configuration.md, "Sharing a listener"):
+// The unit table of a listener several PLCs share, as the Modbus protocols use it (docs/configuration.md, "Sharing a listener"):
 // Modbus over serial line §2.2 (a request goes to the slave whose address it carries; a
 // broadcast, address 0, is executed by every slave and answered by none; no other slave
 // answers), Modbus TCP implementation guide §4.4.1.2 (units 0 and 255 and units without a
@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "modbus/unit_router.hpp"
+#include "plcemu/listener/unit_table.hpp"
 #include "plcemu/image/image.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 #include "plcemu/modbus/plc_unit.hpp"
@@ -36,21 +36,27 @@ struct Station {
     image::Image img{test::fbs_layout()};
     PlcUnit unit{img, test::fbs().map(), {}};
     std::uint8_t station;
-    Dispatcher disp{unit, station, Identity{"FATEK", "FBs-24MC", "9.9.9"}};
-    Wire direct{disp};
+    Dispatcher disp{Identity{"FATEK", "FBs-24MC", "9.9.9"}};
+    Wire direct{disp, unit, station};
+    // A second unit behind the PLC (the simulator unit's place), when set.
+    Unit* sim = nullptr;
+    std::uint8_t sim_unit = 0;
+
+    listener::Seat seat() { return {"", &station, &disp, &unit, sim_unit, sim}; }
 
     std::uint16_t d0() { return reply_words(direct.rtu(station, read_pdu(0x03, kD0, 1))).at(0); }
 };
 
 class SharedLine : public ::testing::Test {
 protected:
-    SharedLine() {
-        for (auto& s : plcs_) router_.add(s->disp);
+    std::vector<listener::Seat> seats() {
+        std::vector<listener::Seat> v;
+        for (auto& s : plcs_) v.push_back(s->seat());
+        return v;
     }
     std::array<std::unique_ptr<Station>, 3> plcs_{
         std::make_unique<Station>(1), std::make_unique<Station>(2), std::make_unique<Station>(3)};
-    UnitRouter router_;
-    Wire wire_{router_};
+    Wire wire_{seats()};
 };
 
 TEST_F(SharedLine, EachStationAnswersOnlyItsOwnRequests) {
@@ -65,12 +71,12 @@ TEST_F(SharedLine, EachStationAnswersOnlyItsOwnRequests) {
 TEST_F(SharedLine, ABroadcastReachesEveryStationAndIsAnsweredByNone) {
     EXPECT_TRUE(wire_.rtu(0, write_single_pdu(0x06, kD0, 77)).empty());
     for (auto& s : plcs_) EXPECT_EQ(s->d0(), 77);
-    EXPECT_EQ(router_.stats().broadcasts, 1u);
+    EXPECT_EQ(wire_.rtu_units().stats().broadcasts, 1u);
 }
 
 TEST_F(SharedLine, AStationNobodyHasIsSilenceOnTheLine) {
     EXPECT_TRUE(wire_.rtu(9, read_pdu(0x03, kD0, 1)).empty());
-    EXPECT_EQ(router_.stats().unrouted, 1u);
+    EXPECT_EQ(wire_.rtu_units().stats().unrouted, 1u);
 }
 
 TEST_F(SharedLine, RoutesByTheLiveStation) {
@@ -91,8 +97,8 @@ TEST_F(SharedLine, TcpRoutesByUnitAndRefusesTheRestWithGatewayTargetFailed) {
                   0x0B)
             << unit;
     }
-    EXPECT_EQ(router_.stats().unrouted, 3u);
-    router_.set_unknown_unit_policy(UnknownUnitPolicy::Silent);
+    EXPECT_EQ(wire_.tcp_units().stats().unrouted, 3u);
+    wire_.set_unknown_unit(listener::UnknownUnit::Silent);
     EXPECT_TRUE(wire_.tcp(9, read_pdu(0x03, kD0, 1)).empty());
     EXPECT_TRUE(wire_.tcp(0, read_pdu(0x03, kD0, 1)).empty());
 }
@@ -101,27 +107,58 @@ TEST_F(SharedLine, ASimulatorUnitGoesToItsPlc) {
     // A second unit behind PLC 3 under ID 200 (the simulator unit's place): its own image.
     image::Image other{test::fbs_layout()};
     PlcUnit second{other, test::fbs().map(), {}};
-    plcs_[2]->disp.set_simulator(&second, 200);
-    EXPECT_EQ(wire_.rtu(200, write_single_pdu(0x06, kD0, 9)).size(), 5u);
+    plcs_[2]->sim = &second;
+    plcs_[2]->sim_unit = 200;
+    Wire wire{seats()};
+    EXPECT_EQ(wire.rtu(200, write_single_pdu(0x06, kD0, 9)).size(), 5u);
     EXPECT_EQ(plcs_[2]->d0(), 0);
-    Dispatcher look{second, plcs_[2]->station, Identity{}};
-    Wire w{look};
+    Dispatcher look{Identity{}};
+    Wire w{look, second, plcs_[2]->station};
     EXPECT_EQ(reply_words(w.tcp(3, read_pdu(0x03, kD0, 1))), std::vector<std::uint16_t>{9});
 }
 
-TEST(OwnListener, OnePlcGetsEveryRequestAsWithoutARouter) {
+TEST(OwnListener, OnePlcGetsUnitsZeroAnd255AndTheUnknownUnitPolicy) {
     // A listener of its own keeps the single-PLC rules: TCP units 0 and 255 are the device
     // itself, an unknown unit gets the PLC's own policy.
     Station s(1);
-    UnitRouter router;
-    router.add(s.disp);
-    Wire wire{router};
+    Wire wire{{s.seat()}};
     EXPECT_EQ(wire.tcp(0, write_single_pdu(0x06, kD0, 4)).size(), 5u);
     EXPECT_EQ(reply_words(wire.tcp(255, read_pdu(0x03, kD0, 1))), std::vector<std::uint16_t>{4});
     EXPECT_EQ(exception_of(wire.tcp(9, read_pdu(0x03, kD0, 1))), 0x0B);
-    s.disp.set_unknown_unit_policy(UnknownUnitPolicy::Silent);
+    wire.set_unknown_unit(listener::UnknownUnit::Silent);
     EXPECT_TRUE(wire.tcp(9, read_pdu(0x03, kD0, 1)).empty());
-    EXPECT_EQ(router.stats().unrouted, 0u);
+    EXPECT_EQ(wire.tcp_units().stats().unrouted, 2u);
+    // Over RTU, 0 is a broadcast (applied, never answered) and 255 is nobody.
+    EXPECT_TRUE(wire.rtu(0, write_single_pdu(0x06, kD0, 5)).empty());
+    EXPECT_EQ(s.d0(), 5);
+    EXPECT_TRUE(wire.rtu(255, read_pdu(0x03, kD0, 1)).empty());
+}
+
+TEST(UnitTableFind, NamesTheSeatAndTheIdItAnswersAs) {
+    Station a(4);
+    Station b(9);
+    image::Image other{test::fbs_layout()};
+    PlcUnit sim{other, test::fbs().map(), {}};
+    b.sim = &sim;
+    b.sim_unit = 200;
+    listener::UnitTable t;
+    t.assign({a.seat(), b.seat()});
+    EXPECT_EQ(t.find(4).seat, &t.seats()[0]);
+    EXPECT_FALSE(t.find(4).simulator);
+    const listener::Hit h = t.find(200);
+    EXPECT_EQ(h.seat, &t.seats()[1]);
+    EXPECT_TRUE(h.simulator);
+    EXPECT_EQ(h.answer_as, 200);
+    // Shared: "the device itself" is nobody; a simulator unit ID without a unit is nobody.
+    EXPECT_EQ(t.find(0, true).seat, nullptr);
+    EXPECT_EQ(t.find(255, true).seat, nullptr);
+    b.sim = nullptr;
+    t.assign({a.seat(), b.seat()});
+    EXPECT_EQ(t.find(200).seat, nullptr);
+    EXPECT_EQ(t.stats().unrouted, 3u);
+    // Alone: the device itself is the PLC, answering as its station.
+    t.assign({a.seat()});
+    EXPECT_EQ(t.find(255, true).answer_as, 4);
 }
 
 }  // namespace

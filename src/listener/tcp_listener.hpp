@@ -1,7 +1,8 @@
 #pragma once
-// Modbus TCP transport: MBAP framing on an Asio event loop. Many clients, one thread; a client
-// that stalls mid-frame only holds its own buffer, a client that does not take its replies is
-// no longer read, and connections are served round-robin a few frames at a time.
+// A TCP listener seat: the acceptor and its connections on the Asio event loop, carrying the
+// protocol it was given (plcemu/listener/protocol.hpp). Many clients, one thread; a client that
+// stalls mid-frame only holds its own buffer, a client that does not take its replies is no
+// longer read, and connections are served round-robin a few frames at a time.
 
 #include <asio.hpp>
 #include <cstdint>
@@ -9,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "plcemu/modbus/responder.hpp"
+#include "plcemu/listener/protocol.hpp"
 
-namespace plcemu::modbus {
+namespace plcemu::listener {
 
 /// An IPv4/IPv6 network in CIDR notation.
 struct Cidr {
@@ -35,13 +36,14 @@ struct TcpOptions {
 };
 
 /// The TCP listener and its connections.
-class TcpServer {
+class TcpListener {
 public:
     /// Opens the listener; throws std::system_error when the address cannot be bound.
-    TcpServer(asio::io_context& io, Responder& dispatcher, TcpOptions options);
-    ~TcpServer();
-    TcpServer(const TcpServer&) = delete;
-    TcpServer& operator=(const TcpServer&) = delete;
+    /// `protocol` must outlive it.
+    TcpListener(asio::io_context& io, StreamProtocol& protocol, TcpOptions options);
+    ~TcpListener();
+    TcpListener(const TcpListener&) = delete;
+    TcpListener& operator=(const TcpListener&) = delete;
 
     /// The port actually bound.
     std::uint16_t port() const;
@@ -61,4 +63,4 @@ private:
     std::shared_ptr<State> state_;
 };
 
-}  // namespace plcemu::modbus
+}  // namespace plcemu::listener

@@ -1,7 +1,6 @@
-#include "tcp_server.hpp"
+#include "tcp_listener.hpp"
 
-#include "log_limiter.hpp"
-#include "mbap.hpp"
+#include "modbus/log_limiter.hpp"
 
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -18,14 +17,18 @@
 #include <utility>
 #include <vector>
 
-namespace plcemu::modbus {
+namespace plcemu::listener {
+
+using modbus::LogCause;
+using modbus::LogLimiter;
 
 namespace {
 
 using asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
-constexpr std::size_t kBufferSize = 4096;  // room for many pipelined requests
+// Room for many pipelined requests; a protocol's frames are at most a quarter of it.
+constexpr std::size_t kBufferSize = 4096;
 // Frames served per turn before the other connections get theirs (round-robin).
 constexpr std::size_t kFramesPerTurn = 16;
 // At max_clients, a connection stuck this long, or silent this long, gives way to a new one.
@@ -107,10 +110,10 @@ bool Cidr::contains(const asio::ip::address& a) const {
 
 class Connection;
 
-struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
-    State(asio::io_context& io_, Responder& d, TcpOptions o)
+struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
+    State(asio::io_context& io_, StreamProtocol& p, TcpOptions o)
         : io(io_),
-          dispatcher(&d),
+          protocol(&p),
           options(std::move(o)),
           acceptor(io_),
           sweep(io_),
@@ -133,7 +136,7 @@ struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
     }
 
     asio::io_context& io;
-    Responder* dispatcher;  // the PLC, or the router of a shared listener
+    StreamProtocol* protocol;  // what the connections speak
     TcpOptions options;
     tcp::acceptor acceptor;
     asio::steady_timer sweep;
@@ -146,16 +149,21 @@ struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
     bool stopped = false;
 };
 
-// One client: reads MBAP frames into its own buffer, serves a few complete ones per turn and
+// One client: reads its protocol's frames into its own buffer, serves a few complete ones per turn and
 // writes their replies. While replies are waiting for the client to take them, it is not read.
 class Connection : public std::enable_shared_from_this<Connection> {
 public:
-    Connection(tcp::socket s, std::weak_ptr<TcpServer::State> server, std::string peer)
-        : socket_(std::move(s)),
+    Connection(tcp::socket s,
+               std::weak_ptr<TcpListener::State> server,
+               std::string peer,
+               std::size_t max_frame)
+        : max_frame_(max_frame),
+          socket_(std::move(s)),
           server_(std::move(server)),
           peer_(std::move(peer)),
+          reply_(max_frame_),
           last_request_(Clock::now()) {
-        out_.reserve(kFramesPerTurn * kMaxReplyAdu);
+        out_.reserve(kFramesPerTurn * max_frame_);
     }
 
     void start() {
@@ -226,19 +234,19 @@ private:
         std::size_t served = 0;
         while (served < kFramesPerTurn) {
             const std::uint8_t* f = buf_.data() + off;
-            const MbapFrame frame = next_mbap_frame({f, used_ - off});
-            if (frame.status == MbapStatus::Incomplete) break;
-            // A bad MBAP header closes the connection (and only this one).
-            if (frame.status == MbapStatus::Bad) {
-                spdlog::debug("tcp: {} bad MBAP header (protocol {}, length {})", peer_,
-                              frame.protocol, frame.length);
+            const Split frame = server->protocol->split({f, used_ - off});
+            if (frame.cut == Cut::Incomplete) break;
+            // No frame boundary can be trusted after a bad header: the connection (and only this
+            // one) is closed.
+            if (frame.cut == Cut::Bad) {
+                spdlog::debug("tcp: {} {}", peer_, frame.why);
                 // The requests before it are answered first, as far as the socket takes them.
                 asio::error_code ec;
                 if (!out_.empty()) socket_.write_some(asio::buffer(out_), ec);
-                close("bad MBAP header");
+                close(frame.why);
                 return;
             }
-            const std::size_t n = server->dispatcher->serve_tcp({f, frame.size}, reply_);
+            const std::size_t n = server->protocol->answer({f, frame.size}, reply_);
             out_.insert(out_.end(), reply_.begin(), reply_.begin() + static_cast<long>(n));
             off += frame.size;
             ++served;
@@ -297,28 +305,30 @@ private:
 
     // More whole frames buffered: the others get their turn first. Otherwise: read.
     void next() {
-        if (closed_) return;
-        if (next_mbap_frame({buf_.data(), used_}).status != MbapStatus::Incomplete) {
+        auto server = server_.lock();
+        if (!server || closed_) return;
+        if (server->protocol->split({buf_.data(), used_}).cut != Cut::Incomplete) {
             asio::post(socket_.get_executor(), [self = shared_from_this()] { self->serve(); });
             return;
         }
         read();
     }
 
+    std::size_t max_frame_;  // the protocol's largest frame
     tcp::socket socket_;
-    std::weak_ptr<TcpServer::State> server_;
+    std::weak_ptr<TcpListener::State> server_;
     std::string peer_;
     std::array<std::uint8_t, kBufferSize> buf_{};
     std::size_t used_ = 0;
-    std::array<std::uint8_t, kMaxReplyAdu> reply_{};
-    std::vector<std::uint8_t> out_;  // replies not yet taken by the client
+    std::vector<std::uint8_t> reply_;  // where the protocol answers one frame
+    std::vector<std::uint8_t> out_;    // replies not yet taken by the client
     Clock::time_point last_request_;
     Clock::time_point frame_started_{};
     Clock::time_point write_started_{};
     bool closed_ = false;
 };
 
-void TcpServer::State::accept() {
+void TcpListener::State::accept() {
     acceptor.async_accept([self = shared_from_this()](const asio::error_code& ec, tcp::socket s) {
         if (self->stopped) return;
         if (ec) {
@@ -354,7 +364,8 @@ void TcpServer::State::accept() {
             s.set_option(tcp::no_delay(true), pec);
             set_keepalive(s);
             self->log(spdlog::level::info, LogCause::Connected, "tcp: {} connected", peer);
-            auto c = std::make_shared<Connection>(std::move(s), self, peer);
+            auto c = std::make_shared<Connection>(std::move(s), self, peer,
+                                                  self->protocol->max_frame());
             self->connections.insert(c);
             c->start();
         }
@@ -362,7 +373,7 @@ void TcpServer::State::accept() {
     });
 }
 
-void TcpServer::State::accept_failed(const asio::error_code& ec) {
+void TcpListener::State::accept_failed(const asio::error_code& ec) {
     const int e = ec.value();
     if (e != EMFILE && e != ENFILE && e != ENOBUFS && e != ENOMEM) {
         // A peer that reset before it was accepted, and the like: nothing to wait for.
@@ -391,7 +402,7 @@ void TcpServer::State::accept_failed(const asio::error_code& ec) {
     });
 }
 
-bool TcpServer::State::evict_one(Clock::time_point now) {
+bool TcpListener::State::evict_one(Clock::time_point now) {
     // Only a connection that is stuck mid-request or on unsent replies, or silent for long, gives
     // up its slot: the one stuck longest first, else the one silent longest.
     std::shared_ptr<Connection> victim;
@@ -419,7 +430,7 @@ bool TcpServer::State::evict_one(Clock::time_point now) {
     return true;
 }
 
-void TcpServer::State::check_connections() {
+void TcpListener::State::check_connections() {
     const auto now = Clock::now();
     const auto frame_limit = std::chrono::milliseconds(options.frame_timeout_ms);
     std::vector<std::pair<std::shared_ptr<Connection>, const char*>> doomed;
@@ -438,7 +449,7 @@ void TcpServer::State::check_connections() {
     limiter.flush_to_log(now, "tcp: ");
 }
 
-void TcpServer::State::arm_sweep() {
+void TcpListener::State::arm_sweep() {
     if (stopped) return;
     // Fine enough for the frame deadline; a few hundred checks a second cost nothing.
     const auto period =
@@ -452,8 +463,8 @@ void TcpServer::State::arm_sweep() {
     });
 }
 
-TcpServer::TcpServer(asio::io_context& io, Responder& dispatcher, TcpOptions options)
-    : state_(std::make_shared<State>(io, dispatcher, std::move(options))) {
+TcpListener::TcpListener(asio::io_context& io, StreamProtocol& protocol, TcpOptions options)
+    : state_(std::make_shared<State>(io, protocol, std::move(options))) {
     // The error names the endpoint: "bind: Address already in use" alone does not say which.
     const std::string where =
         "cannot listen on tcp " + state_->options.bind + ":" + std::to_string(state_->options.port);
@@ -470,21 +481,21 @@ TcpServer::TcpServer(asio::io_context& io, Responder& dispatcher, TcpOptions opt
     state_->arm_sweep();
 }
 
-TcpServer::~TcpServer() { stop(); }
+TcpListener::~TcpListener() { stop(); }
 
-std::uint16_t TcpServer::port() const {
+std::uint16_t TcpListener::port() const {
     asio::error_code ec;
     return state_->acceptor.local_endpoint(ec).port();
 }
 
-std::string TcpServer::endpoint() const {
+std::string TcpListener::endpoint() const {
     asio::error_code ec;
     return peer_name(state_->acceptor.local_endpoint(ec));
 }
 
-std::size_t TcpServer::connections() const { return state_->connections.size(); }
+std::size_t TcpListener::connections() const { return state_->connections.size(); }
 
-void TcpServer::set_limits(const TcpOptions& o) {
+void TcpListener::set_limits(const TcpOptions& o) {
     state_->options.max_clients = o.max_clients;
     state_->options.idle_timeout_s = o.idle_timeout_s;
     state_->options.frame_timeout_ms = o.frame_timeout_ms;
@@ -500,7 +511,7 @@ void TcpServer::set_limits(const TcpOptions& o) {
     for (const auto& c : refused) c->close("no longer in modbus.tcp.allow");
 }
 
-void TcpServer::stop() {
+void TcpListener::stop() {
     if (state_->stopped) return;
     state_->stopped = true;
     asio::error_code ec;
@@ -511,4 +522,4 @@ void TcpServer::stop() {
     for (const auto& c : conns) c->close("server stopping");
 }
 
-}  // namespace plcemu::modbus
+}  // namespace plcemu::listener

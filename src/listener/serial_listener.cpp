@@ -1,4 +1,4 @@
-#include "rtu_server.hpp"
+#include "serial_listener.hpp"
 
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -9,7 +9,9 @@
 #include <chrono>
 #include <system_error>
 
-namespace plcemu::modbus {
+#include "modbus/serial_line.hpp"
+
+namespace plcemu::listener {
 
 namespace {
 
@@ -23,33 +25,16 @@ constexpr auto kMaxReopen = std::chrono::seconds(5);
 // that opens and fails at once is the same outage, not a new "reopened"/"lost" pair.
 constexpr auto kSettle = std::chrono::seconds(1);
 
-const char* verdict_name(RtuVerdict v) {
-    switch (v) {
-        case RtuVerdict::Ok:
-            return "ok";
-        case RtuVerdict::BadCrc:
-            return "bad CRC";
-        case RtuVerdict::TooShort:
-            return "too short";
-        case RtuVerdict::TooLong:
-            return "too long";
-        case RtuVerdict::Gap:
-            return "pause longer than t1.5 inside the frame";
-    }
-    return "?";
-}
-
 }  // namespace
 
-struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
-    State(asio::io_context& io, Responder& d, RtuOptions o)
-        : dispatcher(d),
+struct SerialListener::State : std::enable_shared_from_this<SerialListener::State> {
+    State(asio::io_context& io, SerialProtocol& p, LineSettings o, std::string n)
+        : protocol(p),
           options(std::move(o)),
+          name(std::move(n)),
           line(io),
           frame_end(io),
-          reopen_timer(io),
-          framer(RtuTiming::for_line(
-              options.baud, options.parity, options.data_bits, options.stop_bits)) {}
+          reopen_timer(io) {}
 
     void read() {
         if (stopped) return;
@@ -67,52 +52,46 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
         if (link == Link::Settling) back();  // a byte proves the reopened device
         // The silence before these bytes may have ended the previous frame even if its timer
         // has not fired yet (the loop was busy): serve that frame first.
-        if (auto f = framer.receive({buf.data(), n}, Clock::now())) serve(*f);
+        write(protocol.receive({buf.data(), n}, Clock::now()));
         arm();
         read();
     }
 
     void arm() {
-        const auto deadline = framer.deadline();
+        const auto deadline = protocol.deadline();
         if (!deadline) return;
         frame_end.expires_at(*deadline);
         frame_end.async_wait([self = shared_from_this()](const asio::error_code& ec) {
             // A wait overtaken by a newer deadline may still run: expire() checks the time.
             if (ec || self->stopped) return;
-            if (auto f = self->framer.expire(Clock::now())) {
-                self->serve(*f);
-            } else {
+            if (const auto d = self->protocol.deadline(); d && Clock::now() < *d) {
                 self->arm();
+                return;
             }
+            self->write(self->protocol.expire(Clock::now()));
         });
     }
 
-    void serve(const RtuFrame& f) noexcept {
-        if (f.verdict != RtuVerdict::Ok) {
-            spdlog::debug("rtu: {}: {}-byte frame dropped: {}", options.device, f.bytes.size(),
-                          verdict_name(f.verdict));
-            return;
-        }
-        // The dispatcher filters the station and broadcasts; the reply goes to the non-blocking
-        // descriptor: one that does not fit in the tty's buffer is dropped, never waited for
-        // (no tcdrain), as a master that floods the line gets no answers anyway.
-        const std::size_t n = dispatcher.serve_rtu(f.bytes, reply);
-        if (n == 0) return;
-        [[maybe_unused]] const ssize_t w = ::write(line.native_handle(), reply.data(), n);
+    // The answer goes to the non-blocking descriptor: one that does not fit in the tty's
+    // buffer is dropped, never waited for (no tcdrain), as a master that floods the line gets
+    // no answers anyway.
+    void write(std::span<const std::uint8_t> answer) noexcept {
+        if (answer.empty()) return;
+        [[maybe_unused]] const ssize_t w = ::write(line.native_handle(), answer.data(), answer.size());
     }
 
     // A read error (EIO or hang-up of a device that went away): re-reading the same descriptor
     // would fail forever, so close it and reopen the device by its path.
     void lose(const asio::error_code& ec) {
         if (link == Link::Up) {
-            spdlog::warn("rtu: {}: lost ({}); reopening with back-off", options.device,
+            spdlog::warn("{}: {}: lost ({}); reopening with back-off", name, options.device,
                          ec.message());
             // One that fails again soon after coming back keeps the longer wait: no fast flapping.
             if (Clock::now() - opened_at >= kSettle) backoff = kFirstReopen;
         }
         // From Settling: the reopened device failed before proving itself; the back-off goes on.
         link = Link::Lost;
-        framer.clear();  // what came before the error is not a frame to answer
+        protocol.clear();  // what came before the error is not a frame to answer
         frame_end.cancel();
         asio::error_code ignored;
         line.close(ignored);
@@ -132,7 +111,7 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
         backoff = std::min<Clock::duration>(backoff * 2, kMaxReopen);
         int fd = -1;
         try {
-            fd = open_serial_line(options);
+            fd = modbus::open_serial_line(options);
         } catch (const std::system_error&) {
             reopen_later();  // still gone: silent, "lost" said it once
             return;
@@ -159,18 +138,17 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
     void back() {
         link = Link::Up;
         reopen_timer.cancel();
-        spdlog::info("rtu: {}: reopened", options.device);
+        spdlog::info("{}: {}: reopened", name, options.device);
     }
 
-    Responder& dispatcher;
-    RtuOptions options;
+    SerialProtocol& protocol;
+    LineSettings options;
+    std::string name;  // "rtu", starts the log lines
     asio::posix::stream_descriptor line;
     asio::steady_timer frame_end;
     // Waits between attempts to reopen a lost device, then for it to settle.
     asio::steady_timer reopen_timer;
-    RtuFramer framer;
     std::array<std::uint8_t, 512> buf{};
-    std::array<std::uint8_t, kMaxReplyAdu> reply{};
     // Up: reading; Lost: closed, waiting to reopen; Settling: reopened, not yet proven.
     enum class Link { Up, Lost, Settling };
     Link link = Link::Up;
@@ -180,26 +158,23 @@ struct RtuServer::State : std::enable_shared_from_this<RtuServer::State> {
     bool stopped = false;
 };
 
-RtuServer::RtuServer(asio::io_context& io, Responder& dispatcher, RtuOptions options)
-    : state_(std::make_shared<State>(io, dispatcher, std::move(options))) {
-    state_->line.assign(open_serial_line(state_->options));
+SerialListener::SerialListener(asio::io_context& io,
+                               SerialProtocol& protocol,
+                               LineSettings line,
+                               std::string name)
+    : state_(std::make_shared<State>(io, protocol, std::move(line), std::move(name))) {
+    state_->line.assign(modbus::open_serial_line(state_->options));
     state_->read();
 }
 
-RtuServer::~RtuServer() { stop(); }
+SerialListener::~SerialListener() { stop(); }
 
-std::string RtuServer::description() const { return describe(state_->options); }
+std::string SerialListener::description() const { return modbus::describe(state_->options); }
 
-const RtuFramerStats& RtuServer::stats() const { return state_->framer.stats(); }
-
-void RtuServer::stop() {
+void SerialListener::stop() {
     if (state_->stopped) return;
     state_->stopped = true;
-    const RtuFramerStats& st = state_->framer.stats();
-    spdlog::info(
-        "rtu: {}: {} frames with a good CRC; dropped: {} bad CRC, {} t1.5 pauses, {} too short, "
-        "{} too long",
-        state_->options.device, st.frames, st.bad_crc, st.gaps, st.too_short, st.too_long);
+    spdlog::info("{}: {}: {}", state_->name, state_->options.device, state_->protocol.summary());
     asio::error_code ec;
     state_->frame_end.cancel();
     state_->reopen_timer.cancel();  // no reopen after stop
@@ -207,4 +182,4 @@ void RtuServer::stop() {
     state_->line.close(ec);
 }
 
-}  // namespace plcemu::modbus
+}  // namespace plcemu::listener

@@ -1,0 +1,96 @@
+#pragma once
+// A protocol on a listener seat (docs/architecture.md, "How to add a protocol"): a listener
+// carries bytes (a TCP connection, a serial line) and hands them to the protocol it names; the
+// protocol frames them, reaches the PLCs through the listener's unit table, and frames its
+// answers. A listener knows no protocol; a protocol never touches a socket.
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "plcemu/listener/unit_table.hpp"
+#include "plcemu/modbus/line_settings.hpp"
+
+namespace plcemu::listener {
+
+/// What the head of a byte stream holds.
+enum class Cut : std::uint8_t {
+    Incomplete,  ///< not a whole frame yet: wait for more bytes
+    Frame,       ///< a whole frame of `size` bytes
+    Bad,         ///< no frame boundary can be trusted: the connection is closed
+};
+
+/// The next frame of a stream.
+struct Split {
+    Cut cut = Cut::Incomplete;  ///< what was found
+    std::size_t size = 0;       ///< bytes of the frame (Frame only)
+    const char* why = "";       ///< Bad only: "bad MBAP header", for the log
+};
+
+/// A protocol carried on a byte stream (one per TCP listener; its connections share it).
+class StreamProtocol {
+public:
+    virtual ~StreamProtocol() = default;
+    /// Largest frame, in either direction (at most 1 KiB): a connection's buffers are sized
+    /// from it, and split() says Bad rather than Incomplete once that many bytes hold no frame.
+    virtual std::size_t max_frame() const noexcept = 0;
+    /// Where the next frame of the bytes received and not yet served ends.
+    virtual Split split(std::span<const std::uint8_t> buffered) const noexcept = 0;
+    /// Answers one whole frame into `out` (max_frame() bytes); returns the answer's size, 0 when
+    /// nothing is to be sent.
+    virtual std::size_t answer(std::span<const std::uint8_t> frame,
+                               std::span<std::uint8_t> out) noexcept = 0;
+    /// The PLCs behind the listener.
+    virtual UnitTable& units() noexcept = 0;
+};
+
+/// A serial line's settings: device, baud, parity, data and stop bits.
+using LineSettings = modbus::LineSettings;
+
+/// A protocol carried on a serial line: it frames the bytes as they arrive (by silences or by
+/// delimiters) and answers whole frames.
+class SerialProtocol {
+public:
+    using Clock = std::chrono::steady_clock;
+    virtual ~SerialProtocol() = default;
+    /// Bytes read at `now`. Returns the answer to a frame they completed (or that a silence
+    /// before them ended), to be written to the line; empty when there is none. Valid until the
+    /// next call.
+    virtual std::span<const std::uint8_t> receive(std::span<const std::uint8_t> bytes,
+                                                  Clock::time_point now) noexcept = 0;
+    /// Called at deadline(): ends a frame a silence completed, and answers it as receive() does.
+    virtual std::span<const std::uint8_t> expire(Clock::time_point now) noexcept = 0;
+    /// When expire() is due; nothing while no frame is in progress.
+    virtual std::optional<Clock::time_point> deadline() const noexcept = 0;
+    /// Drops the frame in progress (the line was lost).
+    virtual void clear() noexcept = 0;
+    /// The PLCs behind the line.
+    virtual UnitTable& units() noexcept = 0;
+    /// What the framing saw, for the line's last log line ("12 frames with a good CRC; ...").
+    virtual std::string summary() const = 0;
+};
+
+/// How a listener's protocol is made: from the PLCs it serves, their policy for unknown unit
+/// IDs and (serial lines) the line's settings.
+struct ProtocolSetup {
+    std::vector<Seat> seats;                     ///< the PLCs, in `plcs:` order
+    UnknownUnit unknown_unit = UnknownUnit::Refuse;  ///< for IDs none of them has
+    LineSettings line;                           ///< serial lines only
+};
+
+/// One protocol a listener may name (its config section says which).
+struct ProtocolKind {
+    std::string_view name;  ///< "modbus-tcp", as logs and docs name it
+    /// Makes it for a TCP listener; null for a protocol that is not carried on streams.
+    std::unique_ptr<StreamProtocol> (*stream)(ProtocolSetup setup) = nullptr;
+    /// Makes it for a serial line; null for a protocol that is not carried on serial lines.
+    std::unique_ptr<SerialProtocol> (*serial)(ProtocolSetup setup) = nullptr;
+};
+
+}  // namespace plcemu::listener

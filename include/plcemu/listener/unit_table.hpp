@@ -1,0 +1,73 @@
+#pragma once
+// The one owner of unit IDs on a listener: which PLC's station or simulator unit answers an ID,
+// and what happens to an ID nobody has (docs/configuration.md, "Sharing a listener"). Every
+// protocol on the listener asks it; none reads unit IDs against stations of its own.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "plcemu/modbus/dispatcher.hpp"
+#include "plcemu/modbus/unit.hpp"
+
+namespace plcemu::listener {
+
+/// One PLC as the protocols on a listener reach it.
+struct Seat {
+    std::string label;                         ///< "plcs[1] (kiln)", "" for a plain config's PLC
+    const std::uint8_t* station = nullptr;     ///< live: R4055 may change it
+    modbus::Dispatcher* dispatcher = nullptr;  ///< the PLC's function codes and identity
+    modbus::Unit* unit = nullptr;              ///< the PLC's map over its image, access checks
+    std::uint8_t simulator_unit = 0;           ///< the simulator-control unit's ID, 0: none
+    modbus::Unit* simulator = nullptr;         ///< the simulator-control unit
+};
+
+/// What a listener does with a unit ID no PLC on it has: answer it with the protocol's refusal
+/// (Modbus TCP: exception 0Bh) or stay silent.
+enum class UnknownUnit : std::uint8_t { Refuse, Silent };
+
+/// What a unit ID names.
+struct Hit {
+    const Seat* seat = nullptr;  ///< the PLC; null: nobody on this listener
+    bool simulator = false;      ///< its simulator-control unit rather than its station
+    std::uint8_t answer_as = 0;  ///< the ID it answers as: the station, or the simulator unit
+};
+
+/// Counters of what no PLC took, for logs and tests.
+struct UnitTableStats {
+    std::uint64_t unrouted = 0;    ///< requests for a unit no PLC has
+    std::uint64_t broadcasts = 0;  ///< broadcasts handed to every PLC
+};
+
+/// The unit IDs of one listener. Unit IDs are unique on a listener: the config loader refuses
+/// duplicates, and the daemon refuses a station change (R4055) or a reload that would make one.
+/// Should two PLCs answer one unit anyway, the first added answers.
+class UnitTable {
+public:
+    /// The PLCs of the listener, in `plcs:` order; their stations are read live.
+    void assign(std::vector<Seat> seats) { seats_ = std::move(seats); }
+    /// The PLCs.
+    const std::vector<Seat>& seats() const { return seats_; }
+    /// Sets the policy for unit IDs nobody has.
+    void set_unknown_unit(UnknownUnit u) { unknown_ = u; }
+    /// The policy for unit IDs nobody has.
+    UnknownUnit unknown_unit() const { return unknown_; }
+
+    /// The PLC that has `unit` as its station or simulator unit. `device_itself` says whether the
+    /// ID also names "the device itself" (Modbus TCP's 0 and 255, implementation guide
+    /// §4.4.1.2): that is the PLC when the listener has only one, and nobody when it is shared.
+    /// A miss is counted.
+    Hit find(std::uint8_t unit, bool device_itself = false) noexcept;
+    /// Counts a broadcast handed to every PLC.
+    void count_broadcast() noexcept { ++stats_.broadcasts; }
+
+    /// Counters since start.
+    const UnitTableStats& stats() const { return stats_; }
+
+private:
+    std::vector<Seat> seats_;
+    UnknownUnit unknown_ = UnknownUnit::Refuse;
+    UnitTableStats stats_;
+};
+
+}  // namespace plcemu::listener

@@ -1,0 +1,43 @@
+#pragma once
+// A serial line seat: a device read asynchronously on the event loop, its bytes handed with
+// their arrival time to the protocol it was given (plcemu/listener/protocol.hpp), which frames
+// and answers them. Nothing here blocks: a slow or noisy line never delays TCP clients or the
+// scan.
+
+#include <asio.hpp>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "plcemu/listener/protocol.hpp"
+
+namespace plcemu::listener {
+
+/// The serial line. A device that goes away while running (read error, hang-up) is closed and
+/// reopened by its path with back-off (0.1 s doubling to 5 s), logged once when lost and once
+/// when back.
+class SerialListener {
+public:
+    /// Opens and configures the device (raw, baud, parity, data and stop bits) and starts
+    /// reading; throws std::system_error when it cannot. `protocol` must outlive it; `name`
+    /// starts its log lines ("rtu").
+    SerialListener(asio::io_context& io,
+                   SerialProtocol& protocol,
+                   LineSettings line,
+                   std::string name);
+    ~SerialListener();
+    SerialListener(const SerialListener&) = delete;
+    SerialListener& operator=(const SerialListener&) = delete;
+
+    /// Device and line settings, as logged.
+    std::string description() const;
+    /// Stops reading (and reopening) and closes the device.
+    void stop();
+
+    struct State;
+
+private:
+    std::shared_ptr<State> state_;
+};
+
+}  // namespace plcemu::listener

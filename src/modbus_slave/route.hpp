@@ -1,0 +1,28 @@
+#pragma once
+// A Modbus request to the PLCs behind a listener: the listener's unit table says which PLC (or
+// simulator unit) has the unit ID, that PLC's dispatcher answers. The one place that applies the
+// unknown-unit policy and builds its exception.
+
+#include <cstdint>
+#include <span>
+
+#include "plcemu/listener/unit_table.hpp"
+#include "plcemu/modbus/dispatcher.hpp"
+
+namespace plcemu::modbus_slave {
+
+/// How the request arrived: the unit IDs 0 and 255 mean different things in the two framings.
+enum class Addressing : std::uint8_t {
+    Tcp,  ///< 0 and 255 name "the device itself" (Modbus TCP implementation guide §4.4.1.2)
+    Rtu,  ///< 0 is a broadcast: served by every PLC on the line, answered by none
+};
+
+/// Answers `pdu` (at least its function code) for `unit` into `out`; returns the reply PDU's
+/// size, 0 when nothing is to be sent.
+std::size_t route(listener::UnitTable& units,
+                  Addressing addressing,
+                  std::uint8_t unit,
+                  std::span<const std::uint8_t> pdu,
+                  modbus::PduBuffer out) noexcept;
+
+}  // namespace plcemu::modbus_slave

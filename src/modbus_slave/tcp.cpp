@@ -1,0 +1,46 @@
+#include "tcp.hpp"
+
+#include <array>
+
+#include "modbus/mbap.hpp"
+#include "route.hpp"
+
+namespace plcemu::modbus_slave {
+
+ModbusTcp::ModbusTcp(listener::ProtocolSetup setup) {
+    units_.assign(std::move(setup.seats));
+    units_.set_unknown_unit(setup.unknown_unit);
+}
+
+std::size_t ModbusTcp::max_frame() const noexcept { return modbus::kMaxTcpAdu; }
+
+listener::Split ModbusTcp::split(std::span<const std::uint8_t> buffered) const noexcept {
+    const modbus::MbapFrame f = modbus::next_mbap_frame(buffered);
+    switch (f.status) {
+        case modbus::MbapStatus::Frame:
+            return {listener::Cut::Frame, f.size};
+        case modbus::MbapStatus::Bad:
+            // A bad header closes the connection (docs/profile-fbs.md, "Modbus map").
+            return {listener::Cut::Bad, 0, "bad MBAP header"};
+        case modbus::MbapStatus::Incomplete:
+            break;
+    }
+    return {};
+}
+
+std::size_t ModbusTcp::answer(std::span<const std::uint8_t> frame,
+                              std::span<std::uint8_t> out) noexcept {
+    std::array<std::uint8_t, modbus::kMaxPdu> pdu{};
+    // split() vouched for the header: a length of 2 or more, so a function code is there.
+    const std::size_t n =
+        route(units_, Addressing::Tcp, modbus::mbap_unit(frame), modbus::mbap_pdu(frame), pdu);
+    if (n == 0) return 0;
+    return modbus::write_mbap(modbus::mbap_transaction(frame), modbus::mbap_unit(frame),
+                              {pdu.data(), n}, out);
+}
+
+std::unique_ptr<listener::StreamProtocol> make_tcp(listener::ProtocolSetup setup) {
+    return std::make_unique<ModbusTcp>(std::move(setup));
+}
+
+}  // namespace plcemu::modbus_slave
