@@ -23,6 +23,7 @@
 #include "support/profiles.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/modbus/address_map.hpp"
+#include "plcemu/plant/thermal_plant.hpp"
 #include "simulator/simulator_unit.hpp"
 
 namespace plcemu::fuzz {
@@ -149,7 +150,7 @@ public:
         plc_->engine().power_up();
         const auto s = plc_->image().storage();
         copy_bytes(s.data(), image_.data(), s.size());  // also undoes power_up()'s writes
-        if (plant_touched) plc_->plant() = *plant_;
+        if (plant_touched) thermal() = *plant_;
         plant_touched_ = false;
         plc_->dispatcher().set_unknown_unit_policy(policy_);
         reset_time();
@@ -183,7 +184,7 @@ private:
         plc_ = std::make_unique<daemon::Plc>(config);
         const auto s = plc_->image().storage();
         image_.assign(s.begin(), s.end());
-        plant_.emplace(plc_->plant());
+        plant_.emplace(thermal());
         station_ = plc_->engine().station();
         sim_unit_ = static_cast<std::uint8_t>(config->simulator.unit);
         policy_ = config->modbus.tcp.unknown_unit == config::UnknownUnit::Silent
@@ -191,6 +192,10 @@ private:
                       : modbus::UnknownUnitPolicy::Exception;
         attach_simulator();
     }
+
+    // The plant as a value, to keep and put back whole (a Plant shows only what the rest of the
+    // emulator needs): the harness's config runs the thermal plant, the one model.
+    plant::ThermalPlant& thermal() { return dynamic_cast<plant::ThermalPlant&>(plc_->plant()); }
 
     void attach_simulator() {
         tap_.reset();
