@@ -58,7 +58,7 @@ public:
                     "frame size out of range");
         daemon::Plc& plc = rig_.plc();
         if (!have_before_) before().take(plc.image());
-        const auto rep = peer.take(plc.dispatcher().serve_rtu(frame, peer.buffer()));
+        const auto rep = fuzz::serve(rig_, peer, testing::Framing::Rtu, frame);
         fuzz::exchange().reply = rep;
         fuzz::record(rep);
         check_reply(rig_, frame, rep);

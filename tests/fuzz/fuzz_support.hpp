@@ -18,6 +18,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "support/fake_time.hpp"
+#include "support/modbus_oracle.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "profiles/fbs/special_registers.hpp"
 #include "support/profiles.hpp"
@@ -406,6 +407,25 @@ public:
 private:
     std::array<std::uint8_t, modbus::kMaxReplyAdu> out_{};
 };
+
+/// Serves `adu` on the rig's PLC and on libmodbus beside it (support/modbus_oracle.hpp): where
+/// the two are comparable, their replies and writes must be identical. Returns the PLC's reply.
+/// What the oracle compared and skipped is printed when the process exits.
+inline std::span<const std::uint8_t> serve(Rig& rig,
+                                           Peer& peer,
+                                           testing::Framing framing,
+                                           std::span<const std::uint8_t> adu) {
+    static const bool summary_at_exit = [] {
+        return std::atexit(
+                   [] { std::fputs(testing::ModbusOracle::get().summary().c_str(), stderr); }) == 0;
+    }();
+    (void)summary_at_exit;
+    daemon::Plc& plc = rig.plc();
+    const auto r = testing::ModbusOracle::get().serve(plc.dispatcher(), plc.unit(), framing, adu,
+                                                      peer.buffer());
+    if (!r.mismatch.empty()) fail(r.mismatch.c_str());
+    return peer.take(r.size);
+}
 
 /// Function codes that only read: a request with one of these never changes the image.
 inline bool reads_only(std::uint8_t fc) {

@@ -64,7 +64,7 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
         stream = stream.subspan(f.size);
 
         if (!have_before) before.take(plc.image());
-        const auto rep = peer.take(plc.dispatcher().serve_tcp(req, peer.buffer()));
+        const auto rep = fuzz::serve(rig, peer, testing::Framing::Tcp, req);
         fuzz::exchange() = {req, rep};
         fuzz::record(rep);
         check_reply(rig, silent, req, rep);
