@@ -53,14 +53,15 @@ struct Routing {
 };
 
 // The PLC's side, through the project's API: every call the oracle makes to the dispatcher is
-// here, so a change of that API is adapted in this one function.
+// here, so a change of that API is adapted in this one function. `before(routing)` runs before
+// the request is served, with the routing the dispatcher applies to it.
+template <class Before>
 std::size_t plc_serve(modbus::Dispatcher& d,
                       Framing framing,
                       std::span<const std::uint8_t> adu,
                       modbus::ReplyBuffer out,
-                      Routing& routing) noexcept {
-    routing.station = d.station();
-    routing.simulator = d.simulator_unit();
+                      Before&& before) {
+    before(Routing{d.station(), d.simulator_unit()});
     return framing == Framing::Tcp ? d.serve_tcp(adu, out) : d.serve_rtu(adu, out);
 }
 
@@ -98,6 +99,7 @@ struct Window {
     Table table = Table::HoldingRegisters;
     std::uint16_t addr = 0;
     std::uint16_t qty = 0;
+    bool write = false;
     Span span;  // status Ok: resolved
 };
 
@@ -163,19 +165,29 @@ bool aliased(const Window& a, const Window& b) {
     return false;
 }
 
+// Calls `f(part, first, count)` for each part of a window's span: elements `first` to
+// `first + count` of the request, in the part's memory from its element 0.
+template <class F>
+void for_each_part(const Window& w, F&& f) {
+    for (std::size_t k = 0; k < w.span.n; ++k) {
+        const std::size_t first = w.span.first[k];
+        const std::size_t last = k + 1 < w.span.n ? w.span.first[k + 1] : w.qty;
+        f(w.span.parts[k], first, last - first);
+    }
+}
+
 // Values of one window as the PLC's memory holds them, into libmodbus' mapping starting at
 // wire address `start`.
 void copy_in(const Window& w, modbus_mapping_t& m, int start) {
     const Fields f = fields(m, w.table);
-    const int at = static_cast<int>(w.addr) - start;
-    for (std::size_t k = 0; k < w.qty; ++k) {
-        const auto i = static_cast<std::size_t>(at) + k;
+    const auto at = static_cast<std::size_t>(static_cast<int>(w.addr) - start);
+    for_each_part(w, [&](const modbus::Window& p, std::size_t first, std::size_t count) {
         if (is_bits(w.table)) {
-            f.bits[i] = w.span.bit(k) ? 1 : 0;
+            for (std::size_t j = 0; j < count; ++j) f.bits[at + first + j] = p.bits[j] != 0;
         } else {
-            f.words[i] = w.span.word(k);
+            for (std::size_t j = 0; j < count; ++j) f.words[at + first + j] = p.word(j);
         }
-    }
+    });
 }
 
 // What `pdu` reads and writes: its windows resolved through `unit` (the PLC's map) and their
@@ -228,6 +240,7 @@ std::optional<OracleCase> plan(std::span<const std::uint8_t> pdu,
         return OracleCase::TableNotServed;
     auto want = [&](Window& w, std::uint16_t a, std::uint16_t n, bool wr) {
         w.used = true;
+        w.write = wr;
         w.table = table;
         w.addr = a;
         w.qty = n;
@@ -300,28 +313,32 @@ std::optional<OracleCase> plan(std::span<const std::uint8_t> pdu,
     return std::nullopt;
 }
 
-// After both answered: each window's devices as libmodbus' mapping has them. Empty when equal.
-// (A refused request had no mapping: the fuzz harnesses check that it changed nothing.)
+// After both answered: each window written, as the PLC's devices and libmodbus' cells have it.
+// Empty when equal. (A refused request had no mapping, and a read changes nothing on either
+// side: the fuzz harnesses check that the image did not change.)
 std::string compare_windows(const std::array<Window, 2>& windows, modbus_mapping_t& m) {
+    std::string diff;
     for (const Window& w : windows) {
-        if (w.used && *fields(m, w.table).nb == 0) return {};
-        if (!w.used || w.span.status != Status::Ok) continue;
+        if (!w.used || !w.write || w.span.status != Status::Ok) continue;
         const Fields f = fields(m, w.table);
-        const int at = static_cast<int>(w.addr) - *f.start;
-        for (std::size_t k = 0; k < w.qty; ++k) {
-            const auto i = static_cast<std::size_t>(at) + k;
-            const unsigned ours = is_bits(w.table) ? (w.span.bit(k) ? 1u : 0u) : w.span.word(k);
-            const unsigned theirs = is_bits(w.table) ? f.bits[i] : f.words[i];
-            if (ours != theirs) {
+        if (*f.nb == 0) return {};
+        const auto at = static_cast<std::size_t>(static_cast<int>(w.addr) - *f.start);
+        for_each_part(w, [&](const modbus::Window& p, std::size_t first, std::size_t count) {
+            for (std::size_t j = 0; j < count && diff.empty(); ++j) {
+                const std::size_t i = at + first + j;
+                const unsigned ours = is_bits(w.table) ? (p.bits[j] != 0 ? 1u : 0u) : p.word(j);
+                const unsigned theirs = is_bits(w.table) ? f.bits[i] : f.words[i];
+                if (ours == theirs) continue;
                 char s[160];
                 std::snprintf(s, sizeof s,
                               "the request left address %u (table %d) at %u in the PLC and at "
                               "%u in libmodbus' mapping",
-                              static_cast<unsigned>(w.addr + k), static_cast<int>(w.table), ours,
-                              theirs);
-                return s;
+                              static_cast<unsigned>(w.addr + first + j), static_cast<int>(w.table),
+                              ours, theirs);
+                diff = s;
             }
-        }
+        });
+        if (!diff.empty()) return diff;
     }
     return {};
 }
@@ -370,34 +387,33 @@ ModbusOracle::Result ModbusOracle::serve(modbus::Dispatcher& plc,
     const std::uint8_t unit_id = whole ? adu[header - 1] : 0;
     const bool broadcast = framing == Framing::Rtu && unit_id == 0;
 
-    // What the request reads and writes, resolved through the PLC's map before it is served,
-    // and the same values in libmodbus' mapping. `skip` is set once a reason not to compare is
-    // known.
+    // The transport's rules and the routing come before anything a request asks; then what the
+    // request reads and writes, resolved through the PLC's map before it is served, and the same
+    // values in libmodbus' mapping. `skip` is set once a reason not to compare is known.
     std::array<Window, 2> windows{};  // FC 17h: read, then write
     bool refused = false;             // a window the PLC's map refuses
     std::optional<OracleCase> skip;
-    if (!whole) {
-        skip = OracleCase::LengthNotFramed;
-    } else {
-        skip = plan(pdu, broadcast, unit, *map_, windows, refused);
-    }
-
-    Routing routing;
+    std::uint8_t station = 0;
     Result res;
-    res.size = plc_serve(plc, framing, adu, out, routing);
+    res.size = plc_serve(plc, framing, adu, out, [&](const Routing& routing) {
+        station = routing.station;
+        const bool to_plc = unit_id == routing.station || broadcast ||
+                            (framing == Framing::Tcp && (unit_id == 0 || unit_id == 0xFF));
+        if (!whole) {
+            skip = OracleCase::LengthNotFramed;
+        } else if (framing == Framing::Tcp && (adu[2] != 0 || adu[3] != 0)) {
+            skip = OracleCase::ProtocolId;
+        } else if (!to_plc) {
+            skip = routing.simulator != 0 && unit_id == routing.simulator
+                       ? OracleCase::SimulatorUnit
+                       : OracleCase::NotThePlc;
+        } else {
+            skip = plan(pdu, broadcast, unit, *map_, windows, refused);
+        }
+    });
     const std::span<const std::uint8_t> ours(out.data(), res.size);
-
-    // The transport's rules and the routing come before anything a request asks.
-    const bool to_plc = unit_id == routing.station || broadcast ||
-                        (framing == Framing::Tcp && (unit_id == 0 || unit_id == 0xFF));
-    if (whole && framing == Framing::Tcp && (adu[2] != 0 || adu[3] != 0)) {
-        skip = OracleCase::ProtocolId;
-    } else if (whole && !to_plc) {
-        skip = routing.simulator != 0 && unit_id == routing.simulator ? OracleCase::SimulatorUnit
-                                                                      : OracleCase::NotThePlc;
-    } else if (!skip && res.size > 0 && framed_length(pdu) != 0 &&
-               res.size == header + 2 + trailer && ours[header] == (pdu[0] | 0x80) &&
-               ours[header + 1] == 0x01) {
+    if (!skip && res.size > 0 && framed_length(pdu) != 0 && res.size == header + 2 + trailer &&
+        ours[header] == (pdu[0] | 0x80) && ours[header + 1] == 0x01) {
         // 01 to a code libmodbus serves, on tables the unit serves: the profile refuses it.
         skip = OracleCase::ProfileFunction;
     } else if (!skip && res.size > header + trailer && framed_length(pdu) == 0 &&
@@ -416,7 +432,7 @@ ModbusOracle::Result ModbusOracle::serve(modbus::Dispatcher& plc,
     std::array<std::uint8_t, 2 * MODBUS_MAX_ADU_LENGTH> req{};
     std::copy(adu.begin(), adu.end(), req.begin());
     modbus_t* ctx = framing == Framing::Tcp ? tcp_ : rtu_;
-    if (framing == Framing::Rtu) modbus_set_slave(ctx, routing.station);
+    if (framing == Framing::Rtu) modbus_set_slave(ctx, station);
     g_in_modbus_reply = true;
     modbus_reply(ctx, req.data(), static_cast<int>(adu.size()), map_);
     g_in_modbus_reply = false;
