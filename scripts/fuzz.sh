@@ -8,9 +8,9 @@
 # The summary line gives libFuzzer's own count of executions (stat::number_of_executed_units,
 # seeds included), the real time the run took, executions per second of it and per CPU-second
 # (user + system time), and the machine's load average when the run began: on a shared machine
-# the first follows the load, the second hardly. The request harnesses add a line per case of
-# the libmodbus oracle (tests/support/modbus_oracle.hpp): how many frames libmodbus answered
-# too, and how many it did not, and why.
+# the first follows the load, the second hardly. The request harnesses add a line with the
+# libmodbus oracle's counts (tests/support/modbus_oracle.hpp): the frames libmodbus answered too
+# (compared, compared-refused), and those it did not, by case.
 #
 #   scripts/fuzz.sh 20                      # every harness, 20 s each
 #   scripts/fuzz.sh 600 fuzz_config         # one harness, ten minutes
@@ -121,8 +121,10 @@ for h in "${harnesses[@]}"; do
     if ((rc == 0 && ${#found[@]} == 0)); then
         echo "fuzz: $h: $runs, ${added:-?} new inputs, ${#saved[@]} regression inputs" \
             "replayed, no crash"
-        # The request harnesses: what libmodbus answered too, and what it did not and why.
-        sed -n "s/^oracle: /fuzz: $h: oracle: /p" "$log"
+        # The request harnesses: frames libmodbus answered too, and those it did not, by case
+        # (docs/testing.md, "Where the PLC differs from libmodbus on purpose").
+        oracle=$(sed -n 's/^oracle: \([a-z0-9-]*\): \([0-9]*\) .*/\1 \2/p' "$log" | paste -sd,)
+        [[ -n $oracle ]] && echo "fuzz: $h: libmodbus oracle, frames: ${oracle//,/, }"
         continue
     fi
     status=1
