@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "modbus/crc.hpp"
@@ -116,8 +119,8 @@ TEST_F(Oracle, ADifferenceIsReported) {
                                              Bytes{0, 1, 0, 0, 0, 6, 1, 0x03, 0, 0, 0, 1}, out_);
     EXPECT_NE(r.mismatch.find("answer differently"), std::string::npos) << r.mismatch;
     // A write that lands elsewhere than in libmodbus' cell.
-    const auto w = ModbusOracle::get().serve(
-        disp_, other_unit, Framing::Tcp, Bytes{0, 1, 0, 0, 0, 6, 1, 0x06, 0, 0, 0, 5}, out_);
+    const auto w = ModbusOracle::get().serve(disp_, other_unit, Framing::Tcp,
+                                             Bytes{0, 1, 0, 0, 0, 6, 1, 0x06, 0, 0, 0, 5}, out_);
     EXPECT_NE(w.mismatch.find("left address 0"), std::string::npos) << w.mismatch;
     // Through the tests' wire: a throw.
     Wire wire(disp_, other_unit);
