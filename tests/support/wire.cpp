@@ -3,11 +3,24 @@
 #include <stdexcept>
 
 #include "modbus/crc.hpp"
+#include "support/modbus_oracle.hpp"
 
 namespace plcemu::testing {
 
 Wire::Wire(modbus::Responder& d)
     : d_(d) {}
+
+Wire::Wire(modbus::Dispatcher& d, modbus::Unit& plc)
+    : d_(d),
+      plc_(&d),
+      unit_(&plc) {}
+
+std::size_t Wire::serve(bool tcp, const std::vector<std::uint8_t>& adu) {
+    if (plc_ == nullptr) return tcp ? d_.serve_tcp(adu, out_) : d_.serve_rtu(adu, out_);
+    auto r = ModbusOracle::get().serve(*plc_, *unit_, tcp ? Framing::Tcp : Framing::Rtu, adu, out_);
+    if (!r.mismatch.empty()) throw std::runtime_error("libmodbus oracle: " + r.mismatch);
+    return r.size;
+}
 
 std::vector<std::uint8_t> Wire::reply(std::size_t n) const {
     return {out_.begin(), out_.begin() + static_cast<std::ptrdiff_t>(n)};
@@ -23,7 +36,7 @@ std::vector<std::uint8_t> Wire::tcp(std::uint8_t unit, const std::vector<std::ui
                                   static_cast<std::uint8_t>((pdu.size() + 1) & 0xFF),
                                   unit};
     adu.insert(adu.end(), pdu.begin(), pdu.end());
-    auto r = reply(d_.serve_tcp(adu, out_));
+    auto r = reply(serve(true, adu));
     if (r.empty()) return r;
     if (r.size() < 8 || r[0] != adu[0] || r[1] != adu[1] || r[2] != 0 || r[3] != 0 ||
         r[6] != unit || static_cast<std::size_t>(r[4] << 8 | r[5]) != r.size() - 6) {
@@ -38,7 +51,7 @@ std::vector<std::uint8_t> Wire::rtu(std::uint8_t unit, const std::vector<std::ui
     const std::uint16_t crc = modbus::crc16(f.data(), f.size());
     f.push_back(static_cast<std::uint8_t>(crc & 0xFF));
     f.push_back(static_cast<std::uint8_t>(crc >> 8));
-    auto r = reply(d_.serve_rtu(f, out_));
+    auto r = reply(serve(false, f));
     if (r.empty()) return r;
     if (r.size() < 4 || r[0] != unit) throw std::runtime_error("malformed RTU reply");
     const std::uint16_t got = static_cast<std::uint16_t>(r[r.size() - 2] | r[r.size() - 1] << 8);

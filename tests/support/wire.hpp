@@ -15,6 +15,10 @@ namespace plcemu::testing {
 class Wire {
 public:
     explicit Wire(modbus::Responder& d);
+    /// Sends requests to a PLC's dispatcher (its unit `plc`) and to libmodbus beside it: every
+    /// reply and every write must be libmodbus' too, where comparable (support/modbus_oracle.hpp);
+    /// a difference throws.
+    Wire(modbus::Dispatcher& d, modbus::Unit& plc);
 
     /// Serves a TCP request with unit `unit` and PDU `pdu`; returns the reply PDU (without
     /// MBAP), empty when nothing was sent. Checks the MBAP header of the reply.
@@ -25,8 +29,11 @@ public:
 
 private:
     std::vector<std::uint8_t> reply(std::size_t n) const;
+    std::size_t serve(bool tcp, const std::vector<std::uint8_t>& adu);
 
     modbus::Responder& d_;
+    modbus::Dispatcher* plc_ = nullptr;  // with the oracle: the dispatcher, and its unit
+    modbus::Unit* unit_ = nullptr;
     std::array<std::uint8_t, modbus::kMaxReplyAdu> out_{};
     std::uint16_t tid_ = 0x1234;
 };

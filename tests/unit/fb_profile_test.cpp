@@ -36,7 +36,7 @@ struct Rig {
     }
 
     daemon::Plc plc;
-    testing::Wire wire{plc.dispatcher()};
+    testing::Wire wire{plc.dispatcher(), plc.unit()};
 };
 
 // ---- identity

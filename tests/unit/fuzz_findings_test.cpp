@@ -25,7 +25,7 @@ protected:
     modbus::PlcUnit unit_{img_, test::fbs().map(), {}};
     std::uint8_t station_ = 1;
     modbus::Dispatcher disp_{unit_, station_, modbus::Identity{"FATEK", "FBs-24MC", "9.9.9"}};
-    testing::Wire wire_{disp_};
+    testing::Wire wire_{disp_, unit_};
 };
 
 // regressions/fuzz_tcp_request/exception-fc-high-bit: libmodbus adds 80h to the function code

@@ -67,7 +67,7 @@ protected:
     PlcUnit unit_{img_, test::fbs().map(), {}};
     std::uint8_t station_ = 1;
     Dispatcher disp_{unit_, station_, Identity{"FATEK", "FBs-24MC", "9.9.9"}};
-    wire::Wire wire_{disp_};
+    wire::Wire wire_{disp_, unit_};
 
     Bytes tcp(const Bytes& pdu, std::uint8_t unit = 1) { return wire_.tcp(unit, pdu); }
     Bytes rtu(const Bytes& pdu, std::uint8_t unit = 1) { return wire_.rtu(unit, pdu); }
@@ -831,7 +831,7 @@ protected:
     PlcUnit unit_{img_, *map_, {}};
     std::uint8_t station_ = 1;
     Dispatcher disp_{unit_, station_, Identity{"V", "M", "1"}};
-    wire::Wire wire_{disp_};
+    wire::Wire wire_{disp_, unit_};
 
     Bytes tcp(const Bytes& pdu) { return wire_.tcp(1, pdu); }
 };

@@ -36,7 +36,7 @@ struct Rig {
     std::uint16_t d(std::uint32_t i) { return plc.image().word(Area::D, i); }
 
     daemon::Plc plc;
-    testing::Wire wire{plc.dispatcher()};
+    testing::Wire wire{plc.dispatcher(), plc.unit()};
 };
 
 // ---- identity
