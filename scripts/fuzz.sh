@@ -8,7 +8,9 @@
 # The summary line gives libFuzzer's own count of executions (stat::number_of_executed_units,
 # seeds included), the real time the run took, executions per second of it and per CPU-second
 # (user + system time), and the machine's load average when the run began: on a shared machine
-# the first follows the load, the second hardly.
+# the first follows the load, the second hardly. The request harnesses add a line with the
+# libmodbus oracle's counts (tests/support/modbus_oracle.hpp): the frames libmodbus answered too
+# (compared, compared-refused), and those it did not, by case.
 #
 #   scripts/fuzz.sh 20                      # every harness, 20 s each
 #   scripts/fuzz.sh 600 fuzz_config         # one harness, ten minutes
@@ -95,6 +97,11 @@ for h in "${harnesses[@]}"; do
     # the loader with configs of any length).
     max_len=()
     [[ $h == fuzz_config ]] && max_len=(-max_len=256)
+    # The request harnesses' inputs hold the largest frame (a 260-byte TCP ADU, a 256-byte RTU
+    # frame in its records) or a few dozen small ones. libFuzzer's default, 4096 bytes, let them
+    # grow to hundreds of frames and scans each, every input slower as the corpus grew
+    # (docs/development.md, "Speed").
+    [[ $h == fuzz_tcp_request || $h == fuzz_rtu_frame ]] && max_len=(-max_len=264)
     rc=0
     read -r load _ </proc/loadavg
     # -verbosity=0: no status line per new input (unbuffered, each a few write calls); crash
@@ -114,6 +121,10 @@ for h in "${harnesses[@]}"; do
     if ((rc == 0 && ${#found[@]} == 0)); then
         echo "fuzz: $h: $runs, ${added:-?} new inputs, ${#saved[@]} regression inputs" \
             "replayed, no crash"
+        # The request harnesses: frames libmodbus answered too, and those it did not, by case
+        # (docs/testing.md, "Where the PLC differs from libmodbus on purpose").
+        oracle=$(sed -n 's/^oracle: \([a-z0-9-]*\): \([0-9]*\) .*/\1 \2/p' "$log" | paste -sd,)
+        [[ -n $oracle ]] && echo "fuzz: $h: libmodbus oracle, frames: ${oracle//,/, }"
         continue
     fi
     status=1

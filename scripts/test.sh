@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Builds with AddressSanitizer and UndefinedBehaviorSanitizer, checks style (scripts/style.sh)
-# and runs every test: unit tests (GoogleTest, through ctest), the Debian package
-# (scripts/test-package.sh) and system tests (pytest + pymodbus against the real daemon).
+# Builds with AddressSanitizer and UndefinedBehaviorSanitizer, checks the direction of the
+# dependencies (scripts/check-deps.sh) and style (scripts/style.sh) and runs every test: unit
+# tests (GoogleTest, through ctest), the Debian package (scripts/test-package.sh) and system
+# tests (pytest + pymodbus against the real daemon).
 # Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,6 +28,11 @@ build=build-test
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLCEMU_SANITIZE=ON -DPLCEMU_WERROR=ON \
     -DPLCEMU_TESTS=ON >/dev/null
 cmake --build "$build" -j"$(nproc)"
+
+step "dependencies"
+# Include cycles between modules and includes against the direction of docs/architecture.md,
+# "Dependencies" (no build needed).
+scripts/check-deps.sh
 
 step "style"
 # clang-format over the tree and clang-tidy over src/ (using $build/compile_commands.json).

@@ -15,17 +15,17 @@
 
 #include "config/config_file.hpp"
 #include "config/yaml_tree.hpp"
+#include "plcemu/config/family.hpp"
 #include "plcemu/config/listener_key.hpp"
 #include "plcemu/config/tree.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
-#include "plcemu/profiles/profile.hpp"
 
 namespace plcemu::config {
 
 namespace {
 
-// The sections every profile has; a profile adds its own (Profile::sections).
+// The sections every profile has; a profile adds its own (Family::sections).
 constexpr std::array<std::string_view, 12> kCommonSections{
     "profile", "model",   "station", "scan_ms",   "time_scale",  "modbus",
     "init",    "program", "plant",   "simulator", "persistence", "log"};
@@ -568,13 +568,13 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     const std::size_t errors_before = r.errors_found();
     if (!root.is_map()) {
         r.fail(root, "the config must be a mapping with at least 'profile:' (one of " +
-                         profiles::names() + ")");
+                         family_names() + ")");
     }
     // The common sections, and those a profile reads itself (which may not be this one's). The
     // profiles registered themselves before main(): the list is made once.
     static const std::vector<std::string> known = [] {
         std::vector<std::string> k(kCommonSections.begin(), kCommonSections.end());
-        for (const profiles::Profile* p : profiles::all()) {
+        for (const Family* p : families()) {
             for (std::string_view s : p->sections()) {
                 if (std::find(k.begin(), k.end(), s) == k.end()) k.emplace_back(s);
             }
@@ -594,12 +594,12 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     } else {
         r.check_keys(root, "config", known);
     }
-    if (!root["profile"]) r.fail(root, "'profile' is required (one of " + profiles::names() + ")");
+    if (!root["profile"]) r.fail(root, "'profile' is required (one of " + family_names() + ")");
     c.profile = r.scalar(root["profile"], "profile");
-    const profiles::Profile* profile = profiles::find(c.profile);
+    const Family* profile = find_family(c.profile);
     if (profile == nullptr) {
-        r.fail(root["profile"], "profile: expected one of " + profiles::names() + ", got '" +
-                                    excerpt(c.profile) + "'");
+        r.fail(root["profile"],
+               "profile: expected one of " + family_names() + ", got '" + excerpt(c.profile) + "'");
     }
     r.set_naming(profile->naming());
     const image::Layout layout = profile->layout();
@@ -842,7 +842,7 @@ bool per_plc_key(const std::string& key) {
     if (key == "log") return false;
     if (std::find(kCommonSections.begin(), kCommonSections.end(), key) != kCommonSections.end())
         return true;
-    for (const profiles::Profile* p : profiles::all()) {
+    for (const Family* p : families()) {
         const auto s = p->sections();
         if (std::find(s.begin(), s.end(), key) != s.end()) return true;
     }

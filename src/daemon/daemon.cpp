@@ -216,7 +216,7 @@ public:
             driver_->start();
             return nullptr;
         }
-        plc->plant().continue_from(plc_->plant());
+        plc->plant().restore(plc_->plant().state());
         plc->engine().set_station_guard(&guard_);
         std::unique_ptr<Plc> old = std::move(plc_);
         plc_ = std::move(plc);

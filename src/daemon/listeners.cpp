@@ -77,7 +77,7 @@ std::vector<std::size_t> members_with(const std::vector<Group>& groups, std::siz
 
 listener::UnknownUnit policy(const config::Config& c) {
     return c.modbus.tcp.unknown_unit == config::UnknownUnit::Silent ? listener::UnknownUnit::Silent
-                                                                     : listener::UnknownUnit::Refuse;
+                                                                    : listener::UnknownUnit::Refuse;
 }
 
 // The protocols today's config sections name: `modbus.tcp` and `modbus.rtu`.
@@ -175,7 +175,8 @@ void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start)
         r->members = std::move(g.members);
         const config::RtuConfig& c = *plcs[r->members.front()].config->modbus.rtu;
         r->protocol = protocol(kSerialProtocol)
-                          .serial({seats(r->members, plcs), listener::UnknownUnit::Silent,
+                          .serial({seats(r->members, plcs),
+                                   listener::UnknownUnit::Silent,
                                    {c.device, c.baud, c.parity, c.data_bits, c.stop_bits}});
         const std::string& label = plcs_[r->members.front()].config->label;
         const std::string prefix = r->members.size() == 1 && !label.empty() ? label + ": " : "";

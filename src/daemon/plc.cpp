@@ -49,7 +49,7 @@ engine::Program build_program(const config::Config& config, engine::Tags* operan
 }
 
 plant::PlantSetup plant_setup(const config::Config& config, const engine::Declarations& program) {
-    const auto declared = plant::ThermalPlant::drives_of(program);
+    const auto declared = plant::drives_of(program);
     plant::PlantSetup setup;
     setup.seed = config.plant.seed;
     for (std::size_t i = 0; i < setup.channels.size(); ++i) {
@@ -137,8 +137,8 @@ Plc::Plc(std::shared_ptr<const config::Config> config,
     apply_init();
     // The plant and the measurement before the program, the outputs to the plant after it
     // (docs/architecture.md, "A scan"): the plant attaches to the outputs the program declares.
-    auto plant = std::make_unique<plant::ThermalPlant>(
-        plant_setup(*config_, engine::declarations_of(engine_->program())));
+    auto plant =
+        plant::make_plant(plant_setup(*config_, engine::declarations_of(engine_->program())));
     plant_ = plant.get();
     engine_->add_subsystem(std::move(plant));
     profile.attach(*engine_, *config_, *plant_);

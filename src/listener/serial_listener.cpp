@@ -77,7 +77,8 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     // no answers anyway.
     void write(std::span<const std::uint8_t> answer) noexcept {
         if (answer.empty()) return;
-        [[maybe_unused]] const ssize_t w = ::write(line.native_handle(), answer.data(), answer.size());
+        [[maybe_unused]] const ssize_t w =
+            ::write(line.native_handle(), answer.data(), answer.size());
     }
 
     // A read error (EIO or hang-up of a device that went away): re-reading the same descriptor

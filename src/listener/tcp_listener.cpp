@@ -149,8 +149,8 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
     bool stopped = false;
 };
 
-// One client: reads its protocol's frames into its own buffer, serves a few complete ones per turn and
-// writes their replies. While replies are waiting for the client to take them, it is not read.
+// One client: reads its protocol's frames into its own buffer, serves a few complete ones per turn
+// and writes their replies. While replies are waiting for the client to take them, it is not read.
 class Connection : public std::enable_shared_from_this<Connection> {
 public:
     Connection(tcp::socket s,
@@ -364,8 +364,8 @@ void TcpListener::State::accept() {
             s.set_option(tcp::no_delay(true), pec);
             set_keepalive(s);
             self->log(spdlog::level::info, LogCause::Connected, "tcp: {} connected", peer);
-            auto c = std::make_shared<Connection>(std::move(s), self, peer,
-                                                  self->protocol->max_frame());
+            auto c =
+                std::make_shared<Connection>(std::move(s), self, peer, self->protocol->max_frame());
             self->connections.insert(c);
             c->start();
         }

@@ -86,7 +86,8 @@ std::size_t encode_request(std::uint8_t function,
             }
             put_be16(&out[3], quantity);
             out[kHeader] = static_cast<std::uint8_t>(bytes);
-            for (std::size_t i = 0; i < quantity; ++i) put_be16(&out[kHeader + 1 + 2 * i], values[i]);
+            for (std::size_t i = 0; i < quantity; ++i)
+                put_be16(&out[kHeader + 1 + 2 * i], values[i]);
             return kHeader + 1 + bytes;
         }
         default:

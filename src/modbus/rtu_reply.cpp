@@ -9,7 +9,8 @@ RtuReply rtu_reply(const RtuFrame& frame, std::uint8_t station) noexcept {
     const auto b = frame.bytes;
     // The framer checked the CRC and the pauses; the address is the master's business: on a
     // line where only the master speaks first, a frame from another station answers nothing.
-    if (frame.verdict != RtuVerdict::Ok || b.size() < kMinRtuFrame || rtu_address(b) != station) return r;
+    if (frame.verdict != RtuVerdict::Ok || b.size() < kMinRtuFrame || rtu_address(b) != station)
+        return r;
     r.outcome = MasterOutcome::Reply;
     r.pdu = rtu_pdu(b);
     return r;

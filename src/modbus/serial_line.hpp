@@ -8,7 +8,6 @@
 
 namespace plcemu::modbus {
 
-
 /// The settings as users write them: "/dev/ttyUSB0 9600 8E1".
 std::string describe(const RtuOptions& o);
 

@@ -53,24 +53,25 @@ std::optional<listener::SerialProtocol::Clock::time_point> ModbusRtu::deadline()
 }
 
 std::span<const std::uint8_t> ModbusRtu::serve(const modbus::RtuFrame& f) noexcept {
-    if (f.verdict != modbus::RtuVerdict::Ok) {
+    if (f.verdict != modbus::RtuVerdict::Ok || f.bytes.size() < modbus::kMinRtuFrame) {
         spdlog::debug("rtu: {}: {}-byte frame dropped: {}", device_, f.bytes.size(),
                       verdict_name(f.verdict));
         return {};
     }
     std::array<std::uint8_t, modbus::kMaxPdu> pdu{};
-    const std::size_t n = route(units_, Addressing::Rtu, modbus::rtu_address(f.bytes),
-                                modbus::rtu_pdu(f.bytes), pdu);
+    const std::size_t n =
+        route(units_, Addressing::Rtu, modbus::rtu_address(f.bytes), modbus::rtu_pdu(f.bytes), pdu);
     if (n == 0) return {};
-    return {reply_.data(), modbus::write_rtu(modbus::rtu_address(f.bytes), {pdu.data(), n}, reply_)};
+    return {reply_.data(),
+            modbus::write_rtu(modbus::rtu_address(f.bytes), {pdu.data(), n}, reply_)};
 }
 
 std::string ModbusRtu::summary() const {
     const modbus::RtuFramerStats& st = framer_.stats();
-    return std::to_string(st.frames) + " frames with a good CRC; dropped: " +
-           std::to_string(st.bad_crc) + " bad CRC, " + std::to_string(st.gaps) +
-           " t1.5 pauses, " + std::to_string(st.too_short) + " too short, " +
-           std::to_string(st.too_long) + " too long";
+    return std::to_string(st.frames) +
+           " frames with a good CRC; dropped: " + std::to_string(st.bad_crc) + " bad CRC, " +
+           std::to_string(st.gaps) + " t1.5 pauses, " + std::to_string(st.too_short) +
+           " too short, " + std::to_string(st.too_long) + " too long";
 }
 
 std::unique_ptr<listener::SerialProtocol> make_rtu(listener::ProtocolSetup setup) {

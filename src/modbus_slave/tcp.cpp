@@ -30,8 +30,10 @@ listener::Split ModbusTcp::split(std::span<const std::uint8_t> buffered) const n
 
 std::size_t ModbusTcp::answer(std::span<const std::uint8_t> frame,
                               std::span<std::uint8_t> out) noexcept {
+    // split() vouched for the header (a length of 2 or more: a function code is there); a frame
+    // from elsewhere is checked.
+    if (frame.size() < modbus::kMbapPrefix + 2) return 0;
     std::array<std::uint8_t, modbus::kMaxPdu> pdu{};
-    // split() vouched for the header: a length of 2 or more, so a function code is there.
     const std::size_t n =
         route(units_, Addressing::Tcp, modbus::mbap_unit(frame), modbus::mbap_pdu(frame), pdu);
     if (n == 0) return 0;

@@ -126,17 +126,6 @@ ThermalPlant::ThermalPlant(const PlantSetup& setup)
     }
 }
 
-std::array<Drive, kChannels> ThermalPlant::drives_of(const engine::Declarations& program) {
-    std::array<Drive, kChannels> d{};
-    for (const auto& a : program.actuators) {
-        if (a.channel < 0 || a.channel >= kChannels) continue;
-        auto& slot = d[static_cast<std::size_t>(a.channel)];
-        if (slot.kind != Drive::Kind::None) continue;  // the first declaration wins
-        slot = {Drive::Kind::Output, a.output};
-    }
-    return d;
-}
-
 double ThermalPlant::read_drive(const image::Image& img, const Channel& c) const noexcept {
     const auto& d = c.drive.device;
     if (c.drive.kind == Drive::Kind::None || d.index >= img.layout().size_of(d.area)) return 0.0;
@@ -256,10 +245,16 @@ void ThermalPlant::set_temperature(int channel, double celsius) noexcept {
     if (valid(channel)) ch_[static_cast<std::size_t>(channel)].t = celsius;
 }
 
-void ThermalPlant::continue_from(const ThermalPlant& old) noexcept {
+PlantState ThermalPlant::state() const noexcept {
+    PlantState s;
+    for (std::size_t i = 0; i < ch_.size(); ++i) s[i] = {ch_[i].t, ch_[i].last};
+    return s;
+}
+
+void ThermalPlant::restore(const PlantState& state) noexcept {
     for (std::size_t i = 0; i < ch_.size(); ++i) {
-        ch_[i].t = old.ch_[i].t;
-        ch_[i].last = old.ch_[i].last;
+        ch_[i].t = state[i].process_c;
+        ch_[i].last = state[i].reading_c;
     }
 }
 

@@ -1,29 +1,18 @@
-#include <algorithm>
-#include <map>
-
+#include "plcemu/config/family.hpp"
 #include "plcemu/profiles/profile.hpp"
 
 namespace plcemu::profiles {
 
-namespace {
-
-// Built on first use: registrations run during static initialisation, in any order.
-std::map<std::string_view, const Profile*>& registry() {
-    static std::map<std::string_view, const Profile*> r;
-    return r;
-}
-
-}  // namespace
+// One registry, the config loader's (config::add_family): the profiles are the families there.
 
 std::unique_ptr<instructions::Services> Profile::services(const config::Config& /*config*/) const {
     return std::make_unique<instructions::Services>();
 }
 
-Registration::Registration(const Profile& profile) { registry()[profile.name()] = &profile; }
+Registration::Registration(const Profile& profile) { config::add_family(profile); }
 
 const Profile* find(std::string_view name) {
-    const auto it = registry().find(name);
-    return it == registry().end() ? nullptr : it->second;
+    return dynamic_cast<const Profile*>(config::find_family(name));
 }
 
 const Profile& of(const config::Config& config) {
@@ -35,17 +24,10 @@ const Profile& of(const config::Config& config) {
 
 std::vector<const Profile*> all() {
     std::vector<const Profile*> v;
-    for (const auto& [name, p] : registry()) v.push_back(p);
-    return v;
-}
-
-std::string names() {
-    std::string s;
-    for (const auto& [name, p] : registry()) {
-        if (!s.empty()) s += ", ";
-        s += name;
+    for (const config::Family* f : config::families()) {
+        if (const auto* p = dynamic_cast<const Profile*>(f)) v.push_back(p);
     }
-    return s;
+    return v;
 }
 
 }  // namespace plcemu::profiles

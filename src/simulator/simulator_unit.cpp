@@ -31,7 +31,7 @@ std::uint16_t fault_bits(const Faults& f) {
 
 }  // namespace
 
-SimulatorUnit::SimulatorUnit(ThermalPlant& plant, engine::TimeControl& time, bool writable)
+SimulatorUnit::SimulatorUnit(plant::Plant& plant, engine::TimeControl& time, bool writable)
     : plant_(plant),
       time_(time),
       writable_(writable) {

@@ -10,12 +10,11 @@
 
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/modbus/unit.hpp"
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/plant/plant.hpp"
 
 namespace plcemu::simulator {
 
 using plant::kChannels;
-using plant::ThermalPlant;
 
 /// Wire addresses of the simulator unit's holding registers (docs/simulator-and-plant.md,
 /// "Simulator-control unit").
@@ -60,7 +59,7 @@ class SimulatorUnit final : public modbus::Unit {
 public:
     /// `plant` and `time` must outlive the unit. Not `writable`: every write is refused with
     /// exception 02, as the PLC's registers are under modbus.read_only.
-    SimulatorUnit(ThermalPlant& plant, engine::TimeControl& time, bool writable = true);
+    SimulatorUnit(plant::Plant& plant, engine::TimeControl& time, bool writable = true);
 
     modbus::Window resolve(modbus::Table table,
                            std::uint16_t addr,
@@ -77,7 +76,7 @@ private:
     void refresh() noexcept;
     void apply(std::uint16_t addr, std::uint16_t v) noexcept;
 
-    ThermalPlant& plant_;
+    plant::Plant& plant_;
     engine::TimeControl& time_;
     bool writable_;
     std::array<std::uint16_t, sim::kEnd> regs_{};

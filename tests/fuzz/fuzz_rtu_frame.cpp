@@ -1,11 +1,11 @@
 // libFuzzer harness: Modbus RTU frames into the dispatcher.
 //
 // Input: one control byte, then records. Control bits 0-2: run one engine scan after every n-th
-// frame (0 = never). Bit 7 clear: records are [n][n bytes], each an address + PDU that gets a
-// correct CRC appended and goes to the dispatcher, as the RTU transport delivers a frame once
-// its CRC checked. Bit 7 set: records are [n][pause][n bytes], raw chunks of a 9600 8E1 line
-// arriving `pause` half-characters after the previous chunk went over the wire; the RTU framer
-// (t1.5, t3.5, CRC) decides what reaches the dispatcher, as in the daemon.
+// frame (0 = never; fuzz::kMaxScans at most). Bit 7 clear: records are [n][n bytes], each an
+// address + PDU that gets a correct CRC appended and goes to the dispatcher, as the RTU transport
+// delivers a frame once its CRC checked. Bit 7 set: records are [n][pause][n bytes], raw chunks of
+// a 9600 8E1 line arriving `pause` half-characters after the previous chunk went over the wire; the
+// RTU framer (t1.5, t3.5, CRC) decides what reaches the dispatcher, as in the daemon.
 //
 // Invariants: the framer hands on only whole frames with a good CRC; a reply is absent or one
 // frame with a correct CRC, the request's address (never a broadcast's) and its function code;
@@ -57,33 +57,32 @@ public:
         fuzz::check(frame.size() >= 4 && frame.size() <= modbus::RtuFramer::kMaxFrame,
                     "frame size out of range");
         daemon::Plc& plc = rig_.plc();
-        if (!have_before_) before().take(plc.image());
-        const auto served = rig_.rtu().serve({modbus::RtuVerdict::Ok, frame});
-        std::copy(served.begin(), served.end(), peer.buffer().begin());
-        const auto rep = peer.take(served.size());
+        watch_.before(plc.image(), frame[1], frame);
+        const auto rep = fuzz::serve(rig_, peer, testing::Framing::Rtu, frame);
         fuzz::exchange().reply = rep;
         fuzz::record(rep);
         check_reply(rig_, frame, rep);
         // A broadcast write is applied without an answer; judge it as answered.
         const bool answered = frame[0] == 0 || (rep.size() > 1 && (rep[1] & 0x80) == 0);
-        have_before_ =
-            fuzz::check_image(plc.image(), before(), frame[1], answered, rig_.is_sim(frame[0]));
+        watch_.after(plc.image(), frame[1], answered, rig_.is_sim(frame[0]));
     }
 
-    /// Runs a scan.
+    /// Runs a scan, fuzz::kMaxScans at most.
     void scan() {
+        if (scans_ == fuzz::kMaxScans) return;
+        ++scans_;
+        watch_.settle(rig_.plc().image());
         rig_.plc().engine().run_scans(1);
-        have_before_ = false;
+        watch_.scanned();
     }
+
+    /// At the end of the input: the last reads are checked.
+    void finish() { watch_.settle(rig_.plc().image()); }
 
 private:
-    static fuzz::Snapshot& before() {
-        static fuzz::Snapshot s;
-        return s;
-    }
-
     fuzz::Rig& rig_;
-    bool have_before_ = false;  // before() holds the image as it is now
+    fuzz::ImageWatch watch_;
+    unsigned scans_ = 0;
 };
 
 // One input on `rig` (just reset).
@@ -113,6 +112,7 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
             server.serve(frame);
             after_frame();
         }
+        server.finish();
         return;
     }
 
@@ -128,6 +128,7 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
         after_frame();
     };
     fuzz::feed_chunks(in, modbus::RtuTiming::for_line(9600, 'E', 8, 1), handle);
+    server.finish();
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "support/fake_time.hpp"
+#include "support/modbus_oracle.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "profiles/fbs/special_registers.hpp"
 #include "support/profiles.hpp"
@@ -26,6 +27,7 @@
 #include "modbus/mbap.hpp"
 #include "modbus_slave/rtu.hpp"
 #include "modbus_slave/tcp.hpp"
+#include "plcemu/plant/thermal_plant.hpp"
 #include "simulator/simulator_unit.hpp"
 
 namespace plcemu::fuzz {
@@ -156,7 +158,7 @@ public:
         plc_->engine().power_up();
         const auto s = plc_->image().storage();
         copy_bytes(s.data(), image_.data(), s.size());  // also undoes power_up()'s writes
-        if (plant_touched) plc_->plant() = *plant_;
+        if (plant_touched) thermal() = *plant_;
         plant_touched_ = false;
         tcp_->units().set_unknown_unit(policy_);
         reset_time();
@@ -190,7 +192,7 @@ private:
         plc_ = std::make_unique<daemon::Plc>(config);
         const auto s = plc_->image().storage();
         image_.assign(s.begin(), s.end());
-        plant_.emplace(plc_->plant());
+        plant_.emplace(thermal());
         station_ = plc_->engine().station();
         sim_unit_ = static_cast<std::uint8_t>(config->simulator.unit);
         policy_ = config->modbus.tcp.unknown_unit == config::UnknownUnit::Silent
@@ -198,6 +200,10 @@ private:
                       : listener::UnknownUnit::Refuse;
         attach_simulator();
     }
+
+    // The plant as a value, to keep and put back whole (a Plant shows only what the rest of the
+    // emulator needs): the harness's config runs the thermal plant, the one model.
+    plant::ThermalPlant& thermal() { return dynamic_cast<plant::ThermalPlant&>(plc_->plant()); }
 
     void attach_simulator() {
         tcp_.reset();
@@ -208,8 +214,8 @@ private:
         reset_time();
         sim_.emplace(plc_->plant(), *time_);
         tap_.emplace(*sim_, plant_touched_);
-        const listener::Seat seat{"",       &plc_->engine().station(), &plc_->dispatcher(),
-                                  &plc_->unit(), sim_unit_,         &*tap_};
+        const listener::Seat seat{
+            "", &plc_->engine().station(), &plc_->dispatcher(), &plc_->unit(), sim_unit_, &*tap_};
         tcp_.emplace(listener::ProtocolSetup{{seat}, policy_, {}});
         rtu_.emplace(listener::ProtocolSetup{{seat}, listener::UnknownUnit::Silent, {}});
     }
@@ -421,6 +427,24 @@ private:
     std::array<std::uint8_t, modbus::kMaxTcpAdu> out_{};
 };
 
+/// Serves `adu` on the rig's PLC and on libmodbus beside it (support/modbus_oracle.hpp): where
+/// the two are comparable, their replies and writes must be identical. Returns the PLC's reply.
+/// What the oracle compared and skipped is printed when the process exits.
+inline std::span<const std::uint8_t> serve(Rig& rig,
+                                           Peer& peer,
+                                           testing::Framing framing,
+                                           std::span<const std::uint8_t> adu) {
+    static const bool summary_at_exit = [] {
+        return std::atexit(
+                   [] { std::fputs(testing::ModbusOracle::get().summary().c_str(), stderr); }) == 0;
+    }();
+    (void)summary_at_exit;
+    const auto r = testing::ModbusOracle::get().serve({rig.tcp(), rig.rtu()}, rig.plc().unit(),
+                                                      framing, adu, peer.buffer());
+    if (!r.mismatch.empty()) fail(r.mismatch.c_str());
+    return peer.take(r.size);
+}
+
 /// Function codes that only read: a request with one of these never changes the image.
 inline bool reads_only(std::uint8_t fc) {
     switch (fc) {
@@ -486,22 +510,76 @@ inline const std::vector<image::Range>& protected_ranges() {
     return r;
 }
 
-/// Checks the image after a request with function code `fc` that got `answered` (a normal,
-/// non-exception reply; broadcasts count as answered). A write to the simulator unit may run
-/// scans (its step register), which change the image as scans do: only reads are checked.
-/// Returns true when the whole image was found unchanged (`before` still holds it).
-inline bool check_image(
-    image::Image& img, const Snapshot& before, std::uint8_t fc, bool answered, bool to_simulator) {
-    if (to_simulator && answered && !reads_only(fc)) return false;
-    if (!answered || reads_only(fc)) {
-        check(before.same(img), "a read, a refused or an unanswered request changed the image");
-        return true;
+/// The image checks of one input: a read, a refused or an unanswered request changes nothing in
+/// the image; a write changes no read-only or write-protected device. A write to the simulator
+/// unit may run scans (its step register), which change the image as scans do: only its reads
+/// are checked. Reads in a row are checked together, with one compare of the whole image before
+/// the next frame that may write, the next scan, or the end of the input: comparing the image
+/// after every read was a tenth of a request harness's time (docs/development.md, "Speed").
+class ImageWatch {
+public:
+    /// Before serving `request`, whose function code is `fc`.
+    void before(image::Image& img, std::uint8_t fc, std::span<const std::uint8_t> request) {
+        if (!reads_only(fc)) settle(img);
+        if (!have_) snapshot().take(img);
+        have_ = true;
+        if (reads_only(fc) && !pending_) {
+            // A copy: an RTU frame's buffer is the next frame's.
+            first_read_size_ = std::min(request.size(), first_read_.size());
+            std::copy_n(request.begin(), first_read_size_, first_read_.begin());
+        }
     }
-    for (const auto& r : protected_ranges()) {
-        check(before.same(img, r), "a Modbus write changed a read-only or write-protected device");
+
+    /// After it was served: `answered` (a normal reply; broadcasts count as answered), for the
+    /// simulator unit or not.
+    void after(image::Image& img, std::uint8_t fc, bool answered, bool to_simulator) {
+        if (reads_only(fc)) {
+            pending_ = true;
+            return;
+        }
+        have_ = false;
+        if (to_simulator && answered) return;
+        if (!answered) {
+            check(snapshot().same(img), "a refused or unanswered request changed the image");
+            have_ = true;
+            return;
+        }
+        for (const auto& r : protected_ranges()) {
+            check(snapshot().same(img, r),
+                  "a Modbus write changed a read-only or write-protected device");
+        }
     }
-    return false;
-}
+
+    /// Before a scan, and at the end of the input: checks the reads not yet checked.
+    void settle(image::Image& img) {
+        if (!pending_) return;
+        pending_ = false;
+        if (snapshot().same(img)) return;
+        exchange() = {std::span(first_read_).first(first_read_size_), {}};
+        fail(
+            "a read changed the image (the request shown, or a read after it before the next "
+            "write or scan)");
+    }
+
+    /// After a scan: the image is the scan's.
+    void scanned() { have_ = false; }
+
+private:
+    static Snapshot& snapshot() {
+        static Snapshot s;  // kept: its capacity serves every input
+        return s;
+    }
+
+    bool have_ = false;                           // snapshot() holds the image as it is now
+    bool pending_ = false;                        // reads since the snapshot, not yet checked
+    std::array<std::uint8_t, 260> first_read_{};  // the first of them
+    std::size_t first_read_size_ = 0;
+};
+
+/// Most scans one input runs between its frames: what a scan does to the request path (the
+/// station a master set through R4055, the specials) shows in the first; more only cost time
+/// (docs/development.md, "Speed").
+inline constexpr unsigned kMaxScans = 4;
 
 /// Checks a reply PDU (function code onward) against its request PDU: function code echoed or
 /// flagged, known exception codes, byte counts that match the request.

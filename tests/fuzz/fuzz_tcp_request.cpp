@@ -1,9 +1,9 @@
 // libFuzzer harness: a Modbus TCP connection's byte stream into the dispatcher.
 //
 // Input: one control byte, then the bytes a client sends. Control bits 0-2: run one engine
-// scan after every n-th frame (0 = never); bit 3: unknown unit IDs stay silent instead of
-// getting exception 0Bh. The stream is split into MBAP frames by the server's own splitter and
-// ends where the server would stop reading (a bad header closes the connection).
+// scan after every n-th frame (0 = never; fuzz::kMaxScans at most); bit 3: unknown unit IDs stay
+// silent instead of getting exception 0Bh. The stream is split into MBAP frames by the server's own
+// splitter and ends where the server would stop reading (a bad header closes the connection).
 //
 // Invariants: each frame gets at most one reply, a well-formed MBAP frame with the request's
 // transaction ID and unit ID; a read, a refusal or silence changes nothing in the image; no
@@ -49,12 +49,12 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
     std::span<const std::uint8_t> stream(data + 1, size - 1);
 
     static fuzz::Peer peer;
-    static fuzz::Snapshot before;
     daemon::Plc& plc = rig.plc();
     rig.tcp().units().set_unknown_unit(silent ? listener::UnknownUnit::Silent
                                               : listener::UnknownUnit::Refuse);
-    bool have_before = false;  // `before` holds the image as it is now
+    fuzz::ImageWatch watch;
     unsigned frames = 0;
+    unsigned scans = 0;
     for (;;) {
         const modbus::MbapFrame f = modbus::next_mbap_frame(stream);
         if (f.status != modbus::MbapStatus::Frame) break;
@@ -63,19 +63,22 @@ void run(fuzz::Rig& rig, const std::uint8_t* data, std::size_t size) {
         const auto req = stream.first(f.size);
         stream = stream.subspan(f.size);
 
-        if (!have_before) before.take(plc.image());
-        const auto rep = peer.take(rig.tcp().answer(req, peer.buffer()));
+        watch.before(plc.image(), req[7], req);
+        const auto rep = fuzz::serve(rig, peer, testing::Framing::Tcp, req);
         fuzz::exchange() = {req, rep};
         fuzz::record(rep);
         check_reply(rig, silent, req, rep);
         const bool answered = rep.size() > 7 && (rep[7] & 0x80) == 0;
-        have_before = fuzz::check_image(plc.image(), before, req[7], answered, rig.is_sim(req[6]));
+        watch.after(plc.image(), req[7], answered, rig.is_sim(req[6]));
 
-        if (scan_every != 0 && ++frames % scan_every == 0) {
+        if (scan_every != 0 && ++frames % scan_every == 0 && scans < fuzz::kMaxScans) {
+            watch.settle(plc.image());
             plc.engine().run_scans(1);
-            have_before = false;
+            watch.scanned();
+            ++scans;
         }
     }
+    watch.settle(plc.image());
 }
 
 }  // namespace

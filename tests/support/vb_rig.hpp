@@ -14,7 +14,7 @@
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/image/image.hpp"
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/plant/plant.hpp"
 #include "support/profiles.hpp"
 
 namespace plcemu::test {
@@ -45,10 +45,10 @@ public:
         plant::PlantSetup setup;
         setup.channels[0].drive = {plant::Drive::Kind::Register,
                                    image::Device{image::Area::D, scratch, false}};
-        plant_ = std::make_unique<plant::ThermalPlant>(setup);
+        plant_ = plant::make_plant(setup);
         loop_ = Loop{pv, mv, full_scale, scratch};
     }
-    plant::ThermalPlant& plant() { return *plant_; }
+    plant::Plant& plant() { return *plant_; }
     /// The true temperature of channel 0, °C.
     double temperature() const { return plant_->true_temperature(0); }
 
@@ -90,7 +90,7 @@ private:
     engine::Duration dt_;
     engine::Duration now_{0};
     std::uint64_t scans_ = 0;
-    std::unique_ptr<plant::ThermalPlant> plant_;
+    std::unique_ptr<plant::Plant> plant_;
     std::optional<Loop> loop_;
 };
 

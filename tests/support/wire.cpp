@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "modbus/crc.hpp"
+#include "support/modbus_oracle.hpp"
 
 namespace plcemu::testing {
 
@@ -20,7 +21,9 @@ Wire::Wire(modbus::Dispatcher& d,
            const std::uint8_t& station,
            modbus::Unit* sim,
            std::uint8_t sim_unit)
-    : Wire(std::vector<listener::Seat>{{"", &station, &d, &unit, sim_unit, sim}}) {}
+    : Wire(std::vector<listener::Seat>{{"", &station, &d, &unit, sim_unit, sim}}) {
+    oracle_ = true;
+}
 
 Wire::Wire(daemon::Plc& plc)
     : Wire(plc.dispatcher(), plc.unit(), plc.engine().station()) {}
@@ -28,6 +31,19 @@ Wire::Wire(daemon::Plc& plc)
 Wire::Wire(std::vector<listener::Seat> seats)
     : tcp_(setup(seats)),
       rtu_(setup(seats)) {}
+
+std::size_t Wire::serve(bool tcp, const std::vector<std::uint8_t>& adu) {
+    if (!oracle_) {
+        if (tcp) return tcp_.answer(adu, out_);
+        const auto a = rtu_.serve({modbus::RtuVerdict::Ok, adu});
+        std::copy(a.begin(), a.end(), out_.begin());
+        return a.size();
+    }
+    auto r = ModbusOracle::get().serve({tcp_, rtu_}, *tcp_.units().seats().front().unit,
+                                       tcp ? Framing::Tcp : Framing::Rtu, adu, out_);
+    if (!r.mismatch.empty()) throw std::runtime_error("libmodbus oracle: " + r.mismatch);
+    return r.size;
+}
 
 void Wire::set_unknown_unit(listener::UnknownUnit u) {
     tcp_.units().set_unknown_unit(u);
@@ -48,7 +64,7 @@ std::vector<std::uint8_t> Wire::tcp(std::uint8_t unit, const std::vector<std::ui
                                   static_cast<std::uint8_t>((pdu.size() + 1) & 0xFF),
                                   unit};
     adu.insert(adu.end(), pdu.begin(), pdu.end());
-    auto r = reply(tcp_.answer(adu, out_));
+    auto r = reply(serve(true, adu));
     if (r.empty()) return r;
     if (r.size() < 8 || r[0] != adu[0] || r[1] != adu[1] || r[2] != 0 || r[3] != 0 ||
         r[6] != unit || static_cast<std::size_t>(r[4] << 8 | r[5]) != r.size() - 6) {
@@ -63,9 +79,7 @@ std::vector<std::uint8_t> Wire::rtu(std::uint8_t unit, const std::vector<std::ui
     const std::uint16_t crc = modbus::crc16(f.data(), f.size());
     f.push_back(static_cast<std::uint8_t>(crc & 0xFF));
     f.push_back(static_cast<std::uint8_t>(crc >> 8));
-    const auto a = rtu_.serve({modbus::RtuVerdict::Ok, f});
-    std::copy(a.begin(), a.end(), out_.begin());
-    auto r = reply(a.size());
+    auto r = reply(serve(false, f));
     if (r.empty()) return r;
     if (r.size() < 4 || r[0] != unit) throw std::runtime_error("malformed RTU reply");
     const std::uint16_t got = static_cast<std::uint16_t>(r[r.size() - 2] | r[r.size() - 1] << 8);

@@ -18,15 +18,17 @@ namespace plcemu::testing {
 class Wire {
 public:
     /// One PLC on a listener of its own: `station` is read on every request, `sim` (when given)
-    /// answers `sim_unit`. Everything given must outlive the wire.
+    /// answers `sim_unit`. Everything given must outlive the wire. Every request also goes to
+    /// libmodbus beside the PLC: every reply and every write must be libmodbus' too, where
+    /// comparable (support/modbus_oracle.hpp); a difference throws.
     Wire(modbus::Dispatcher& d,
          modbus::Unit& unit,
          const std::uint8_t& station,
          modbus::Unit* sim = nullptr,
          std::uint8_t sim_unit = 0);
-    /// A built PLC on a listener of its own.
+    /// A built PLC on a listener of its own, with the oracle as above.
     explicit Wire(daemon::Plc& plc);
-    /// Several PLCs sharing a listener.
+    /// Several PLCs sharing a listener (no oracle: routing is not libmodbus' part).
     explicit Wire(std::vector<listener::Seat> seats);
 
     /// Sets the policy for unit IDs nobody has.
@@ -45,9 +47,11 @@ public:
 
 private:
     std::vector<std::uint8_t> reply(std::size_t n) const;
+    std::size_t serve(bool tcp, const std::vector<std::uint8_t>& adu);
 
     modbus_slave::ModbusTcp tcp_;
     modbus_slave::ModbusRtu rtu_;
+    bool oracle_ = false;
     std::array<std::uint8_t, 260> out_{};
     std::uint16_t tid_ = 0x1234;
 };

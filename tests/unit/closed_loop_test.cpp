@@ -69,7 +69,7 @@ public:
           plc_(cfg_) {}
 
     image::Image& img() { return plc_.image(); }
-    plant::ThermalPlant& plant() { return plc_.plant(); }
+    plant::Plant& plant() { return plc_.plant(); }
     std::uint16_t& r(std::uint32_t i) { return img().words(Area::R)[i]; }
     int reading(int c) { return static_cast<std::int16_t>(r(static_cast<std::uint32_t>(c))); }
     double seconds() { return std::chrono::duration<double>(plc_.engine().now()).count(); }

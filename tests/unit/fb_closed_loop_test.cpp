@@ -13,7 +13,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/plant/plant.hpp"
 
 namespace plcemu {
 namespace {

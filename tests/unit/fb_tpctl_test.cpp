@@ -9,7 +9,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/plant/plant.hpp"
 #include "profiles/fb/tpctl.hpp"
 #include "support/config_errors.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/plant/plant.hpp"
 #include "profiles/fb/tpsns.hpp"
 #include "support/config_errors.hpp"
 

@@ -9,7 +9,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/plant/plant.hpp"
 #include "profiles/fb/control_loop.hpp"
 #include "profiles/fb/tstc.hpp"
 #include "support/config_errors.hpp"

@@ -326,6 +326,46 @@ plant:
                                  "lead.yaml", 4, 26, "lead_resistance");
 }
 
+// docs/simulator-and-plant.md, "Reload": the process temperatures carry over to the new PLC
+// through the Plant interface (state(), restore()) as the daemon's reload does; parameters and
+// faults are the new configuration's.
+TEST(Plant, ReloadCarriesTheProcessAndTheLastReadingThroughTheInterface) {
+    const auto before = config::parse_config(R"(
+profile: fbs
+plant:
+  channels:
+    0: {noise: 0.5, dead_time: 0, faults: {heater_shorted: true}}
+)",
+                                             "before.yaml");
+    daemon::Plc old(before);
+    old.engine().run_scans(6000);  // 60 s at full power
+    plant::Plant& hot = old.plant();
+    const double reading = hot.sense(0).celsius;
+    ASSERT_GT(hot.true_temperature(0), 100.0);
+    ASSERT_NE(reading, hot.true_temperature(0));  // the noise: the two are told apart below
+
+    const auto after = config::parse_config(R"(
+profile: fbs
+plant:
+  channels:
+    0: {ambient: 30, faults: {reading_frozen: true}}
+)",
+                                            "after.yaml");
+    daemon::Plc next(after);
+    plant::Plant& fresh = next.plant();
+    EXPECT_EQ(fresh.true_temperature(0), 30.0);  // as built: at its ambient
+    fresh.restore(hot.state());
+    EXPECT_EQ(fresh.true_temperature(0), hot.true_temperature(0));
+    EXPECT_EQ(fresh.true_temperature(1), 25.0);
+    // The frozen sensor holds the last value the old plant's sensor gave.
+    EXPECT_EQ(fresh.sense(0).celsius, reading);
+    EXPECT_EQ(fresh.params(0).ambient_c, 30.0);
+    EXPECT_EQ(fresh.faults(0), (Faults{.reading_frozen = true}));
+    // Without power (the short is gone with the old configuration) it cools towards 30 °C.
+    next.engine().run_scans(6000);
+    EXPECT_LT(fresh.true_temperature(0), hot.true_temperature(0) - 50.0);
+}
+
 TEST(Plant, ChangingDeadTimeAtRunTimeKeepsThePowerInFlight) {
     ChannelParams c;
     c.dead_time_s = 5;

@@ -320,8 +320,8 @@ TEST_F(RtuStation, BroadcastWritesApplyWithoutAnswer) {
     EXPECT_EQ(img_.word(image::Area::R, 5), 0xABCD);
 }
 
-// The serial listener carrying Modbus RTU on a pty that goes away and comes back: reopened by path, with back-off,
-// logged once each way, and no reopen after stop().
+// The serial listener carrying Modbus RTU on a pty that goes away and comes back: reopened by path,
+// with back-off, logged once each way, and no reopen after stop().
 class RtuReopen : public RtuStation {
 protected:
     template <class Pred>

@@ -46,7 +46,7 @@ struct Rig {
         o.scan_period = std::chrono::milliseconds(10);
         engine = std::make_unique<engine::Engine>(image, o, engine::Program{});
         engine->power_up();
-        auto p = std::make_unique<ThermalPlant>(plant::PlantSetup{});
+        auto p = plant::make_plant(plant::PlantSetup{});
         plant = p.get();
         engine->add_subsystem(std::move(p));
         time = std::make_unique<FakeTime>(*engine);
@@ -68,7 +68,7 @@ struct Rig {
 
     image::Image image;
     std::unique_ptr<engine::Engine> engine;
-    ThermalPlant* plant = nullptr;
+    plant::Plant* plant = nullptr;
     std::unique_ptr<FakeTime> time;
     std::unique_ptr<SimulatorUnit> unit;
     NoPlc plc;

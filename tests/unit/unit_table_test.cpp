@@ -1,8 +1,8 @@
-// The unit table of a listener several PLCs share, as the Modbus protocols use it (docs/configuration.md, "Sharing a listener"):
-// Modbus over serial line §2.2 (a request goes to the slave whose address it carries; a
-// broadcast, address 0, is executed by every slave and answered by none; no other slave
-// answers), Modbus TCP implementation guide §4.4.1.2 (units 0 and 255 and units without a
-// device behind a gateway).
+// The unit table of a listener several PLCs share, as the Modbus protocols use it
+// (docs/configuration.md, "Sharing a listener"): Modbus over serial line §2.2 (a request goes to
+// the slave whose address it carries; a broadcast, address 0, is executed by every slave and
+// answered by none; no other slave answers), Modbus TCP implementation guide §4.4.1.2 (units 0 and
+// 255 and units without a device behind a gateway).
 
 #include <gtest/gtest.h>
 

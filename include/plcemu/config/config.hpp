@@ -169,7 +169,7 @@ struct Config {
     ModbusConfig modbus;                     ///< transports and access
     std::vector<InitEntry> init;             ///< presets
     std::vector<InstructionConfig> program;  ///< ordered instruction list
-    /// The sections the profile reads itself (Profile::sections), as written.
+    /// The sections the profile reads itself (Family::sections), as written.
     std::vector<std::pair<std::string, Node>> sections;
     PlantConfig plant;              ///< thermal plant
     SimulatorConfig simulator;      ///< simulator-control unit

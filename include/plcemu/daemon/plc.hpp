@@ -13,7 +13,7 @@
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 #include "plcemu/modbus/plc_unit.hpp"
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/plant/plant.hpp"
 
 namespace plcemu::daemon {
 
@@ -72,8 +72,8 @@ public:
     const config::Config& config() const { return *config_; }
     /// The config, shared.
     const std::shared_ptr<const config::Config>& shared_config() const { return config_; }
-    /// The thermal plant (docs/simulator-and-plant.md), owned by the engine.
-    plant::ThermalPlant& plant() { return *plant_; }
+    /// The plant (docs/simulator-and-plant.md), owned by the engine.
+    plant::Plant& plant() { return *plant_; }
 
     /// Applies the config's `init:` presets to the image (done at construction), sparing
     /// retained values as the Start and persistence.init say.
@@ -87,7 +87,7 @@ private:
     std::unique_ptr<modbus::AddressMap> map_;
     std::unique_ptr<modbus::PlcUnit> unit_;
     std::unique_ptr<modbus::Dispatcher> dispatcher_;
-    plant::ThermalPlant* plant_ = nullptr;
+    plant::Plant* plant_ = nullptr;
 };
 
 /// The emulator's version string.

@@ -79,9 +79,9 @@ public:
 /// How a listener's protocol is made: from the PLCs it serves, their policy for unknown unit
 /// IDs and (serial lines) the line's settings.
 struct ProtocolSetup {
-    std::vector<Seat> seats;                     ///< the PLCs, in `plcs:` order
+    std::vector<Seat> seats;                         ///< the PLCs, in `plcs:` order
     UnknownUnit unknown_unit = UnknownUnit::Refuse;  ///< for IDs none of them has
-    LineSettings line;                           ///< serial lines only
+    LineSettings line;                               ///< serial lines only
 };
 
 /// One protocol a listener may name (its config section says which).

@@ -84,7 +84,6 @@ using FunctionTable = std::array<FunctionHandler, 128>;
 /// The codes every profile serves: 01–06, 08, 0Fh, 10h, 11h, 16h, 17h, 2Bh.
 FunctionTable standard_functions();
 
-
 namespace functions {
 /// FC 01: read coils.
 FunctionReply read_coils(const FunctionRequest& r, PduBuffer out) noexcept;

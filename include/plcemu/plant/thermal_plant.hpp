@@ -4,75 +4,18 @@
 // Y output or by an OR value.
 //
 // Plant time is the engine's simulated time: nothing here reads a clock. By default, channel c is
-// heated by the output a program declares as channel c's actuator (engine/declarations.hpp); a
-// `plant.channels.N.drive` names another. docs/simulator-and-plant.md describes the model.
+// heated by the output a program declares as channel c's actuator (plant::drives_of); a
+// `plant.channels.N.drive` names another. docs/simulator-and-plant.md describes the model. Only
+// src/plant/ and the model's own tests name this class: the rest of the emulator sees a Plant.
 
 #include <array>
 #include <cstdint>
-#include <memory>
 #include <optional>
 #include <vector>
 
-#include "plcemu/engine/declarations.hpp"
-#include "plcemu/engine/engine.hpp"
-#include "plcemu/engine/sensors.hpp"
-#include "plcemu/image/area.hpp"
+#include "plcemu/plant/plant.hpp"
 
 namespace plcemu::plant {
-
-/// Channels of the plant: as many as a temperature measurement can number.
-inline constexpr int kChannels = 32;
-
-/// The fault switches of a channel.
-struct Faults {
-    bool sensor_broken = false;   ///< reading 32767, abnormal bit
-    bool heater_open = false;     ///< u forced to 0
-    bool heater_shorted = false;  ///< u forced to 1
-    bool reading_frozen = false;  ///< reading stops changing
-
-    bool operator==(const Faults&) const = default;
-};
-
-/// Process parameters of one channel, in engineering units.
-struct ChannelParams {
-    double ambient_c = 25.0;   ///< T_amb, °C
-    double k_c = 400.0;        ///< full-power rise K, °C (cooling: full-power fall)
-    double tau_s = 120.0;      ///< time constant τ, s (> 0)
-    double dead_time_s = 5.0;  ///< dead time θ, s (≥ 0)
-    double noise_c = 0.0;      ///< standard deviation of the sensor noise, °C
-    bool cooling = false;      ///< the actuator pulls T down instead of up
-    double lead_ohm = 0.0;     ///< resistance of an RTD sensor's leads, Ω (0–100)
-
-    bool operator==(const ChannelParams&) const = default;
-};
-
-/// What drives a channel's actuator.
-struct Drive {
-    /// Where u comes from.
-    enum class Kind : std::uint8_t {
-        None,     ///< nothing: u = 0
-        Output,   ///< a Y output: u is the duty of the bit over time (PWM)
-        Register  ///< an R/D register: u = value / full_scale (signed), clamped to 0–1
-    };
-    Kind kind = Kind::None;     ///< the source
-    image::Device device;       ///< the Y bit or the R/D word
-    double full_scale = 16383;  ///< a register's value for full power (> 0)
-
-    bool operator==(const Drive&) const = default;
-};
-
-/// How one channel starts.
-struct ChannelSetup {
-    ChannelParams params;  ///< process parameters (clamped to the model's ranges)
-    Faults faults;         ///< fault switches
-    Drive drive;           ///< what drives the actuator
-};
-
-/// How the plant starts: the values the daemon takes from `plant:` and the program.
-struct PlantSetup {
-    std::uint64_t seed = 1;                          ///< noise seed (deterministic)
-    std::array<ChannelSetup, kChannels> channels{};  ///< channel c
-};
 
 /// A piecewise-constant signal over simulated time (nanoseconds), kept as its running integral
 /// at the points where it changed: the dead-time line and the heater-power window of a channel.
@@ -115,14 +58,10 @@ private:
 /// interval, which is what makes PWM duty the average power); `outputs()` latches the drives the
 /// program has just written. Per channel: dT/dt = (±K·u(t−θ) − (T − T_amb)) / τ, integrated
 /// exactly for a drive that is constant over the step, so any scan period is stable.
-class ThermalPlant final : public engine::Subsystem, public engine::SensorSource {
+class ThermalPlant final : public Plant {
 public:
     /// A plant as `setup` says.
     explicit ThermalPlant(const PlantSetup& setup);
-
-    /// The default drives of a built program: channel c is driven by the first output the
-    /// program declares as c's actuator, else by nothing.
-    static std::array<Drive, kChannels> drives_of(const engine::Declarations& program);
 
     /// Advances the processes to this scan's time.
     void inputs(engine::ScanContext& ctx) noexcept override;
@@ -131,30 +70,23 @@ public:
     /// Samples a sensor (noise, faults): see SensorSource.
     engine::SensorSample sense(int channel) noexcept override;
 
-    /// True temperature of a channel, °C (no noise, no sensor fault).
-    double true_temperature(int channel) const noexcept;
-    /// Heater power actually applied (after faults), mean over the last 8 s, 0–1.
-    double heater_power(int channel) const noexcept;
-    /// The drive u latched by the last scan (after faults), 0–1.
-    double drive_now(int channel) const noexcept;
-    /// Fault switches of a channel.
-    Faults faults(int channel) const noexcept;
-    /// Sets the fault switches of a channel (run time; takes effect at the next scan).
-    void set_faults(int channel, const Faults& f) noexcept;
-    /// Process parameters of a channel.
-    const ChannelParams& params(int channel) const noexcept;
-    /// Sets the process parameters of a channel (values out of range are clamped: τ ≥ 0.1 s,
-    /// θ 0–3600 s, K 0–3000, noise ≥ 0). T itself is kept.
-    void set_params(int channel, const ChannelParams& p) noexcept;
-    /// Sets a channel's true temperature (test set-up).
-    void set_temperature(int channel, double celsius) noexcept;
+    double true_temperature(int channel) const noexcept override;
+    void set_temperature(int channel, double celsius) noexcept override;
+    double heater_power(int channel) const noexcept override;
+    double drive_now(int channel) const noexcept override;
+    Faults faults(int channel) const noexcept override;
+    void set_faults(int channel, const Faults& f) noexcept override;
+    const ChannelParams& params(int channel) const noexcept override;
+    /// Values out of range are clamped: τ ≥ 0.1 s, θ 0–3600 s, K 0–3000, noise ≥ 0.
+    void set_params(int channel, const ChannelParams& p) noexcept override;
+    /// The process temperatures and the last readings.
+    PlantState state() const noexcept override;
+    void restore(const PlantState& state) noexcept override;
+
     /// What drives a channel.
     const Drive& drive(int channel) const noexcept;
     /// Changes what drives a channel.
     void set_drive(int channel, const Drive& d) noexcept;
-    /// Takes over the process temperatures of `old` (a config reload: the heaters and their
-    /// loads do not cool down because the PLC was reconfigured).
-    void continue_from(const ThermalPlant& old) noexcept;
     /// Simulated time the plant has reached.
     engine::Duration now() const { return engine::Duration{now_ns_}; }
 

@@ -3,7 +3,7 @@
 // special devices it keeps each scan, its identity, its instruction table and the subsystems it
 // attaches. The image, the engine, the config loader, the dispatcher and the daemon ask the
 // profile; none of them names a family. A profile registers itself (docs/architecture.md,
-// "Adding a profile").
+// "Adding a profile"), and with it the part the config loader reads (config::Family).
 
 #include <cstdint>
 #include <memory>
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/config/family.hpp"
 #include "plcemu/config/master.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/sensors.hpp"
@@ -25,13 +26,10 @@
 
 namespace plcemu::profiles {
 
-/// One PLC family.
-class Profile {
+/// One PLC family. What the config loader asks of it (name, models, station, naming, layout,
+/// its own sections and their check) is declared in config::Family.
+class Profile : public config::Family {
 public:
-    virtual ~Profile() = default;
-
-    /// The config's name of the family: `profile: fbs`.
-    virtual std::string_view name() const = 0;
     /// What it emulates, for --help and logs: "FATEK FBs".
     virtual std::string_view title() const = 0;
     /// A number recorded in state files; never reused for another family.
@@ -39,27 +37,9 @@ public:
 
     /// Vendor name of FC 11h and FC 2Bh/0Eh.
     virtual std::string_view vendor() const = 0;
-    /// The model when the config names none.
-    virtual std::string_view default_model() const = 0;
-    /// True when `model` is a model name of the family.
-    virtual bool valid_model(std::string_view model) const = 0;
-    /// What a model name looks like, for errors: "an FBs model such as FBs-24MC".
-    virtual std::string_view model_hint() const = 0;
-    /// The largest station number.
-    virtual int max_station() const = 0;
 
-    /// How devices and constants are written.
-    virtual const image::Naming& naming() const = 0;
-    /// Area sizes, holes and default retentive ranges.
-    virtual image::Layout layout() const = 0;
     /// Devices retentive whatever the config says (a power-up counter).
     virtual std::vector<image::Range> always_retentive() const { return {}; }
-    /// Top-level config sections of subsystems the family has (e.g. "temperature"); the loader
-    /// refuses the others at their line.
-    virtual std::vector<std::string_view> sections() const { return {}; }
-    /// Reads those sections of a loaded config (Config::sections) as the loader's last step, so
-    /// that their errors come with the others. Throws config::ConfigError at the faulty node.
-    virtual void check(const config::Config& /*config*/) const {}
 
     /// The default Modbus map (a config's `modbus.map` replaces it).
     virtual const modbus::AddressMap& map() const = 0;
@@ -113,11 +93,9 @@ const Profile* find(std::string_view name);
 const Profile& of(const config::Config& config);
 /// Every registered profile, by name.
 std::vector<const Profile*> all();
-/// Comma-separated names, for messages.
-std::string names();
 
 /// Registers a profile at static initialisation: `const Registration reg{instance};` in the
-/// profile's own file.
+/// profile's own file. It joins the families the config loader knows (config::add_family).
 class Registration {
 public:
     explicit Registration(const Profile& profile);

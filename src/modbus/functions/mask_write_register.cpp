@@ -6,10 +6,9 @@
 namespace plcemu::modbus::functions {
 
 FunctionReply mask_write_register(const FunctionRequest& r, PduBuffer out) noexcept {
-    const Access a = r.pdu.size() != 7
-                         ? malformed({})
-                         : Access{Status::Ok, Table::HoldingRegisters, be16(r.pdu.data() + 1), 1,
-                                  true};
+    const Access a = r.pdu.size() != 7 ? malformed({})
+                                       : Access{Status::Ok, Table::HoldingRegisters,
+                                                be16(r.pdu.data() + 1), 1, true};
     Span w;
     if (auto refused = refusal(r, a, w)) return *refused;
     const std::uint16_t and_mask = be16(r.pdu.data() + 3);

@@ -16,7 +16,8 @@ FunctionReply read_write_registers(const FunctionRequest& req, PduBuffer out) no
     const Span ww = resolve_span(req.unit, Table::HoldingRegisters, waddr, wqty, true);
     const Span rw = resolve_span(req.unit, Table::HoldingRegisters, raddr, rqty, false);
     if (ww.status == Status::IllegalFunction) return FunctionReply::refuse(Status::IllegalFunction);
-    if (rqty < 1 || rqty > kMaxReadWriteRead || wqty < 1 || wqty > kMaxReadWriteWrite || bytes != wqty * 2u || n != 10 + bytes) {
+    if (rqty < 1 || rqty > kMaxReadWriteRead || wqty < 1 || wqty > kMaxReadWriteWrite ||
+        bytes != wqty * 2u || n != 10 + bytes) {
         return FunctionReply::refuse(Status::IllegalDataValue);
     }
     if (ww.status != Status::Ok) return FunctionReply::refuse(ww.status);

@@ -24,8 +24,8 @@ Access parse(const FunctionRequest& r, Table table, std::uint16_t max, BytesFor 
 }  // namespace
 
 FunctionReply write_multiple_coils(const FunctionRequest& r, PduBuffer out) noexcept {
-    const Access a = parse(r, Table::Coils, kMaxWriteBits,
-                           [](std::uint16_t q) { return (q + 7u) / 8u; });
+    const Access a =
+        parse(r, Table::Coils, kMaxWriteBits, [](std::uint16_t q) { return (q + 7u) / 8u; });
     Span w;
     if (auto refused = refusal(r, a, w)) return *refused;
     for (std::size_t i = 0; i < a.qty; ++i) w.set_bit(i, ((r.pdu[6 + i / 8] >> (i % 8)) & 1u) != 0);

@@ -3,7 +3,7 @@
 #include <array>
 #include <string>
 
-#include "plcemu/plant/thermal_plant.hpp"
+#include "plcemu/plant/plant.hpp"
 #include "plcemu/profiles/profile.hpp"
 
 namespace plcemu::profiles::vb {
