@@ -101,7 +101,6 @@ public:
             heap_.assign(image::Image::storage_size(plc_layout(*cfg_)), std::byte{0});
         }
         plc_ = std::make_unique<Plc>(cfg_, storage(), start);
-        plc_->engine().set_station_guard(&guard_);
         open_master(true);
         start_scanning(false);
 
@@ -208,7 +207,6 @@ public:
             return nullptr;
         }
         plc->plant().restore(plc_->plant().state());
-        plc->engine().set_station_guard(&guard_);
         std::unique_ptr<Plc> old = std::move(plc_);
         plc_ = std::move(plc);
         cfg_ = std::move(applied);
@@ -265,6 +263,8 @@ private:
                                          static_cast<std::uint8_t>(cfg_->simulator.unit));
         // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
         driver_->on_scan([this] { notify_.watchdog(Notifier::Clock::now()); });
+        // R4055: a station another unit on the PLC's listeners answers is refused.
+        driver_->on_station_request([this](std::uint8_t s) { return !guard_.taken(s); });
         if (now) driver_->start();
         if (steps > 0) driver_->step(steps);
     }
