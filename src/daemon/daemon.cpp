@@ -110,7 +110,6 @@ public:
             heap_.assign(image::Image::storage_size(plc_layout(*cfg_)), std::byte{0});
         }
         plc_ = std::make_unique<Plc>(cfg_, storage(), start);
-        plc_->engine().set_station_guard(&guard_);
         open_master(true);
         start_scanning(false);
 
@@ -217,7 +216,6 @@ public:
             return nullptr;
         }
         plc->plant().restore(plc_->plant().state());
-        plc->engine().set_station_guard(&guard_);
         std::unique_ptr<Plc> old = std::move(plc_);
         plc_ = std::move(plc);
         cfg_ = std::move(applied);
@@ -272,6 +270,8 @@ private:
             plc_->plant(), *driver_, cfg_->simulator.writable.value_or(!cfg_->modbus.read_only));
         // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
         driver_->on_scan([this] { notify_.watchdog(Notifier::Clock::now()); });
+        // R4055: a station another unit on the PLC's listeners answers is refused.
+        driver_->on_station_request([this](std::uint8_t s) { return !guard_.taken(s); });
         if (now) driver_->start();
         if (steps > 0) driver_->step(steps);
     }

@@ -12,10 +12,6 @@ namespace {
 
 // Longest stretch of back-to-back scans before the loop lets I/O in.
 constexpr auto kBudget = std::chrono::milliseconds(2);
-// Scans that may be queued at once (46 simulated hours at 10 ms).
-constexpr std::uint64_t kMaxPendingSteps = 16'777'215;
-// Further behind than this, the driver stops trying to catch up.
-constexpr auto kMaxBehind = std::chrono::seconds(1);
 
 }  // namespace
 
@@ -50,7 +46,7 @@ ScanDriver::ScanDriver(ScanTimer& timer,
       slot_(timer.add(*this)),
       rounds_(rounds),
       engine_(engine),
-      scale_(time_scale),
+      schedule_(engine.scan_period(), time_scale),
       prefix_(std::move(prefix)) {}
 
 // A reload swaps engines: the rounds must not scan a freed one.
@@ -61,8 +57,8 @@ ScanDriver::~ScanDriver() {
 
 void ScanDriver::start_at(Clock::time_point first) {
     running_ = true;
-    next_sim_ = engine_.scans() == 0 ? engine::Duration{0} : engine_.now() + engine_.scan_period();
-    rebase(first);
+    schedule_.start(
+        engine_.scans() == 0 ? engine::Duration{0} : engine_.now() + engine_.scan_period(), first);
     arm();
 }
 
@@ -71,53 +67,35 @@ void ScanDriver::stop() {
     timer_.cancel(slot_);
 }
 
-void ScanDriver::rebase(Clock::time_point real_now) {
-    base_real_ = real_now;
-    base_sim_ = next_sim_;
-}
-
-ScanDriver::Clock::time_point ScanDriver::deadline(engine::Duration sim) const {
-    const auto real = std::chrono::duration<double, std::nano>(
-        static_cast<double>((sim - base_sim_).count()) / scale_);
-    return base_real_ + std::chrono::duration_cast<Clock::duration>(real);
-}
-
 void ScanDriver::set_time_scale(double scale) noexcept {
-    rebase(Clock::now());
-    scale_ = scale;
-    if (running_ && !frozen_) arm();
+    schedule_.set_time_scale(scale, Clock::now());
+    arm();
 }
 
 void ScanDriver::set_frozen(bool frozen) noexcept {
-    if (frozen == frozen_) return;
-    frozen_ = frozen;
-    if (frozen_) {
+    if (!schedule_.set_frozen(frozen, Clock::now())) return;
+    if (frozen) {
         timer_.cancel(slot_);
     } else {
-        rebase(Clock::now());
-        if (running_) arm();
+        arm();
     }
 }
 
 void ScanDriver::step(std::uint64_t n) noexcept {
-    // A bound on what clients can queue: hours of simulated time, never an endless busy loop.
-    pending_steps_ = std::min(pending_steps_ + std::min(n, kMaxPendingSteps), kMaxPendingSteps);
-    if (pending_steps_ > 0) rounds_.add(*this);
+    schedule_.queue_steps(n);
+    if (schedule_.pending_steps() > 0) rounds_.add(*this);
 }
 
 void ScanDriver::cancel_steps() noexcept {
-    pending_steps_ = 0;
+    schedule_.cancel_steps();
     rounds_.remove(*this);
 }
 
 bool ScanDriver::step_once() noexcept {
-    if (pending_steps_ == 0) return false;
-    run_one(next_sim_);
-    next_sim_ += engine_.scan_period();
-    --pending_steps_;
-    // A running (not frozen) PLC goes on in real time from here, not catching up on the steps.
-    if (!frozen_) rebase(Clock::now());
-    return pending_steps_ > 0;
+    if (schedule_.pending_steps() == 0) return false;
+    run_one(schedule_.next_sim());
+    schedule_.stepped(Clock::now());
+    return schedule_.pending_steps() > 0;
 }
 
 void ScanDriver::run_one(engine::Duration sim) {
@@ -129,35 +107,38 @@ void ScanDriver::run_one(engine::Duration sim) {
         calendar_ = {tm.tm_sec,     tm.tm_min,         tm.tm_hour, tm.tm_mday,
                      tm.tm_mon + 1, tm.tm_year + 1900, tm.tm_wday};
     }
-    engine_.step(sim, calendar_);
+    // The station a master asked for is the daemon's to grant, after the scan and before any
+    // request is read: a read right after the scan sees the station in force.
+    if (const auto wanted = engine_.step(sim, calendar_)) {
+        if (!grant_ || grant_(*wanted)) engine_.set_station(*wanted);
+    }
     if (on_scan_) on_scan_();
 }
 
 void ScanDriver::arm() {
-    if (!running_ || frozen_) return;
-    timer_.schedule(slot_, deadline(next_sim_));
+    if (!running_ || schedule_.frozen()) return;
+    timer_.schedule(slot_, schedule_.deadline(schedule_.next_sim()));
 }
 
 void ScanDriver::due() {
-    if (running_ && !frozen_) tick();
+    if (running_ && !schedule_.frozen()) tick();
 }
 
 void ScanDriver::tick() {
     const auto start = Clock::now();
     auto now = start;
-    while (!frozen_ && deadline(next_sim_) <= now) {
-        const auto late = now - deadline(next_sim_);
-        lateness_.record(late);
-        run_one(next_sim_);
-        next_sim_ += engine_.scan_period();
+    for (auto d = schedule_.due(now); d.scans > 0; d = schedule_.due(now)) {
+        lateness_.record(now - d.next_deadline);
+        run_one(schedule_.next_sim());
+        schedule_.ran();
         now = Clock::now();
         if (now - start > kBudget) break;
     }
-    if (now - deadline(next_sim_) > kMaxBehind) {
-        spdlog::warn("{}scan: more than {} s behind real time at time scale {}; skipping ahead",
-                     prefix_, std::chrono::duration_cast<std::chrono::seconds>(kMaxBehind).count(),
-                     scale_);
-        rebase(now);
+    if (schedule_.skip_ahead(now)) {
+        spdlog::warn(
+            "{}scan: more than {} s behind real time at time scale {}; skipping ahead", prefix_,
+            std::chrono::duration_cast<std::chrono::seconds>(ScanSchedule::kMaxBehind).count(),
+            schedule_.time_scale());
     }
     arm();
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Drives the engine from real time: one scan per period at absolute deadlines, simulated time
-// running `time_scale` times faster than real time. The engine itself never reads a clock.
+// running `time_scale` times faster than real time. The engine itself never reads a clock; the
+// deadlines are a ScanSchedule's, the clock read and the scans run here.
 
 #include <asio.hpp>
 #include <array>
@@ -12,6 +13,7 @@
 
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/time_control.hpp"
+#include "scan_schedule.hpp"
 #include "scan_timer.hpp"
 #include "step_rounds.hpp"
 
@@ -60,22 +62,25 @@ public:
     /// Changes the time scale without a jump in simulated time.
     void set_time_scale(double scale) noexcept override;
     /// The time scale.
-    double time_scale() const noexcept override { return scale_; }
+    double time_scale() const noexcept override { return schedule_.time_scale(); }
     /// Freezes (no scans) or resumes.
     void set_frozen(bool frozen) noexcept override;
     /// True while frozen.
-    bool frozen() const noexcept override { return frozen_; }
+    bool frozen() const noexcept override { return schedule_.frozen(); }
     /// Queues `n` scans (meant for a frozen engine); they run in the step rounds, a slice at a
     /// time between other work on the loop, so long steps of many PLCs never starve the clients.
     void step(std::uint64_t n) noexcept override;
     /// Scans queued by step() and not yet run.
-    std::uint64_t pending_steps() const noexcept override { return pending_steps_; }
+    std::uint64_t pending_steps() const noexcept override { return schedule_.pending_steps(); }
     /// Drops the queued scans.
     void cancel_steps() noexcept override;
     /// Simulated time of the last scan.
     engine::Duration simulated_time() const noexcept override { return engine_.now(); }
     /// Called after every scan (e.g. the systemd watchdog).
     void on_scan(std::function<void()> f) { on_scan_ = std::move(f); }
+    /// Asked, after a scan in which a master asked for another station (R4055), whether the PLC
+    /// may have it: true grants it (engine::Engine::set_station). Unset, every request is granted.
+    void on_station_request(std::function<bool(std::uint8_t)> f) { grant_ = std::move(f); }
     /// Lateness figures.
     const LatenessStats& lateness() const { return lateness_; }
 
@@ -84,25 +89,19 @@ private:
     void due() override;
     void tick();
     bool step_once() noexcept override;
-    Clock::time_point deadline(engine::Duration sim) const;
     void run_one(engine::Duration sim);
-    void rebase(Clock::time_point real_now);
 
     ScanTimer& timer_;
     ScanTimer::Slot slot_;
     StepRounds& rounds_;
     engine::Engine& engine_;
-    std::uint64_t pending_steps_ = 0;
-    double scale_;
+    ScanSchedule schedule_;
     std::string prefix_;
-    bool frozen_ = false;
     bool running_ = false;
-    Clock::time_point base_real_{};
-    engine::Duration base_sim_{0};
-    engine::Duration next_sim_{0};
     engine::Calendar calendar_{};
     std::time_t calendar_second_ = -1;
     std::function<void()> on_scan_;
+    std::function<bool(std::uint8_t)> grant_;
     LatenessStats lateness_;
 };
 

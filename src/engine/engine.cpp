@@ -55,23 +55,29 @@ void Engine::power_up() {
 
 void Engine::reload() { specials_->reload(image_); }
 
-void Engine::step(Duration now, const Calendar& calendar) noexcept {
+std::optional<std::uint8_t> Engine::step(Duration now, const Calendar& calendar) noexcept {
     const Duration dt = started_ ? now - last_ : options_.scan_period;
-    ScanContext ctx{image_, now, dt, scans_, !started_, modules_, outbound_, stations_};
+    ScanContext ctx{image_, now, dt, scans_, !started_, modules_, outbound_};
     started_ = true;
     last_ = now;
     specials_->scan_start(ctx);
     for (auto& s : subsystems_) s->inputs(ctx);
     for (auto& i : program_) i->execute(ctx);
     for (auto it = subsystems_.rbegin(); it != subsystems_.rend(); ++it) (*it)->outputs(ctx);
-    specials_->scan_end(ctx, calendar, station_);
+    const auto wanted = specials_->scan_end(ctx, calendar, station_);
     ++scans_;
+    return wanted;
+}
+
+void Engine::set_station(std::uint8_t station) noexcept {
+    station_ = station;
+    specials_->station_changed(image_, station);
 }
 
 void Engine::run_scans(std::uint64_t n, const Calendar& calendar) noexcept {
     for (std::uint64_t i = 0; i < n; ++i) {
         const Duration next = scans_ == 0 && !started_ ? Duration{0} : last_ + options_.scan_period;
-        step(next, calendar);
+        if (const auto wanted = step(next, calendar)) set_station(*wanted);
     }
 }
 

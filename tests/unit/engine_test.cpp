@@ -313,38 +313,52 @@ TEST(Engine, R4055StationChangeVia55xx) {
     EXPECT_EQ(rig.engine->station(), 1);
 }
 
-// A station another unit answers on the PLC's listeners (another PLC's station, a simulator unit)
-// is refused: R4055 reads back the station in force (docs/configuration.md, "Sharing a
-// listener"). Every other change works as before.
-class TakenStations final : public StationGuard {
-public:
-    bool taken(std::uint8_t station) const noexcept override {
-        ++asked;
-        return station == 2 || station == 247;
-    }
-    mutable int asked = 0;
-};
-
-TEST(Engine, R4055RefusesAStationTakenOnTheListeners) {
+// A station a master asks for through R4055 is a request the scan reports, not a change it makes:
+// whoever knows the unit IDs on the PLC's listeners grants it after the scan, or not
+// (docs/configuration.md, "Sharing a listener"); until then R4055 shows the station in force.
+TEST(Engine, R4055IsARequestTheScanReportsAndSetStationGrants) {
     Rig rig(10, 1);
-    TakenStations guard;
-    rig.engine->set_station_guard(&guard);
-    for (std::uint16_t v : std::vector<std::uint16_t>{0x5502, 0x55F7}) {
+    rig.engine->run_scans(1);
+    rig.img.set_word(Area::R, 4055, 0x5505);
+    const auto wanted = rig.engine->step(rig.engine->now() + milliseconds(10), {});
+    ASSERT_TRUE(wanted.has_value());
+    EXPECT_EQ(*wanted, 5);
+    EXPECT_EQ(rig.engine->station(), 1);
+    EXPECT_EQ(rig.r(4055), 1);
+    // Refused (not granted): the next scan reports nothing new and the station stays.
+    EXPECT_FALSE(rig.engine->step(rig.engine->now() + milliseconds(10), {}).has_value());
+    EXPECT_EQ(rig.engine->station(), 1);
+    EXPECT_EQ(rig.r(4055), 1);
+
+    rig.img.set_word(Area::R, 4055, 0x5505);
+    EXPECT_EQ(rig.engine->step(rig.engine->now() + milliseconds(10), {}).value_or(0), 5);
+    rig.engine->set_station(5);
+    // Seen at once, before any further scan: a read right after the scan that asked.
+    EXPECT_EQ(rig.engine->station(), 5);
+    EXPECT_EQ(rig.r(4055), 5);
+    EXPECT_FALSE(rig.engine->step(rig.engine->now() + milliseconds(10), {}).has_value());
+    EXPECT_EQ(rig.r(4055), 5);
+    // Its own station again is no request; anything but 55xxh with 1-254 is none either.
+    for (std::uint16_t v : std::vector<std::uint16_t>{0x5505, 0x0007, 0x5500, 0x55FF, 0x5607}) {
         rig.img.set_word(Area::R, 4055, v);
-        rig.engine->run_scans(1);
-        EXPECT_EQ(rig.engine->station(), 1) << std::hex << v;
-        EXPECT_EQ(rig.r(4055), 1) << std::hex << v;
+        EXPECT_FALSE(rig.engine->step(rig.engine->now() + milliseconds(10), {}).has_value())
+            << std::hex << v;
+        EXPECT_EQ(rig.r(4055), 5) << std::hex << v;
     }
-    EXPECT_EQ(guard.asked, 2);
-    rig.img.set_word(Area::R, 4055, 0x5503);
-    rig.engine->run_scans(1);
-    EXPECT_EQ(rig.engine->station(), 3);
-    EXPECT_EQ(rig.r(4055), 3);
-    // Its own station again is no change, and nothing to ask about.
-    rig.img.set_word(Area::R, 4055, 0x5503);
-    rig.engine->run_scans(1);
-    EXPECT_EQ(rig.engine->station(), 3);
-    EXPECT_EQ(guard.asked, 3);
+}
+
+// A family without a station register (as the VB) reports no request, and a station granted
+// anyway changes no register.
+TEST(Engine, ScansWithoutSpecialsReportNoStationRequest) {
+    image::Image img{test::fbs_layout()};
+    Engine e(img, {}, {});
+    e.power_up();
+    img.set_word(Area::R, 4055, 0x5505);
+    EXPECT_FALSE(e.step(Duration{0}, {}).has_value());
+    EXPECT_EQ(e.station(), 1);
+    e.set_station(9);
+    EXPECT_EQ(e.station(), 9);
+    EXPECT_EQ(img.word(Area::R, 4055), 0x5505);  // no register of the family's: untouched
 }
 
 // docs/profile-fbs.md, Scan cycle and special registers: R4057 power-up counter (retentive): one

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -11,7 +12,6 @@
 #include "plcemu/engine/modules.hpp"
 #include "plcemu/engine/outbound.hpp"
 #include "plcemu/engine/specials.hpp"
-#include "plcemu/engine/station_guard.hpp"
 #include "plcemu/engine/tags.hpp"
 #include "plcemu/image/image.hpp"
 
@@ -40,7 +40,6 @@ struct ScanContext {
     bool first_scan;                   ///< true during the first scan after power-up
     ModuleBus* modules = nullptr;      ///< the special modules (null: the PLC has none)
     OutboundLink* outbound = nullptr;  ///< the Modbus master port (null: none attached)
-    const StationGuard* stations = nullptr;  ///< stations others hold (null: any is free)
 };
 
 /// One program instruction (one file per mnemonic in src/instructions).
@@ -98,9 +97,6 @@ public:
     /// The link master instructions send their requests through (owned elsewhere, e.g. by the
     /// daemon's event loop; null: none).
     void set_outbound(OutboundLink* link) noexcept { outbound_ = link; }
-    /// What says which stations a master may not give this PLC (owned elsewhere, e.g. by the
-    /// daemon, which knows the listeners; null: any).
-    void set_station_guard(const StationGuard* guard) noexcept { stations_ = guard; }
 
     /// Power-up: the family's special devices take their power-up values. Call once, after
     /// the image holds its retained values.
@@ -109,13 +105,20 @@ public:
     void reload();
 
     /// Runs one scan starting at simulated time `now` (monotonic, one period after the last).
-    void step(Duration now, const Calendar& calendar) noexcept;
+    /// Returns the station a master asked for during the scan through the family's station
+    /// register (R4055 on a FATEK), or nothing. The scan does not take it: whoever knows which
+    /// unit IDs are free (the daemon) decides after the scan, and grants it with set_station().
+    std::optional<std::uint8_t> step(Duration now, const Calendar& calendar) noexcept;
 
-    /// Runs `n` scans back to back at the scan period (tests, virtual time).
+    /// Runs `n` scans back to back at the scan period (tests, virtual time), granting every
+    /// station a master asks for: nothing else answers a unit ID there.
     void run_scans(std::uint64_t n, const Calendar& calendar = {}) noexcept;
 
     /// The station number, which a master may change through a special register.
     const std::uint8_t& station() const { return station_; }
+    /// Makes `station` the station in force, shown at once in the family's station register (a
+    /// read right after the scan that asked for it sees it).
+    void set_station(std::uint8_t station) noexcept;
     /// Scans completed.
     std::uint64_t scans() const { return scans_; }
     /// Simulated time of the last scan start.
@@ -141,7 +144,6 @@ private:
     std::vector<std::unique_ptr<Subsystem>> subsystems_;
     ModuleBus* modules_ = nullptr;
     OutboundLink* outbound_ = nullptr;
-    const StationGuard* stations_ = nullptr;
     std::uint8_t station_ = 1;
     std::uint64_t scans_ = 0;
     Duration last_{0};

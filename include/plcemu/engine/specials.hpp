@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 
 namespace plcemu::image {
 class Image;
@@ -27,11 +28,15 @@ public:
     virtual void reload(image::Image& /*image*/) noexcept {}
     /// At the start of each scan, before inputs and the program: clocks, first-scan pulse.
     virtual void scan_start(const ScanContext& ctx) noexcept = 0;
-    /// At the end of each scan: scan time, calendar, and the station a master may have changed
-    /// in a register (written back to `station`).
-    virtual void scan_end(const ScanContext& ctx,
-                          const Calendar& calendar,
-                          std::uint8_t& station) noexcept = 0;
+    /// At the end of each scan: scan time, calendar, and the station register showing
+    /// `station`, the one in force. Returns the station a master asked for in that register
+    /// during the scan when it differs from `station`, or nothing; the scan never grants it.
+    virtual std::optional<std::uint8_t> scan_end(const ScanContext& ctx,
+                                                 const Calendar& calendar,
+                                                 std::uint8_t station) noexcept = 0;
+    /// The engine's owner granted `station` (Engine::set_station): a family that keeps the
+    /// station in a register shows it there.
+    virtual void station_changed(image::Image& /*image*/, std::uint8_t /*station*/) noexcept {}
 };
 
 /// A clock relay: a square wave of the simulated clock, ON for the first half of each `period`.
@@ -74,9 +79,11 @@ class NoSpecials final : public Specials {
 public:
     void power_up(image::Image& /*image*/, std::uint8_t /*station*/) noexcept override {}
     void scan_start(const ScanContext& /*ctx*/) noexcept override {}
-    void scan_end(const ScanContext& /*ctx*/,
-                  const Calendar& /*calendar*/,
-                  std::uint8_t& /*station*/) noexcept override {}
+    std::optional<std::uint8_t> scan_end(const ScanContext& /*ctx*/,
+                                         const Calendar& /*calendar*/,
+                                         std::uint8_t /*station*/) noexcept override {
+        return std::nullopt;
+    }
 };
 
 }  // namespace plcemu::engine

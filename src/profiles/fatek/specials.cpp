@@ -43,19 +43,20 @@ public:
         img.set_bit(Area::M, sp::kRun, true);
     }
 
-    void scan_end(const engine::ScanContext& ctx,
-                  const engine::Calendar& c,
-                  std::uint8_t& station) noexcept override {
+    std::optional<std::uint8_t> scan_end(const engine::ScanContext& ctx,
+                                         const engine::Calendar& c,
+                                         std::uint8_t station) noexcept override {
         auto* r = ctx.image.words(Area::R);
         // R4055: a master sets the station by writing 55h in the high byte (FBs manual,
-        // R4055; docs/profile-fbs.md, "Modbus map"). A station another unit on the PLC's
-        // listeners answers is refused: the station stays (docs/configuration.md, "Sharing a
-        // listener").
+        // R4055; docs/profile-fbs.md, "Modbus map"). The request is reported, and the register
+        // shows the station in force until the daemon grants it (station_changed): a station
+        // another unit on the PLC's listeners answers is refused (docs/configuration.md,
+        // "Sharing a listener").
         const std::uint16_t st = r[sp::kStation];
         const auto wanted = static_cast<std::uint8_t>(st & 0xFF);
-        if ((st >> 8) == 0x55 && wanted >= 1 && wanted <= 254 && wanted != station &&
-            (ctx.stations == nullptr || !ctx.stations->taken(wanted))) {
-            station = wanted;
+        std::optional<std::uint8_t> request;
+        if ((st >> 8) == 0x55 && wanted >= 1 && wanted <= 254 && wanted != station) {
+            request = wanted;
         }
         r[sp::kStation] = station;
         r[sp::kCpuStatus] = 0;
@@ -69,6 +70,11 @@ public:
         r[sp::kScanTime] = scan_times_.current;
         r[sp::kScanTime + 1] = scan_times_.max;
         r[sp::kScanTime + 2] = scan_times_.min;
+        return request;
+    }
+
+    void station_changed(image::Image& image, std::uint8_t station) noexcept override {
+        image.words(Area::R)[sp::kStation] = station;
     }
 
 private:

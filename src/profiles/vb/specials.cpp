@@ -44,10 +44,10 @@ public:
         img.set_bit(Area::M, sp::kClock1min, engine::square_wave(ctx, minutes(1)));
     }
 
-    // The VB has no station register: `station` stays as configured.
-    void scan_end(const engine::ScanContext& ctx,
-                  const engine::Calendar& c,
-                  std::uint8_t& /*station*/) noexcept override {
+    // The VB has no station register: no master asks for another station.
+    std::optional<std::uint8_t> scan_end(const engine::ScanContext& ctx,
+                                         const engine::Calendar& c,
+                                         std::uint8_t /*station*/) noexcept override {
         auto* d = ctx.image.words(Area::D);
         engine::write_calendar(d + sp::kCalendar, c);
 
@@ -57,6 +57,7 @@ public:
         d[sp::kScanTime] = scan_times_.current;
         d[sp::kScanTime + 1] = scan_times_.min;
         d[sp::kScanTime + 2] = scan_times_.max;
+        return std::nullopt;
     }
 
 private:

@@ -1,0 +1,225 @@
+// The scan driver (docs/architecture.md, "Threads"): an engine scanned from real time on an Asio
+// loop, at the deadlines its ScanSchedule gives (scan_schedule_test.cpp holds the arithmetic),
+// frozen and stepped by the simulator unit, and the station a master asks for through R4055
+// granted after the scan, or refused (docs/configuration.md, "Sharing a listener"). The loop runs
+// for real, for tens of milliseconds: bounds are those a loaded machine cannot break (no scan
+// before its deadline; simulated time exactly one period per scan).
+
+#include "daemon/scan_driver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <asio.hpp>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "plcemu/engine/engine.hpp"
+#include "plcemu/image/image.hpp"
+#include "profiles/fbs/specials.hpp"
+#include "support/profiles.hpp"
+
+namespace plcemu::daemon {
+namespace {
+
+using namespace std::chrono_literals;
+using image::Area;
+using Clock = ScanDriver::Clock;
+
+// Records the simulated time of every scan.
+class Probe final : public engine::Instruction {
+public:
+    explicit Probe(std::vector<engine::Duration>& seen)
+        : seen_(seen) {}
+    void execute(engine::ScanContext& ctx) noexcept override { seen_.push_back(ctx.now); }
+    std::string_view mnemonic() const noexcept override { return "PROBE"; }
+
+private:
+    std::vector<engine::Duration>& seen_;
+};
+
+class ScanDriverTest : public ::testing::Test {
+protected:
+    ScanDriverTest() {
+        engine::Program p;
+        p.push_back(std::make_unique<Probe>(seen_));
+        engine::EngineOptions o;
+        o.scan_period = 10ms;
+        o.station = 1;
+        engine_ = std::make_unique<engine::Engine>(img_, o, std::move(p),
+                                                   profiles::fbs::make_specials(0x0118));
+        engine_->power_up();
+    }
+
+    std::unique_ptr<ScanDriver> driver(double scale = 1.0) {
+        auto d = std::make_unique<ScanDriver>(timer_, rounds_, *engine_, scale);
+        d->on_scan([this] { ++on_scan_calls_; });
+        return d;
+    }
+
+    // Runs the loop for `d` of real time, whatever it has to do.
+    void run(Clock::duration d) {
+        asio::steady_timer awake(io_, d);
+        awake.async_wait([](const asio::error_code&) {});
+        io_.restart();
+        io_.run_for(d + 5ms);
+    }
+
+    // Runs the loop until it has nothing left to do: the queued steps of a frozen driver.
+    void run_steps() {
+        io_.restart();
+        io_.run();
+    }
+
+    // Every scan one period after the one before: simulated time never jumped.
+    void expect_continuous(engine::Duration from) const {
+        for (std::size_t i = 0; i < seen_.size(); ++i) {
+            EXPECT_EQ(seen_[i], from + 10ms * i) << "scan " << i;
+        }
+    }
+
+    image::Image img_{test::fbs_layout()};
+    std::vector<engine::Duration> seen_;
+    std::unique_ptr<engine::Engine> engine_;
+    asio::io_context io_{1};
+    ScanTimer timer_{io_};
+    StepRounds rounds_{io_};
+    int on_scan_calls_ = 0;
+};
+
+TEST_F(ScanDriverTest, ScansAtTheirDeadlinesAndNoneEarly) {
+    auto d = driver();
+    const auto started = Clock::now();
+    d->start_at(started);
+    run(105ms);
+    const auto elapsed = Clock::now() - started;
+    const auto scans = static_cast<std::int64_t>(engine_->scans());
+    EXPECT_LE(scans, elapsed / 10ms + 1);  // a scan never runs before its deadline
+    EXPECT_GE(scans, 3);                   // and missed ones are caught up
+    expect_continuous(0ms);
+    EXPECT_EQ(d->simulated_time(), engine_->now());
+    EXPECT_EQ(d->lateness().scans, engine_->scans());
+    EXPECT_EQ(on_scan_calls_, scans);
+}
+
+TEST_F(ScanDriverTest, TimeScaleTwoRunsTwiceTheScansInTheSameRealTime) {
+    auto d = driver(2.0);
+    const auto started = Clock::now();
+    d->start_at(started);
+    run(100ms);
+    const auto elapsed = Clock::now() - started;
+    const auto scans = static_cast<std::int64_t>(engine_->scans());
+    EXPECT_LE(scans, elapsed / 5ms + 1);
+    EXPECT_GT(scans, elapsed / 10ms + 1);  // more than scale 1.0 could have run
+    expect_continuous(0ms);
+}
+
+TEST_F(ScanDriverTest, AChangeOfScaleWhileRunningKeepsSimulatedTimeContinuous) {
+    auto d = driver();
+    d->start();
+    run(30ms);
+    d->set_time_scale(4.0);
+    EXPECT_EQ(d->time_scale(), 4.0);
+    run(30ms);
+    d->set_time_scale(0.5);
+    run(30ms);
+    EXPECT_GE(engine_->scans(), 3u);
+    expect_continuous(0ms);
+}
+
+TEST_F(ScanDriverTest, FrozenItScansOnlyTheStepsAskedFor) {
+    auto d = driver();
+    d->set_frozen(true);
+    d->start();
+    run(40ms);
+    EXPECT_EQ(engine_->scans(), 0u);
+    d->step(5);
+    EXPECT_EQ(d->pending_steps(), 5u);
+    run_steps();
+    EXPECT_EQ(engine_->scans(), 5u);
+    EXPECT_EQ(d->pending_steps(), 0u);
+    EXPECT_EQ(engine_->now(), 40ms);
+    EXPECT_TRUE(d->frozen());
+
+    // Resumed, simulated time goes on from the last step.
+    d->set_frozen(false);
+    const auto resumed = Clock::now();
+    run(50ms);
+    const auto elapsed = Clock::now() - resumed;
+    const auto more = static_cast<std::int64_t>(engine_->scans()) - 5;
+    EXPECT_GE(more, 1);
+    EXPECT_LE(more, elapsed / 10ms + 1);
+    expect_continuous(0ms);
+}
+
+TEST_F(ScanDriverTest, CancelledStepsDoNotRun) {
+    auto d = driver();
+    d->set_frozen(true);
+    d->start();
+    d->step(100);
+    d->cancel_steps();
+    EXPECT_EQ(d->pending_steps(), 0u);
+    run(30ms);
+    EXPECT_EQ(engine_->scans(), 0u);
+}
+
+TEST_F(ScanDriverTest, StopEndsTheScans) {
+    auto d = driver();
+    d->start();
+    run(30ms);
+    d->stop();
+    const auto scans = engine_->scans();
+    EXPECT_GE(scans, 1u);
+    run(40ms);
+    EXPECT_EQ(engine_->scans(), scans);
+}
+
+// R4055 = 5505h: the scan reports the request; the driver asks whether station 5 is free and
+// grants it after the scan, so R4055 shows 5 before any request is read.
+TEST_F(ScanDriverTest, AStationRequestIsGrantedOrRefusedAfterTheScan) {
+    auto d = driver();
+    std::vector<int> asked;
+    bool free = false;
+    d->on_station_request([&](std::uint8_t s) {
+        asked.push_back(s);
+        return free;
+    });
+    d->set_frozen(true);
+    d->start();
+
+    img_.set_word(Area::R, 4055, 0x5505);
+    d->step(1);
+    run_steps();
+    EXPECT_EQ(asked, std::vector<int>{5});
+    EXPECT_EQ(engine_->station(), 1);
+    EXPECT_EQ(img_.word(Area::R, 4055), 1);
+
+    free = true;
+    img_.set_word(Area::R, 4055, 0x5505);
+    d->step(1);
+    run_steps();
+    EXPECT_EQ(asked, (std::vector<int>{5, 5}));
+    EXPECT_EQ(engine_->station(), 5);
+    EXPECT_EQ(img_.word(Area::R, 4055), 5);
+
+    // No request, no question.
+    d->step(3);
+    run_steps();
+    EXPECT_EQ(asked.size(), 2u);
+    EXPECT_EQ(engine_->station(), 5);
+}
+
+TEST_F(ScanDriverTest, WithoutACheckEveryStationRequestIsGranted) {
+    auto d = driver();
+    d->set_frozen(true);
+    d->start();
+    img_.set_word(Area::R, 4055, 0x5507);
+    d->step(1);
+    run_steps();
+    EXPECT_EQ(engine_->station(), 7);
+    EXPECT_EQ(img_.word(Area::R, 4055), 7);
+}
+
+}  // namespace
+}  // namespace plcemu::daemon
