@@ -3,7 +3,7 @@
 # "Dependencies"). A module is a folder src/<module>/ with its public headers in
 # include/plcemu/<module>/; the graph is read off every `#include "..."` (and `<...>`) line of
 # their files, resolved as the compiler does: beside the including file, then include/, then
-# src/ (so "plcemu/config/config.hpp", "modbus/tcp_server.hpp" and "operands.hpp" all count; an
+# src/ (so "plcemu/config/config.hpp", "modbus/mbap.hpp" and "operands.hpp" all count; an
 # include found in none of them, such as the generated version.hpp or a library's, is not a
 # module's). Fails (exit 1), naming the files and lines, on
 #   - an include cycle between modules;

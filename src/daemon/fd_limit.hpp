@@ -1,6 +1,6 @@
 #pragma once
 // The descriptor limit against modbus.tcp.max_clients: every client costs one descriptor, and
-// running out makes accept() fail (the listener then backs off, see tcp_server.cpp).
+// running out makes accept() fail (the listener then backs off, see src/listener/tcp_listener.cpp).
 
 namespace plcemu::daemon {
 
