@@ -21,13 +21,13 @@ MbapFrame next_mbap_frame(std::span<const std::uint8_t> buffered) noexcept {
     return f;
 }
 
-std::size_t write_mbap(std::uint16_t transaction,
+std::size_t frame_mbap(std::uint16_t transaction,
                        std::uint8_t unit,
-                       std::span<const std::uint8_t> pdu,
+                       std::size_t pdu_size,
                        std::span<std::uint8_t> out) noexcept {
-    const std::size_t n = kMbapPrefix + 1 + pdu.size();
-    if (pdu.empty() || n > out.size() || n > kMaxTcpAdu) return 0;
-    const auto length = static_cast<std::uint16_t>(pdu.size() + 1);
+    const std::size_t n = kMbapPrefix + 1 + pdu_size;
+    if (pdu_size == 0 || n > out.size() || n > kMaxTcpAdu) return 0;
+    const auto length = static_cast<std::uint16_t>(pdu_size + 1);
     out[0] = static_cast<std::uint8_t>(transaction >> 8);
     out[1] = static_cast<std::uint8_t>(transaction & 0xFF);
     out[2] = 0;
@@ -35,8 +35,17 @@ std::size_t write_mbap(std::uint16_t transaction,
     out[4] = static_cast<std::uint8_t>(length >> 8);
     out[5] = static_cast<std::uint8_t>(length & 0xFF);
     out[kMbapPrefix] = unit;
-    std::copy(pdu.begin(), pdu.end(), out.begin() + kMbapPrefix + 1);
     return n;
+}
+
+std::size_t write_mbap(std::uint16_t transaction,
+                       std::uint8_t unit,
+                       std::span<const std::uint8_t> pdu,
+                       std::span<std::uint8_t> out) noexcept {
+    const std::size_t n = kMbapPrefix + 1 + pdu.size();
+    if (pdu.empty() || n > out.size() || n > kMaxTcpAdu) return 0;
+    std::copy(pdu.begin(), pdu.end(), mbap_pdu_room(out).begin());
+    return frame_mbap(transaction, unit, pdu.size(), out);
 }
 
 }  // namespace plcemu::modbus

@@ -46,6 +46,19 @@ inline std::span<const std::uint8_t> mbap_pdu(std::span<const std::uint8_t> fram
     return frame.subspan(kMbapPrefix + 1);
 }
 
+/// Where a frame's PDU goes in `out`, so that it can be written in place and framed by
+/// frame_mbap().
+inline std::span<std::uint8_t> mbap_pdu_room(std::span<std::uint8_t> out) noexcept {
+    return out.subspan(kMbapPrefix + 1);
+}
+
+/// Frames the `pdu_size` bytes of PDU already at mbap_pdu_room(out): writes the header before
+/// them. Returns the frame's size; 0 when the PDU is empty or the frame would not fit.
+std::size_t frame_mbap(std::uint16_t transaction,
+                       std::uint8_t unit,
+                       std::size_t pdu_size,
+                       std::span<std::uint8_t> out) noexcept;
+
 /// Writes a frame into `out`: transaction identifier, protocol identifier 0, the length, the
 /// unit ID and `pdu`. Returns its size; 0 when `pdu` is empty or the frame would not fit.
 std::size_t write_mbap(std::uint16_t transaction,

@@ -20,6 +20,18 @@ inline std::span<const std::uint8_t> rtu_pdu(std::span<const std::uint8_t> frame
     return frame.subspan(1, frame.size() - 3);
 }
 
+/// Where a frame's PDU goes in `out`, so that it can be written in place and framed by
+/// frame_rtu().
+inline std::span<std::uint8_t> rtu_pdu_room(std::span<std::uint8_t> out) noexcept {
+    return out.subspan(1);
+}
+
+/// Frames the `pdu_size` bytes of PDU already at rtu_pdu_room(out): the address before them,
+/// the CRC after. Returns the frame's size; 0 when the PDU is empty or the frame would not fit.
+std::size_t frame_rtu(std::uint8_t address,
+                      std::size_t pdu_size,
+                      std::span<std::uint8_t> out) noexcept;
+
 /// Writes the frame for `address` into `out`: the address, `pdu` and the CRC, low byte first.
 /// Returns its size; 0 when `pdu` is empty or the frame would not fit.
 std::size_t write_rtu(std::uint8_t address,

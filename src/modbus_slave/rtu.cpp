@@ -58,12 +58,12 @@ std::span<const std::uint8_t> ModbusRtu::serve(const modbus::RtuFrame& f) noexce
                       verdict_name(f.verdict));
         return {};
     }
-    std::array<std::uint8_t, modbus::kMaxPdu> pdu{};
+    // The handler writes the reply PDU where the frame holds it: no copy, nothing cleared first.
+    const modbus::PduBuffer pdu(modbus::rtu_pdu_room(reply_).data(), modbus::kMaxPdu);
     const std::size_t n =
         route(units_, Addressing::Rtu, modbus::rtu_address(f.bytes), modbus::rtu_pdu(f.bytes), pdu);
     if (n == 0) return {};
-    return {reply_.data(),
-            modbus::write_rtu(modbus::rtu_address(f.bytes), {pdu.data(), n}, reply_)};
+    return {reply_.data(), modbus::frame_rtu(modbus::rtu_address(f.bytes), n, reply_)};
 }
 
 std::string ModbusRtu::summary() const {

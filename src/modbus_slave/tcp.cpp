@@ -1,7 +1,5 @@
 #include "tcp.hpp"
 
-#include <array>
-
 #include "modbus/mbap.hpp"
 #include "route.hpp"
 
@@ -32,13 +30,13 @@ std::size_t ModbusTcp::answer(std::span<const std::uint8_t> frame,
                               std::span<std::uint8_t> out) noexcept {
     // split() vouched for the header (a length of 2 or more: a function code is there); a frame
     // from elsewhere is checked.
-    if (frame.size() < modbus::kMbapPrefix + 2) return 0;
-    std::array<std::uint8_t, modbus::kMaxPdu> pdu{};
+    if (frame.size() < modbus::kMbapPrefix + 2 || out.size() < modbus::kMaxTcpAdu) return 0;
+    // The handler writes the reply PDU where the frame holds it: no copy, nothing cleared first.
+    const modbus::PduBuffer pdu(modbus::mbap_pdu_room(out).data(), modbus::kMaxPdu);
     const std::size_t n =
         route(units_, Addressing::Tcp, modbus::mbap_unit(frame), modbus::mbap_pdu(frame), pdu);
     if (n == 0) return 0;
-    return modbus::write_mbap(modbus::mbap_transaction(frame), modbus::mbap_unit(frame),
-                              {pdu.data(), n}, out);
+    return modbus::frame_mbap(modbus::mbap_transaction(frame), modbus::mbap_unit(frame), n, out);
 }
 
 std::unique_ptr<listener::StreamProtocol> make_tcp(listener::ProtocolSetup setup) {
