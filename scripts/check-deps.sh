@@ -28,7 +28,7 @@ modbus:       image
 config:       image
 profiles:     config instructions plant modbus engine image
 simulator:    profiles modbus plant engine image
-listener:     modbus image
+listener:     modbus engine image
 modbus_slave: listener modbus image
 daemon:       modbus_slave listener simulator profiles config modbus instructions plant engine image
 '

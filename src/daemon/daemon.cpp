@@ -84,7 +84,9 @@ public:
                 &plc_->dispatcher(),
                 &plc_->unit(),
                 static_cast<std::uint8_t>(cfg_->simulator.unit),
-                cfg_->simulator.unit != 0 ? sim_.get() : nullptr};
+                cfg_->simulator.unit != 0 ? sim_.get() : nullptr,
+                &plc_->engine(),
+                &plc_->unit().protected_ranges()};
     }
 
     // Opens the state file, builds the Plc and its master port and starts scanning; throws when

@@ -41,6 +41,7 @@ Engine::Engine(image::Image& image,
       options_(options),
       program_(std::move(program)),
       specials_(specials ? std::move(specials) : std::make_unique<NoSpecials>()),
+      holds_(image.layout()),
       station_(options.station) {}
 
 void Engine::add_subsystem(std::unique_ptr<Subsystem> s) { subsystems_.push_back(std::move(s)); }
@@ -57,16 +58,48 @@ void Engine::reload() { specials_->reload(image_); }
 
 std::optional<std::uint8_t> Engine::step(Duration now, const Calendar& calendar) noexcept {
     const Duration dt = started_ ? now - last_ : options_.scan_period;
-    ScanContext ctx{image_, now, dt, scans_, !started_, modules_, outbound_};
+    ScanContext ctx{image_,   now,       dt,      scans_, !started_ || first_after_run_,
+                    modules_, outbound_, running_};
     started_ = true;
+    first_after_run_ = false;
     last_ = now;
+    // Disabled discretes keep what a master last wrote: taken before the scan, put back after
+    // the I/O refresh and after the program.
+    const bool holding = !holds_.empty();
+    if (holding) holds_.take(image_);
     specials_->scan_start(ctx);
     for (auto& s : subsystems_) s->inputs(ctx);
-    for (auto& i : program_) i->execute(ctx);
+    if (holding) holds_.put(image_);
+    if (running_) {
+        for (auto& i : program_) i->execute(ctx);
+    } else {
+        outputs_off();
+    }
+    if (holding) holds_.put(image_);
     for (auto it = subsystems_.rbegin(); it != subsystems_.rend(); ++it) (*it)->outputs(ctx);
     const auto wanted = specials_->scan_end(ctx, calendar, station_);
     ++scans_;
     return wanted;
+}
+
+void Engine::outputs_off() noexcept {
+    const std::uint32_t n = image_.layout().size_of(image::Area::Y);
+    std::uint8_t* y = image_.bits(image::Area::Y);
+    std::fill(y, y + n, std::uint8_t{0});
+    if (!holds_.empty()) holds_.put(image_);
+}
+
+void Engine::set_running(bool run) noexcept {
+    if (run == running_) return;
+    running_ = run;
+    if (run) {
+        specials_->reload(image_);
+        first_after_run_ = true;
+    } else {
+        if (!holds_.empty()) holds_.take(image_);
+        outputs_off();
+    }
+    specials_->run_changed(image_, run);
 }
 
 void Engine::set_station(std::uint8_t station) noexcept {

@@ -147,6 +147,107 @@ TEST(Engine, M1926RunIsOn) {
     EXPECT_TRUE(rig.m(1926));
 }
 
+// A program that drives Y0 and M5 ON every scan, and copies X0 to M6.
+class Driver final : public Instruction {
+public:
+    void execute(ScanContext& ctx) noexcept override {
+        ctx.image.set_bit(Area::Y, 0, true);
+        ctx.image.set_bit(Area::M, 5, true);
+        ctx.image.set_bit(Area::M, 6, ctx.image.bit(Area::X, 0));
+        ++runs;
+    }
+    std::string_view mnemonic() const noexcept override { return "DRIVE"; }
+    int runs = 0;
+};
+
+// An I/O refresh that drives X0 ON every scan.
+class InputsOn final : public Subsystem {
+public:
+    void inputs(ScanContext& ctx) noexcept override { ctx.image.set_bit(Area::X, 0, true); }
+};
+
+struct DriverRig {
+    DriverRig() {
+        Program p;
+        auto d = std::make_unique<Driver>();
+        driver = d.get();
+        p.push_back(std::move(d));
+        engine = std::make_unique<Engine>(img, EngineOptions{}, std::move(p),
+                                          profiles::fbs::make_specials(0x0118));
+        engine->add_subsystem(std::make_unique<InputsOn>());
+        engine->power_up();
+    }
+    image::Image img{test::fbs_layout()};
+    Driver* driver = nullptr;
+    std::unique_ptr<Engine> engine;
+};
+
+// docs/profile-fbs.md, "FATEK protocol" (command 41): STOP runs no instruction, turns the
+// outputs off at once and keeps them off, shows M1926 OFF; RUN resumes with a first scan (M1924).
+TEST(Engine, StopRunsNoInstructionAndHoldsOutputsOff) {
+    DriverRig rig;
+    rig.engine->run_scans(2);
+    ASSERT_TRUE(rig.img.bit(Area::Y, 0));
+    ASSERT_EQ(rig.driver->runs, 2);
+    rig.engine->set_running(false);
+    EXPECT_FALSE(rig.engine->running());
+    EXPECT_FALSE(rig.img.bit(Area::Y, 0));     // off at once, before the next scan
+    EXPECT_FALSE(rig.img.bit(Area::M, 1926));  // RUN relay shows STOP at once
+    rig.img.set_bit(Area::Y, 3, true);         // a master's write in STOP
+    rig.engine->run_scans(3);
+    EXPECT_EQ(rig.driver->runs, 2);
+    EXPECT_FALSE(rig.img.bit(Area::Y, 3));
+    EXPECT_FALSE(rig.img.bit(Area::M, 1926));
+    EXPECT_TRUE(rig.img.bit(Area::M, 5));  // internal relays keep their values
+    EXPECT_TRUE(rig.img.bit(Area::X, 0));  // inputs are still refreshed
+    rig.engine->run_scans(1);
+    EXPECT_FALSE(rig.img.bit(Area::M, 1924));
+    rig.engine->set_running(true);
+    rig.engine->run_scans(1);
+    EXPECT_EQ(rig.driver->runs, 3);
+    EXPECT_TRUE(rig.img.bit(Area::Y, 0));
+    EXPECT_TRUE(rig.img.bit(Area::M, 1926));
+    EXPECT_TRUE(rig.img.bit(Area::M, 1924));  // STOP→RUN: a first scan
+    rig.engine->run_scans(1);
+    EXPECT_FALSE(rig.img.bit(Area::M, 1924));
+}
+
+// docs/profile-fbs.md, "FATEK protocol" (command 42): a disabled discrete keeps what a master
+// wrote: the I/O refresh cannot change a disabled input, the program cannot change a disabled
+// output or relay, and the program reads the input as the master left it.
+TEST(Engine, DisabledDiscretesKeepWhatAMasterWrote) {
+    DriverRig rig;
+    Holds& h = rig.engine->holds();
+    EXPECT_TRUE(h.set(Area::X, 0, true));
+    EXPECT_TRUE(h.set(Area::Y, 0, true));
+    EXPECT_TRUE(h.set(Area::M, 5, true));
+    EXPECT_FALSE(h.set(Area::X, 100000, true));  // no such discrete
+    EXPECT_TRUE(h.held(Area::Y, 0));
+    EXPECT_FALSE(h.held(Area::Y, 1));
+    rig.engine->run_scans(3);
+    EXPECT_FALSE(rig.img.bit(Area::X, 0));
+    EXPECT_FALSE(rig.img.bit(Area::Y, 0));
+    EXPECT_FALSE(rig.img.bit(Area::M, 5));
+    EXPECT_FALSE(rig.img.bit(Area::M, 6));  // the program saw X0 OFF
+    rig.img.set_bit(Area::Y, 0, true);      // the master sets it: kept
+    rig.engine->run_scans(2);
+    EXPECT_TRUE(rig.img.bit(Area::Y, 0));
+    // Kept across STOP too: a disabled output stays as the master left it.
+    rig.engine->set_running(false);
+    rig.engine->run_scans(1);
+    EXPECT_TRUE(rig.img.bit(Area::Y, 0));
+    rig.engine->set_running(true);
+    // Enabled again: the next scan drives them as the program and the inputs say.
+    h.set(Area::X, 0, false);
+    h.set(Area::M, 5, false);
+    EXPECT_TRUE(h.set(Area::Y, 0, false));
+    EXPECT_TRUE(h.empty());
+    rig.engine->run_scans(1);
+    EXPECT_TRUE(rig.img.bit(Area::X, 0));
+    EXPECT_TRUE(rig.img.bit(Area::M, 5));
+    EXPECT_TRUE(rig.img.bit(Area::M, 6));
+}
+
 // Samples an M relay after each of `n` scans.
 std::vector<bool> sample(Rig& rig, std::uint32_t relay, int n) {
     std::vector<bool> v;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "plcemu/engine/declarations.hpp"
+#include "plcemu/engine/holds.hpp"
 #include "plcemu/engine/modules.hpp"
 #include "plcemu/engine/outbound.hpp"
 #include "plcemu/engine/specials.hpp"
@@ -40,6 +41,7 @@ struct ScanContext {
     bool first_scan;                   ///< true during the first scan after power-up
     ModuleBus* modules = nullptr;      ///< the special modules (null: the PLC has none)
     OutboundLink* outbound = nullptr;  ///< the Modbus master port (null: none attached)
+    bool running = true;               ///< RUN (true) or STOP: the program runs only in RUN
 };
 
 /// One program instruction (one file per mnemonic in src/instructions).
@@ -114,6 +116,17 @@ public:
     /// station a master asks for: nothing else answers a unit ID there.
     void run_scans(std::uint64_t n, const Calendar& calendar = {}) noexcept;
 
+    /// RUN (true) or STOP. In STOP a scan still refreshes inputs, runs the plant and keeps the
+    /// special devices, but runs no instruction and holds the discrete outputs (Y) off.
+    bool running() const noexcept { return running_; }
+    /// Enters RUN or STOP (a master's RUN/STOP command). STOP turns the outputs off at once;
+    /// RUN is the family's STOP→RUN, as a reload is, and its first scan is a first scan.
+    void set_running(bool run) noexcept;
+    /// The discretes a master disabled.
+    Holds& holds() noexcept { return holds_; }
+    /// The same, read-only.
+    const Holds& holds() const noexcept { return holds_; }
+
     /// The station number, which a master may change through a special register.
     const std::uint8_t& station() const { return station_; }
     /// Makes `station` the station in force, shown at once in the family's station register (a
@@ -137,6 +150,8 @@ public:
     const Program& program() const { return program_; }
 
 private:
+    void outputs_off() noexcept;
+
     image::Image& image_;
     EngineOptions options_;
     Program program_;
@@ -144,7 +159,10 @@ private:
     std::vector<std::unique_ptr<Subsystem>> subsystems_;
     ModuleBus* modules_ = nullptr;
     OutboundLink* outbound_ = nullptr;
+    Holds holds_;
     std::uint8_t station_ = 1;
+    bool running_ = true;
+    bool first_after_run_ = false;
     std::uint64_t scans_ = 0;
     Duration last_{0};
     bool started_ = false;

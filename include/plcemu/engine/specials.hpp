@@ -37,6 +37,9 @@ public:
     /// The engine's owner granted `station` (Engine::set_station): a family that keeps the
     /// station in a register shows it there.
     virtual void station_changed(image::Image& /*image*/, std::uint8_t /*station*/) noexcept {}
+    /// The PLC entered RUN (true) or STOP: a family shows it in its status devices at once (the
+    /// scan keeps them so through ScanContext::running).
+    virtual void run_changed(image::Image& /*image*/, bool /*running*/) noexcept {}
 };
 
 /// A clock relay: a square wave of the simulated clock, ON for the first half of each `period`.

@@ -82,6 +82,7 @@ struct ProtocolSetup {
     std::vector<Seat> seats;                         ///< the PLCs, in `plcs:` order
     UnknownUnit unknown_unit = UnknownUnit::Refuse;  ///< for IDs none of them has
     LineSettings line;                               ///< serial lines only
+    bool read_only = false;  ///< the listener's `read_only`: nothing may be changed through it
 };
 
 /// One protocol a listener may name (its config section says which).
@@ -89,6 +90,9 @@ struct ProtocolKind {
     std::string_view name;  ///< "modbus-tcp", as logs and docs name it
     /// Makes it for a TCP listener; null for a protocol that is not carried on streams.
     std::unique_ptr<StreamProtocol> (*stream)(ProtocolSetup setup) = nullptr;
+    /// Makes it for a UDP listener, which hands answer() one datagram at a time as a whole
+    /// frame (split() is not asked); null for a protocol that is not carried on datagrams.
+    std::unique_ptr<StreamProtocol> (*datagram)(ProtocolSetup setup) = nullptr;
     /// Makes it for a serial line; null for a protocol that is not carried on serial lines.
     std::unique_ptr<SerialProtocol> (*serial)(ProtocolSetup setup) = nullptr;
 };

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "plcemu/engine/engine.hpp"
+#include "plcemu/image/area.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 #include "plcemu/modbus/unit.hpp"
 
@@ -20,6 +22,12 @@ struct Seat {
     modbus::Unit* unit = nullptr;              ///< the PLC's map over its image, access checks
     std::uint8_t simulator_unit = 0;           ///< the simulator-control unit's ID, 0: none
     modbus::Unit* simulator = nullptr;         ///< the simulator-control unit
+    /// The PLC's scan: its image, RUN/STOP and disabled discretes (protocols other than
+    /// Modbus reach the devices through it).
+    engine::Engine* engine = nullptr;
+    /// Devices no master may write whatever the protocol: the profile's read-only devices,
+    /// program data and the config's `write_protect`.
+    const std::vector<image::Range>* protected_ranges = nullptr;
 };
 
 /// What a listener does with a unit ID no PLC on it has: answer it with the protocol's refusal

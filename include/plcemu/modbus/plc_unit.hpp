@@ -29,6 +29,8 @@ public:
 
     /// Replaces the write policy (config reload).
     void set_policy(WritePolicy policy);
+    /// The device ranges writes may not touch: the map's read-only items and the policy's.
+    const std::vector<image::Range>& protected_ranges() const { return protected_; }
 
 private:
     image::Image& image_;

@@ -31,6 +31,10 @@ public:
         scan_times_.reset();
     }
 
+    void run_changed(image::Image& image, bool running) noexcept override {
+        image.set_bit(Area::M, sp::kRun, running);
+    }
+
     void scan_start(const engine::ScanContext& ctx) noexcept override {
         using std::chrono::milliseconds;
         using std::chrono::seconds;
@@ -40,7 +44,7 @@ public:
         img.set_bit(Area::M, sp::kClock1s, engine::square_wave(ctx, seconds(1)));
         img.set_bit(Area::M, sp::kClock60s, engine::square_wave(ctx, seconds(60)));
         img.set_bit(Area::M, sp::kFirstScan, ctx.first_scan);
-        img.set_bit(Area::M, sp::kRun, true);
+        img.set_bit(Area::M, sp::kRun, ctx.running);
     }
 
     std::optional<std::uint8_t> scan_end(const engine::ScanContext& ctx,

@@ -29,12 +29,16 @@ public:
         image.set_word(Area::D, sp::kErrorEntry, 0);
     }
 
+    void run_changed(image::Image& image, bool running) noexcept override {
+        image.set_bit(Area::M, sp::kRun, running);
+    }
+
     void scan_start(const engine::ScanContext& ctx) noexcept override {
         using std::chrono::milliseconds;
         using std::chrono::minutes;
         using std::chrono::seconds;
         image::Image& img = ctx.image;
-        img.set_bit(Area::M, sp::kRun, true);
+        img.set_bit(Area::M, sp::kRun, ctx.running);
         img.set_bit(Area::M, sp::kAlwaysOff, false);
         img.set_bit(Area::M, sp::kFirstScan, ctx.first_scan);
         img.set_bit(Area::M, sp::kAfterFirst, !ctx.first_scan);

@@ -1,0 +1,46 @@
+#pragma once
+// Discretes a master has disabled (FATEK command 42, "disable"; docs/profile-fbs.md, "FATEK
+// protocol"): neither the I/O refresh nor the program changes them any more, only a master does.
+// The flags are volatile: a restart of the emulator clears them; RUN/STOP keeps them.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "plcemu/image/image.hpp"
+
+namespace plcemu::engine {
+
+/// The disabled discretes of one PLC.
+class Holds {
+public:
+    /// Flags for every discrete of `layout`'s bit areas, all enabled.
+    explicit Holds(const image::Layout& layout);
+
+    /// Disables (true) or enables (false) discrete `index` of bit area `area`; false when the
+    /// discrete does not exist.
+    bool set(image::Area area, std::uint32_t index, bool held) noexcept;
+    /// True when the discrete is disabled (false for one that does not exist).
+    bool held(image::Area area, std::uint32_t index) const noexcept;
+    /// True when no discrete is disabled.
+    bool empty() const noexcept { return count_ == 0; }
+    /// Enables every discrete.
+    void clear() noexcept;
+
+    /// Takes the values the disabled discretes have now (a scan's start: what a master left).
+    void take(const image::Image& image) noexcept;
+    /// Puts the values taken back (after the I/O refresh and after the program).
+    void put(image::Image& image) const noexcept;
+
+private:
+    struct Bit {
+        image::Area area;
+        std::uint32_t index;
+        std::uint8_t value;
+    };
+    std::array<std::vector<std::uint8_t>, image::kAreaCount> flags_;
+    std::vector<Bit> bits_;  // the disabled ones, with their values at the last take()
+    std::uint32_t count_ = 0;
+};
+
+}  // namespace plcemu::engine
