@@ -343,5 +343,17 @@ TEST(FatekRegisters, ConsecutiveItemsOfEveryForm) {
     EXPECT_EQ(rig.send(frame("4601R05000")), reply("4600000"));
 }
 
+// docs/profile-fb.md, "FATEK protocol": the FB answers as the FBs over its own areas.
+TEST(FatekFb, NamesAndStatusFollowTheFbLayout) {
+    FatekRig rig("profile: fb\n");
+    rig.plc.image().set_word(Area::D, 3071, 0x0102);
+    EXPECT_EQ(rig.send(frame("4601D03071")), reply("4600102"));
+    EXPECT_EQ(rig.send(frame("4601D03072")), reply("46A"));
+    EXPECT_EQ(rig.send(frame("4601R04200")), reply("46A"));
+    // 53: D registers 0C00h (3072), the rest as on the FBs.
+    EXPECT_EQ(rig.send(frame("53")),
+              reply("530010102408000010001000040004007D203E800001F880C0001000100"));
+}
+
 }  // namespace
 }  // namespace plcemu::fatek
