@@ -2,6 +2,7 @@
 // The hexadecimal and decimal fields of FATEK frames (docs/profile-fbs.md, "FATEK protocol"):
 // numbers are upper-case hex of a fixed width in replies; requests may use either case.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -38,12 +39,30 @@ constexpr std::optional<std::uint32_t> parse_decimal(std::span<const std::uint8_
     return v;
 }
 
-/// Writes `v` as `digits` upper-case hex digits at `out`; returns the end.
+namespace detail {
+
+// Two upper-case hex digits per byte value: a reply of 64 registers writes 128 pairs.
+struct HexPairs {
+    std::array<std::array<std::uint8_t, 2>, 256> pair{};
+    constexpr HexPairs() {
+        constexpr char kDigits[] = "0123456789ABCDEF";
+        for (std::size_t b = 0; b < 256; ++b) {
+            pair[b] = {static_cast<std::uint8_t>(kDigits[b >> 4]),
+                       static_cast<std::uint8_t>(kDigits[b & 0xF])};
+        }
+    }
+};
+inline constexpr HexPairs kHexPairs{};
+
+}  // namespace detail
+
+/// Writes `v` as `digits` (2, 4, 6 or 8) upper-case hex digits at `out`; returns the end.
 inline std::uint8_t* put_hex(std::uint8_t* out, std::uint32_t v, int digits) noexcept {
-    constexpr char kDigits[] = "0123456789ABCDEF";
-    for (int i = digits - 1; i >= 0; --i) {
-        out[i] = static_cast<std::uint8_t>(kDigits[v & 0xF]);
-        v >>= 4;
+    for (int i = digits - 2; i >= 0; i -= 2) {
+        const auto& p = detail::kHexPairs.pair[v & 0xFF];
+        out[i] = p[0];
+        out[i + 1] = p[1];
+        v >>= 8;
     }
     return out + digits;
 }

@@ -1,5 +1,6 @@
 #include "names.hpp"
 
+#include <algorithm>
 #include <array>
 #include <string_view>
 
@@ -18,23 +19,24 @@ struct Prefix {
     std::uint8_t digits;
 };
 
-// Every prefix of the protocol; the area is where the number counts (RC: counters, whose
-// 16-bit values are one word each and the 32-bit ones two).
+// Every prefix of the protocol, the registers masters read most first (a parse tries them in
+// order); the area is where the number counts (RC: counters, whose 16-bit values are one word
+// each and the 32-bit ones two).
 constexpr std::array<Prefix, 28> kPrefixes{{
-    {"X", Form::Discrete, Area::X, 4},   {"Y", Form::Discrete, Area::Y, 4},
-    {"M", Form::Discrete, Area::M, 4},   {"S", Form::Discrete, Area::S, 4},
-    {"T", Form::Discrete, Area::T, 4},   {"C", Form::Discrete, Area::C, 4},
-    {"WX", Form::Packed16, Area::X, 4},  {"WY", Form::Packed16, Area::Y, 4},
-    {"WM", Form::Packed16, Area::M, 4},  {"WS", Form::Packed16, Area::S, 4},
-    {"WT", Form::Packed16, Area::T, 4},  {"WC", Form::Packed16, Area::C, 4},
-    {"DWX", Form::Packed32, Area::X, 4}, {"DWY", Form::Packed32, Area::Y, 4},
-    {"DWM", Form::Packed32, Area::M, 4}, {"DWS", Form::Packed32, Area::S, 4},
-    {"DWT", Form::Packed32, Area::T, 4}, {"DWC", Form::Packed32, Area::C, 4},
-    {"RT", Form::Register, Area::TV, 4}, {"RC", Form::Register, Area::CV, 4},
-    {"DRT", Form::Absent, Area::TV, 4},  {"DRC", Form::Counter32, Area::CV, 4},
-    {"R", Form::Register, Area::R, 5},   {"D", Form::Register, Area::D, 5},
-    {"DR", Form::Pair, Area::R, 5},      {"DD", Form::Pair, Area::D, 5},
-    {"F", Form::Absent, Area::R, 5},     {"DF", Form::Absent, Area::R, 5},
+    {"R", Form::Register, Area::R, 5},     {"D", Form::Register, Area::D, 5},
+    {"DR", Form::Pair, Area::R, 5},        {"DD", Form::Pair, Area::D, 5},
+    {"X", Form::Discrete, Area::X, 4},     {"Y", Form::Discrete, Area::Y, 4},
+    {"M", Form::Discrete, Area::M, 4},     {"S", Form::Discrete, Area::S, 4},
+    {"T", Form::Discrete, Area::T, 4},     {"C", Form::Discrete, Area::C, 4},
+    {"RT", Form::Register, Area::TV, 4},   {"RC", Form::Register, Area::CV, 4},
+    {"DRC", Form::Counter32, Area::CV, 4}, {"DRT", Form::Absent, Area::TV, 4},
+    {"WX", Form::Packed16, Area::X, 4},    {"WY", Form::Packed16, Area::Y, 4},
+    {"WM", Form::Packed16, Area::M, 4},    {"WS", Form::Packed16, Area::S, 4},
+    {"WT", Form::Packed16, Area::T, 4},    {"WC", Form::Packed16, Area::C, 4},
+    {"DWX", Form::Packed32, Area::X, 4},   {"DWY", Form::Packed32, Area::Y, 4},
+    {"DWM", Form::Packed32, Area::M, 4},   {"DWS", Form::Packed32, Area::S, 4},
+    {"DWT", Form::Packed32, Area::T, 4},   {"DWC", Form::Packed32, Area::C, 4},
+    {"F", Form::Absent, Area::R, 5},       {"DF", Form::Absent, Area::R, 5},
 }};
 
 constexpr bool upper(std::uint8_t c) { return c >= 'A' && c <= 'Z'; }
@@ -59,9 +61,11 @@ NameParse parse_name(std::span<const std::uint8_t> text) noexcept {
     std::size_t n = 0;
     while (n < text.size() && upper(text[n])) ++n;
     if (n == 0) return {Error::Format, {}};
-    const std::string_view letters(reinterpret_cast<const char*>(text.data()), n);
     for (const Prefix& p : kPrefixes) {
-        if (p.letters != letters) continue;
+        if (p.letters.size() != n ||
+            !std::equal(p.letters.begin(), p.letters.end(), text.begin())) {
+            continue;
+        }
         if (text.size() - n < p.digits) return {Error::Format, {}};
         const auto number = parse_decimal(text.subspan(n, p.digits));
         if (!number) return {Error::Format, {}};

@@ -16,6 +16,12 @@ Error read_registers(std::span<const std::uint8_t> data, Target& plc, Reply& rep
         return e;
     }
     const image::Image& image = plc.engine.image();
+    if (run.form == Form::Register) {
+        // The common case (R, D, RT, RC) straight from the words.
+        const std::uint16_t* words = image.words(run.area) + run.start;
+        for (std::uint32_t k = 0; k < run.items; ++k) reply.hex(words[k], 4);
+        return Error::None;
+    }
     const Width w = width_of(run.form);
     for (std::uint32_t k = 0; k < run.items; ++k) reply.value(w, read_item(image, run, k));
     return Error::None;
