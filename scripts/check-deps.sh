@@ -30,7 +30,8 @@ profiles:     config instructions plant modbus engine image
 simulator:    profiles modbus plant engine image
 listener:     modbus engine image
 modbus_slave: listener modbus image
-daemon:       modbus_slave listener simulator profiles config modbus instructions plant engine image
+fatek:        listener engine image
+daemon:       fatek modbus_slave listener simulator profiles config modbus instructions plant engine image
 '
 
 declare -A allowed=()  # module -> " m1 m2 ... " (spaces around each name)

@@ -16,8 +16,10 @@ image::Layout make_layout(std::uint32_t family, std::string_view name, std::uint
     l.set_size(Area::T, 256);
     l.set_size(Area::C, 256);
     // R0–R8071 as one array: R4168–R4999 exist on no FATEK PLC and are never mapped, but one
-    // array keeps the R numbers equal to indices.
+    // array keeps the R numbers equal to indices. They are a hole: no protocol, operand or
+    // config range reaches them.
     l.set_size(Area::R, 8072);
+    l.holes = {{Area::R, 4168, 5000 - 4168}};
     l.set_size(Area::D, d_words);
     l.set_size(Area::TV, 256);
     // C0–C199 one word each, C200–C255 two words each (low word first).

@@ -1,0 +1,77 @@
+#include "serial.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "serve.hpp"
+#include "split.hpp"
+
+namespace plcemu::fatek {
+
+FatekSerial::FatekSerial(listener::ProtocolSetup setup)
+    : read_only_(setup.read_only) {
+    units_.assign(std::move(setup.seats));
+    units_.set_unknown_unit(listener::UnknownUnit::Silent);
+}
+
+void FatekSerial::abandon_after_gap(Clock::time_point now) noexcept {
+    if (used_ == 0 || now - last_ < kGap) return;
+    used_ = 0;
+    ++stats_.gaps;
+}
+
+std::span<const std::uint8_t> FatekSerial::receive(std::span<const std::uint8_t> bytes,
+                                                   Clock::time_point now) noexcept {
+    abandon_after_gap(now);
+    last_ = now;
+    reply_size_ = 0;
+    while (!bytes.empty()) {
+        const std::size_t n = std::min(bytes.size(), buf_.size() - used_);
+        std::memcpy(buf_.data() + used_, bytes.data(), n);
+        used_ += n;
+        bytes = bytes.subspan(n);
+        drain();
+    }
+    return {reply_.data(), reply_size_};
+}
+
+void FatekSerial::drain() noexcept {
+    for (;;) {
+        const listener::Split s = split_stream({buf_.data(), used_});
+        if (s.cut != listener::Cut::Frame) return;
+        const std::span<const std::uint8_t> piece(buf_.data(), s.size);
+        if (piece.front() == kStx && piece.back() == kEtx) ++stats_.frames;
+        if (reply_.size() - reply_size_ >= kMaxFrame) {
+            const std::size_t r =
+                serve(units_, read_only_, piece, std::span(reply_).subspan(reply_size_));
+            reply_size_ += r;
+            stats_.answered += r > 0 ? 1 : 0;
+        } else {
+            ++stats_.overflow;
+        }
+        std::memmove(buf_.data(), buf_.data() + s.size, used_ - s.size);
+        used_ -= s.size;
+    }
+}
+
+std::span<const std::uint8_t> FatekSerial::expire(Clock::time_point now) noexcept {
+    abandon_after_gap(now);
+    return {};
+}
+
+std::optional<listener::SerialProtocol::Clock::time_point> FatekSerial::deadline() const noexcept {
+    if (used_ == 0) return std::nullopt;
+    return last_ + kGap;
+}
+
+std::string FatekSerial::summary() const {
+    return std::to_string(stats_.frames) + " frames, " + std::to_string(stats_.answered) +
+           " answered; " + std::to_string(stats_.gaps) + " abandoned after a 1 s silence, " +
+           std::to_string(stats_.overflow) + " unanswered (too many at once)";
+}
+
+std::unique_ptr<listener::SerialProtocol> make_serial(listener::ProtocolSetup setup) {
+    return std::make_unique<FatekSerial>(std::move(setup));
+}
+
+}  // namespace plcemu::fatek

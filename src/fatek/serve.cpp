@@ -1,0 +1,61 @@
+#include "serve.hpp"
+
+#include "command.hpp"
+#include "frame.hpp"
+#include "request.hpp"
+
+namespace plcemu::fatek {
+
+namespace {
+
+// The station no PLC has (docs/profile-fbs.md, "FATEK protocol").
+constexpr std::uint8_t kNoStation = 0xFF;
+
+std::size_t execute(const listener::Seat& seat,
+                    std::uint8_t station,
+                    bool read_only,
+                    const Request& req,
+                    std::uint8_t* out) noexcept {
+    Reply reply(out, station, req.command.data());
+    const Command* cmd = req.code ? &commands()[*req.code] : nullptr;
+    if (cmd == nullptr || cmd->handler == nullptr) {
+        reply.put(static_cast<std::uint8_t>(Error::Format));
+        return reply.finish();
+    }
+    Target plc{*seat.engine, seat.protected_ranges, read_only};
+    if (!cmd->error_code) {
+        cmd->handler(req.data, plc, reply);
+        return reply.finish();
+    }
+    const std::size_t at = reply.size();
+    reply.put(static_cast<std::uint8_t>(Error::None));
+    if (const Error e = cmd->handler(req.data, plc, reply); e != Error::None) {
+        reply.truncate(at);
+        reply.put(static_cast<std::uint8_t>(e));
+    }
+    return reply.finish();
+}
+
+}  // namespace
+
+std::size_t serve(listener::UnitTable& units,
+                  bool read_only,
+                  std::span<const std::uint8_t> frame,
+                  std::span<std::uint8_t> out) noexcept {
+    if (out.size() < kMaxFrame) return 0;
+    const auto req = parse_request(frame);
+    if (!req || req->station == kNoStation) return 0;
+    if (req->station == 0) {
+        // Every PLC executes it; none answers (the reply is written and dropped).
+        for (const listener::Seat& s : units.seats()) {
+            if (s.engine != nullptr) execute(s, *s.station, read_only, *req, out.data());
+        }
+        units.count_broadcast();
+        return 0;
+    }
+    const listener::Hit hit = units.find(req->station);
+    if (hit.seat == nullptr || hit.simulator || hit.seat->engine == nullptr) return 0;
+    return execute(*hit.seat, hit.answer_as, read_only, *req, out.data());
+}
+
+}  // namespace plcemu::fatek
