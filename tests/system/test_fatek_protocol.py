@@ -6,6 +6,7 @@ examples, and one image shared with Modbus.
 Frames are written as in the manual: `<STX>` is the byte 02h, `<ETX>` 03h, the rest ASCII.
 """
 
+import threading
 import time
 
 import pytest
@@ -173,3 +174,75 @@ def test_scenarios_over_a_serial_line(start_plcemud, pty):
     with Fatek.serial(pty.master) as fatek:
         assert answering(fatek), d.log_text()
         run_scenarios(fatek)
+
+
+# --- one image, two protocols
+
+
+def test_fatek_and_modbus_masters_see_each_others_writes(start_plcemud):
+    # A FATEK master writes R100-R109 (47) and reads R200-R209 (46) while a Modbus master
+    # writes holding 200-209 (FC16) and reads holding 100-109 (FC03): FBs R0-R4167 are holding
+    # registers 0-4167. Each request is served between two scans, so a block of ten is always
+    # read whole (all ten equal) and never goes backwards.
+    port = free_port()
+    d = start_plcemud(START + f"fatek:\n  tcp: {{bind: 127.0.0.1, port: {port}}}\n")
+    modbus = d.client()
+    stop = threading.Event()
+    seen = {"fatek": [], "modbus": []}
+    last = {"fatek": 0, "modbus": 0}
+    failures = []
+
+    def fatek_master():
+        try:
+            with Fatek.tcp(port, timeout=3) as fatek:
+                k = 0
+                while not stop.is_set():
+                    k += 1
+                    fatek.write("R100", [k] * 10)
+                    last["fatek"] = k
+                    seen["fatek"].append(fatek.read("R200", 10))
+        except Exception as e:  # noqa: BLE001 - reported by the main thread
+            failures.append(repr(e))
+
+    thread = threading.Thread(target=fatek_master)
+    thread.start()
+    try:
+        k, deadline = 0, time.monotonic() + 3
+        while time.monotonic() < deadline and not failures:
+            k += 1
+            assert not modbus.write_registers(200, [k] * 10, slave=1).isError()
+            last["modbus"] = k
+            r = modbus.read_holding_registers(100, 10, slave=1)
+            assert not r.isError(), r
+            seen["modbus"].append(r.registers)
+    finally:
+        stop.set()
+        thread.join(10)
+    assert not failures, failures
+    for master, blocks in seen.items():
+        assert all(len(set(b)) == 1 for b in blocks), f"{master} read a torn block"
+        firsts = [b[0] for b in blocks]
+        assert firsts == sorted(firsts), f"{master} saw the other's writes go backwards"
+        assert len(set(firsts)) > 10, f"{master} saw too few of the other's writes: {firsts}"
+    with Fatek.tcp(port) as fatek:
+        assert fatek.read("R200", 10) == [last["modbus"]] * 10
+        assert fatek.read("R100", 10) == [last["fatek"]] * 10
+        # The same registers through both protocols.
+        assert fatek.read("R0", 64) == modbus.read_holding_registers(0, 64, slave=1).registers
+    assert modbus.read_holding_registers(100, 10, slave=1).registers == [last["fatek"]] * 10
+
+
+def test_station_follows_r4055_after_the_scan(start_plcemud):
+    # R4055 = 55xxh sets the station (FBs manual, R4055), through either protocol: the write is
+    # answered as station 1, the next scan makes the PLC station 2 for FATEK and Modbus alike.
+    port = free_port()
+    d = start_plcemud(START + f"fatek:\n  tcp: {{bind: 127.0.0.1, port: {port}}}\n")
+    with Fatek.tcp(port) as fatek:
+        assert fatek.exchange(frame(1, 0x47, "01R040555502")) == frame(1, 0x47, "0")
+        deadline = time.monotonic() + 3
+        while fatek.exchange(frame(2, 0x40), timeout=0.1) is None:
+            assert time.monotonic() < deadline, "station 2 never answered"
+        assert fatek.exchange(frame(2, 0x40)) == frame(2, 0x40, "0010000")
+        assert fatek.exchange(frame(1, 0x40), timeout=NO_REPLY_S) is None  # no longer station 1
+        assert fatek.exchange(frame(2, 0x46, "01R04055")) == frame(2, 0x46, "00002")
+    assert d.client().read_holding_registers(4055, 1, slave=2).registers == [2]
