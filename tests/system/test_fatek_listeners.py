@@ -142,6 +142,9 @@ def test_read_only_listener_refuses_writes_with_error_3(start_plcemud):
         assert fatek.exchange(frame(1, 0x47, "01R001000001")) == frame(1, 0x47, "3")
         assert fatek.exchange(frame(1, 0x45, "01M00101")) == frame(1, 0x45, "3")
         assert fatek.exchange(frame(1, 0x49, "01R001000002")) == frame(1, 0x49, "3")
+        assert fatek.exchange(frame(1, 0x42, "3M0010")) == frame(1, 0x42, "3")  # set
+        assert fatek.exchange(frame(1, 0x41, "0")) == frame(1, 0x41, "3")  # STOP
+        assert fatek.status()["running"] is True
         assert fatek.exchange(frame(1, 0x46, "01R00100")) == frame(1, 0x46, "00007")
     modbus = d.client()  # nothing was written; Modbus still may
     assert modbus.read_holding_registers(100, 1, slave=1).registers == [7]
