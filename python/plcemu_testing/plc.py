@@ -106,14 +106,26 @@ def fatek_listener(cfg, given=None):
     return found
 
 
-def load_config(path):
-    """The config file at `path` as a dict (JSON, else YAML: PyYAML needed then)."""
+def fatek_config(path):
+    """The config file at `path` as a dict when it names `fatek` (JSON, else YAML: PyYAML
+    needed then), else {}: what the FATEK client needs of it, without PyYAML for the others."""
     text = Path(path).read_text()
+    if "fatek" not in text:
+        return {}
     try:
         return json.loads(text)
     except ValueError:
+        pass
+    try:
         import yaml
-        return yaml.safe_load(text)
+    except ImportError as e:
+        raise DaemonError(f"{path}: a YAML config with fatek: needs PyYAML (python3-yaml) for "
+                          "plc.fatek; or pass it as a dict") from e
+    try:
+        loaded = yaml.safe_load(text)
+    except yaml.YAMLError:
+        return {}  # plcemud says what is wrong
+    return loaded if isinstance(loaded, Mapping) else {}
 
 
 class PlcApi:
@@ -464,7 +476,7 @@ class Plc(Process, PlcApi):
         return [self.port] + ([fatek[2]] if fatek and fatek[0] == "tcp" else [])
 
     def _own_config(self):
-        return load_config(self.config_path)
+        return fatek_config(self.config_path)
 
     def _connect(self):
         self.client = connect(self.port)

@@ -7,7 +7,7 @@ import re
 from collections.abc import Mapping
 
 from .errors import DaemonError
-from .plc import PlcApi, _settings, config_text, connect, fatek_listener, load_config
+from .plc import PlcApi, _settings, config_text, connect, fatek_config, fatek_listener
 from .process import Process, free_port
 from .tags import read_tags
 from .wire_map import WireMap
@@ -75,7 +75,8 @@ class PlcEntry(PlcApi):
         return self.daemon.config_path
 
     def _own_config(self):
-        return load_config(self.config_path)["plcs"][self.index]
+        entries = fatek_config(self.config_path).get("plcs") or []
+        return entries[self.index] if self.index < len(entries) else {}
 
     @property
     def log(self):
