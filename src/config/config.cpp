@@ -591,8 +591,13 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
         const Node& f = root["fatek"];
         if (!f) return;
         if (!speaks(*profile, "fatek")) {
-            r.fail(f, "fatek: profile " + c.profile + " does not speak FATEK's protocol (" +
-                          speakers("fatek") + ")");
+            // At the key: the section as a whole is refused.
+            const Node* at = &f;
+            for (const auto& [key, value] : root.entries) {
+                if (key.is_scalar() && key.text == "fatek") at = &key;
+            }
+            r.fail(*at, "fatek: profile " + c.profile + " does not speak FATEK's protocol (" +
+                            speakers("fatek") + ")");
         }
         read_fatek(r, f, c.fatek);
     });

@@ -8,8 +8,9 @@
 
 namespace plcemu::fatek {
 
-FatekSerial::FatekSerial(listener::ProtocolSetup setup)
-    : read_only_(setup.read_only) {
+FatekSerial::FatekSerial(listener::ProtocolSetup setup) {
+    // The listener's read_only lives in its unit table, where a reload changes it.
+    units_.set_read_only(setup.read_only);
     units_.assign(std::move(setup.seats));
     units_.set_unknown_unit(listener::UnknownUnit::Silent);
 }
@@ -43,7 +44,7 @@ void FatekSerial::drain() noexcept {
         if (piece.front() == kStx && piece.back() == kEtx) ++stats_.frames;
         if (reply_.size() - reply_size_ >= kMaxFrame) {
             const std::size_t r =
-                serve(units_, read_only_, piece, std::span(reply_).subspan(reply_size_));
+                serve(units_, units_.read_only(), piece, std::span(reply_).subspan(reply_size_));
             reply_size_ += r;
             stats_.answered += r > 0 ? 1 : 0;
         } else {

@@ -80,8 +80,10 @@ def test_a_config_without_fatek_says_so(plcemud):
 def test_plcs_sharing_a_fatek_listener_answer_their_own_station(plcemud):
     shared = {"tcp": {}}
     plcs = plcemud({"plcs": [
-        {"name": "a", "profile": "fbs", "station": 1, "fatek": shared, "init": {"R0": 11}},
-        {"name": "b", "profile": "fbs", "station": 2, "fatek": shared, "init": {"R0": 22}},
+        {"name": "a", "profile": "fbs", "station": 1, "simulator": {"unit": 201},
+         "fatek": shared, "init": {"R0": 11}},
+        {"name": "b", "profile": "fbs", "station": 2, "simulator": {"unit": 202},
+         "fatek": shared, "init": {"R0": 22}},
     ]})
     assert plcs["a"].fatek.read("R0") == [11]
     assert plcs["b"].fatek.read("R0") == [22]

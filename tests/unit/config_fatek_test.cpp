@@ -61,7 +61,7 @@ TEST(ConfigFatek, ListenersAreOffUnlessNamedAndTakeTheFatekDefaults) {
 // A family that does not speak the protocol refuses its section where it stands, naming those
 // that do.
 TEST(ConfigFatek, VbRefusesTheSectionNamingTheProfilesThatSpeakIt) {
-    expect_error("profile: vb\nfatek:\n  tcp: {port: 500}\n", 3, 3,
+    expect_error("profile: vb\nfatek:\n  tcp: {port: 500}\n", 2, 1,
                  "fatek: profile vb does not speak FATEK's protocol (profiles fb and fbs do)");
 }
 
