@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "plcemu/daemon/plc.hpp"
+#include "plcemu/fatek/device_name.hpp"
 #include "plcemu/engine/tags.hpp"
 #include "plcemu/image/utf8.hpp"
 #include "plcemu/modbus/address_map.hpp"
@@ -132,7 +133,8 @@ void simulator_rows(const config::Config& config, std::vector<TagRow>& rows) {
     for (const auto& r : simulator::register_tags()) {
         rows.push_back({"", "", r.name, "", config.simulator.unit, Table::HoldingRegisters, r.wire,
                         r.is_signed ? "int16" : "uint16",
-                        writable && simulator::SimulatorUnit::writable(r.wire), r.description});
+                        writable && simulator::SimulatorUnit::writable(r.wire), r.description,
+                        ""});
     }
 }
 
@@ -208,6 +210,8 @@ TagExport export_tags(const config::Config& config) {
 
     const std::unique_ptr<modbus::AddressMap> own = map_of(config);
     const modbus::AddressMap& map = own ? *own : profile.map();
+    const auto spoken = profile.protocols();
+    const bool fatek = std::find(spoken.begin(), spoken.end(), "fatek") != spoken.end();
     TagExport out;
     for (const auto& [key, m] : meanings) {
         const auto [area, index] = key;
@@ -231,7 +235,8 @@ TagExport export_tags(const config::Config& config) {
             type = m.is_unsigned ? "uint16" : "int16";
         }
         out.rows.push_back({"", "", device, device, config.station, table, address, type,
-                            served(plc, table, address, n, area, index, true), description});
+                            served(plc, table, address, n, area, index, true), description,
+                            fatek ? fatek::device_name(area, index) : std::string()});
     }
     simulator_rows(config, out.rows);
     std::stable_sort(out.rows.begin(), out.rows.end(), [](const TagRow& a, const TagRow& b) {
@@ -280,16 +285,19 @@ void write_tags(std::ostream& out, const std::vector<TagRow>& rows, bool as_json
     // file holding one PLC exports as it always did.
     const bool several =
         std::any_of(rows.begin(), rows.end(), [](const TagRow& r) { return !r.plc.empty(); });
+    const bool fatek =
+        std::any_of(rows.begin(), rows.end(), [](const TagRow& r) { return !r.fatek.empty(); });
     struct Field {
         const char* key;
         std::string value;
         bool number;
     };
-    auto fields = [several](const TagRow& r) {
+    auto fields = [several, fatek](const TagRow& r) {
         std::vector<Field> f;
         if (several) f.push_back({"plc", r.plc, false});
         f.push_back({"name", r.name, false});
         f.push_back({"device", r.device, false});
+        if (fatek) f.push_back({"fatek", r.fatek, false});
         if (several) f.push_back({"endpoint", r.endpoint, false});
         f.push_back({"unit", std::to_string(r.unit), true});
         f.push_back({"table", table_key(r.table), false});

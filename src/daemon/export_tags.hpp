@@ -31,6 +31,9 @@ struct TagRow {
     std::string type;         ///< bool, int16, uint16, int32 (two registers, low word first)
     bool writable = false;    ///< a Modbus write reaches it
     std::string description;  ///< what the configuration makes of it
+    /// How a FATEK master names it ("R00100", "DRC0200"), for a family that speaks FATEK's
+    /// protocol; empty otherwise (the column is left out when no row has one).
+    std::string fatek;
 };
 
 /// The rows of a config, and what it describes that no Modbus address serves.

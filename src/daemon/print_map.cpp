@@ -1,10 +1,12 @@
 #include "print_map.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "plcemu/daemon/plc.hpp"
+#include "plcemu/fatek/device_name.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/profiles/profile.hpp"
 
@@ -16,7 +18,22 @@ using modbus::Table;
 
 struct Row {
     std::string table, five, six, wire, fatek, codes, access;
+    std::string protocol_name;  // the devices as FATEK's protocol names them, "" for none
 };
+
+// "R00000-R04167": the first and last device of a map row as a FATEK master names them (the
+// last one with a name: a 32-bit counter's high word has none); empty when the first has none.
+std::string fatek_names(const modbus::MapRow& r) {
+    const image::Range& d = r.devices;
+    const std::uint32_t step = r.packed ? 16 : 1;
+    const std::string first = fatek::device_name(d.area, d.start, r.packed);
+    if (first.empty() || r.count <= 1) return first;
+    for (std::uint32_t k = r.count; k-- > 1;) {
+        const std::string last = fatek::device_name(d.area, d.start + step * k, r.packed);
+        if (!last.empty()) return last == first ? first : first + "-" + last;
+    }
+    return first;
+}
 
 std::string padded(unsigned v, int width) {
     char buf[16];
@@ -71,7 +88,10 @@ std::string access_of(const modbus::AddressMap& map,
 }
 
 std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap& map) {
-    const image::Naming& naming = profiles::of(config).naming();
+    const profiles::Profile& profile = profiles::of(config);
+    const image::Naming& naming = profile.naming();
+    const auto spoken = profile.protocols();
+    const bool fatek = std::find(spoken.begin(), spoken.end(), "fatek") != spoken.end();
     std::vector<Row> rows;
     for (const auto& r : map.rows()) {
         const unsigned first = r.wire_start;
@@ -83,7 +103,7 @@ std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap&
         rows.push_back({table_name(r.table), five,
                         manual_number(r.table, first, 6) + "-" + manual_number(r.table, last, 6),
                         std::to_string(first) + "-" + std::to_string(last), r.label, r.codes,
-                        access_of(map, r, naming)});
+                        access_of(map, r, naming), fatek ? fatek_names(r) : std::string()});
     }
     if (config.simulator.unit != 0) {
         // The simulator-control unit (docs/simulator-and-plant.md): one row per register
@@ -108,7 +128,7 @@ std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap&
             rows.push_back({table, manual_number(Table::HoldingRegisters, f.wire, 5),
                             manual_number(Table::HoldingRegisters, f.wire, 6),
                             std::to_string(f.wire), f.what, f.writable ? rw : ro,
-                            f.writable ? "read/write" : "read-only"});
+                            f.writable ? "read/write" : "read-only", ""});
         }
         const Sim channel[] = {
             {0,
@@ -130,7 +150,7 @@ std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap&
             rows.push_back({table, manual_number(Table::HoldingRegisters, wire, 5) + "+10c",
                             manual_number(Table::HoldingRegisters, wire, 6) + "+10c",
                             std::to_string(wire) + "+10c", f.what, f.writable ? rw : ro,
-                            f.writable ? "read/write" : "read-only"});
+                            f.writable ? "read/write" : "read-only", ""});
         }
     }
     return rows;
@@ -143,6 +163,9 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
     const std::unique_ptr<modbus::AddressMap> own = map_of(config);
     const modbus::AddressMap& map = own ? *own : profile.map();
     const auto rows = rows_of(config, map);
+    // A family that speaks FATEK's protocol gets a column of the names its frames use.
+    const auto spoken = profile.protocols();
+    const bool fatek = std::find(spoken.begin(), spoken.end(), "fatek") != spoken.end();
     // The device column is named after the vendor whose names it holds ("fatek", "vigor").
     std::string vendor(profile.vendor());
     for (char& c : vendor) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
@@ -153,11 +176,13 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
     const bool entry = !id.empty();
     if (csv) {
         out << (entry ? "plc," : "") << "table,modbus_5digit,modbus_6digit,wire," << vendor
-            << ",function_codes,access\n";
+            << ",function_codes,access" << (fatek ? ",fatek_protocol" : "") << "\n";
         for (const auto& r : rows) {
             if (entry) out << q(id) << ',';
             out << q(r.table) << ',' << r.five << ',' << r.six << ',' << r.wire << ',' << q(r.fatek)
-                << ',' << r.codes << ',' << q(r.access) << '\n';
+                << ',' << r.codes << ',' << q(r.access);
+            if (fatek) out << ',' << q(r.protocol_name);
+            out << '\n';
         }
         return;
     }
@@ -176,14 +201,18 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
     out << "Wire address = manual number - 1.";
     if (own) out << " The map is the config's modbus.map, not the profile's default.";
     out << "\n\n";
-    char line[512];
-    std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-11s %-54s %-15s %s\n", "table", "5-digit",
-                  "6-digit", "wire", std::string(profile.vendor()).c_str(), "codes", "access");
+    char line[640];
+    // The FATEK protocol's names come before the access column, whose width varies.
+    const char* format = fatek ? "%-28s %-13s %-15s %-11s %-54s %-15s %-16s %s\n"
+                               : "%-28s %-13s %-15s %-11s %-54s %-15s %s%s\n";
+    std::snprintf(line, sizeof line, format, "table", "5-digit", "6-digit", "wire",
+                  std::string(profile.vendor()).c_str(), "codes", fatek ? "FATEK protocol" : "",
+                  "access");
     out << line;
     for (const auto& r : rows) {
-        std::snprintf(line, sizeof line, "%-28s %-13s %-15s %-11s %-54s %-15s %s\n",
-                      r.table.c_str(), r.five.c_str(), r.six.c_str(), r.wire.c_str(),
-                      r.fatek.c_str(), r.codes.c_str(), r.access.c_str());
+        std::snprintf(line, sizeof line, format, r.table.c_str(), r.five.c_str(), r.six.c_str(),
+                      r.wire.c_str(), r.fatek.c_str(), r.codes.c_str(), r.protocol_name.c_str(),
+                      r.access.c_str());
         out << line;
     }
     const auto notes = map.dynamic_notes();

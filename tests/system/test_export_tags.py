@@ -18,6 +18,9 @@ from plcemu_testing import ModbusError
 KEYS = ["name", "device", "unit", "table", "address", "address_1based", "type", "access",
         "description"]
 TABLES = {"coil", "discrete_input", "holding_register", "input_register"}
+# Profiles fbs and fb add how FATEK's own protocol names each device, after `device`.
+FATEK_KEYS = [*KEYS[:2], "fatek", *KEYS[2:]]
+FATEK_NAME = re.compile(r"(X|Y|M|S|T|C|WX|WY|WM|WS|WT|WC)\d{4}|(R|D)\d{5}|(RT|RC|DRC)\d{4}")
 
 # An FBs temperature setup other than config/default.yaml's: the table in D, readings and
 # working registers in the ROR area, three modules (6 + 6 + 16 channels), two TPCTLs.
@@ -136,7 +139,8 @@ def distinct(tag, i):
 @pytest.mark.parametrize("name", list(CONFIGS))
 def test_csv_and_json_agree(plcemud, name):
     plc = plcemud(CONFIGS[name])
-    rows = exported(plc.config_path, KEYS)
+    fatek = not name.startswith("vb")
+    rows = exported(plc.config_path, FATEK_KEYS if fatek else KEYS)
     assert rows == plc.tags
     assert len({(r["unit"], r["table"], r["address"]) for r in rows}) == len(rows)
     for r in rows:
@@ -152,6 +156,13 @@ def test_csv_and_json_agree(plcemud, name):
         assert device not in names
     # The simulator unit: 5 registers and 8 per channel of 32.
     assert sum(r["unit"] == 247 for r in rows) == 5 + 8 * 32
+    # Every device of a FATEK family has its FATEK name (a 32-bit counter's at its low word);
+    # the simulator unit's registers have none.
+    for r in rows if fatek else ():
+        if r["unit"] == 247:
+            assert r["fatek"] == "", r
+        else:
+            assert FATEK_NAME.fullmatch(r["fatek"]), r
 
 
 def walk(plc, tags):
@@ -223,7 +234,7 @@ def test_a_plcs_config_exports_every_plc_each_row_reaching_its_own(plcemud):
     plcs = plcemud(plant_of_three())
     kiln, press, fb = plcs
     assert kiln.port == press.port != fb.port
-    rows = exported(plcs.config_path, ["plc", "name", "device", "endpoint", *KEYS[2:]])
+    rows = exported(plcs.config_path, ["plc", "name", "device", "fatek", "endpoint", *KEYS[2:]])
     assert rows == plcs.tags
     assert len({(r["endpoint"], r["unit"], r["table"], r["address"]) for r in rows}) == len(rows)
     assert [r["plc"] for r in rows] == sorted((r["plc"] for r in rows),

@@ -3,6 +3,8 @@ FATEK Communication Protocol) through the real daemon: what a hostile or careles
 the access rules the Modbus listener has (allow, max_clients, idle timeout, read_only), and the
 configs that are refused."""
 
+import csv
+import io
 import re
 import socket
 import time
@@ -172,3 +174,30 @@ def test_fatek_on_the_modbus_port_is_a_clear_error(tmp_path):
     r = run_plcemud("-c", path, timeout=10)
     assert r.returncode != 0, r
     assert str(port) in r.stderr and "fatek" in r.stderr, r.stderr
+
+
+# --- the listings
+
+
+def test_print_map_names_each_range_as_fatek_frames_do(tmp_path, start_plcemud):
+    path = tmp_path / "fbs.yaml"
+    path.write_text("profile: fbs\ninit: {R5000: 4660, C200: 0}\n")
+    r = run_plcemud("--print-map", "--format", "csv", "-c", path)
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader(io.StringIO(r.stdout)))
+    by_wire = {row["wire"]: row["fatek_protocol"] for row in rows}
+    assert by_wire["0-4167"] == "R00000-R04167"
+    assert by_wire["5000-5998"] == "R05000-R05998"
+    assert by_wire["9700-9811"] == "DRC0200-DRC0255"
+    assert by_wire["1000-1255"] == "X0000-X0255"
+    # A name the listing gives reaches the device its Modbus address does.
+    port = free_port()
+    d = start_plcemud(tcp_config(port) + "init: {R5000: 4660}\n")
+    with Fatek.tcp(port) as fatek:
+        assert fatek.exchange(frame(1, 0x46, "01R05000")) == frame(1, 0x46, "01234")
+    assert d.client().read_holding_registers(5000, 1, slave=1).registers == [0x1234]
+    # A family that does not speak the protocol has no such column.
+    vb = tmp_path / "vb.yaml"
+    vb.write_text("profile: vb\n")
+    r = run_plcemud("--print-map", "--format", "csv", "-c", vb)
+    assert r.returncode == 0 and "fatek_protocol" not in r.stdout.splitlines()[0]

@@ -216,8 +216,8 @@ TEST(ExportTags, NamesAreUnique) {
 }
 
 TEST(ExportTags, CsvQuotesAndJsonEscapes) {
-    std::vector<TagRow> rows{
-        {"", "", "R1", "R1", 1, Table::HoldingRegisters, 1, "int16", true, "a, \"quoted\" text"}};
+    std::vector<TagRow> rows{{"", "", "R1", "R1", 1, Table::HoldingRegisters, 1, "int16", true,
+                              "a, \"quoted\" text", ""}};
     EXPECT_EQ(written(rows, false),
               "name,device,unit,table,address,address_1based,type,access,description\n"
               "R1,R1,1,holding_register,1,2,int16,read-write,\"a, \"\"quoted\"\" text\"\n");
@@ -232,7 +232,8 @@ TEST(ExportTags, CsvQuotesAndJsonEscapes) {
 // name's, quoted in a description) becomes U+FFFD; valid characters, U+202E too, pass as they are.
 TEST(ExportTags, JsonReplacesBytesThatAreNotUtf8) {
     std::vector<TagRow> rows{{"", "", "R1", "R1", 1, Table::HoldingRegisters, 1, "int16", true,
-                              "preset (caf\xe9\xff.yaml:2:3) \xc3\xa9 \xe2\x80\xae \xed\xa0\x80"}};
+                              "preset (caf\xe9\xff.yaml:2:3) \xc3\xa9 \xe2\x80\xae \xed\xa0\x80",
+                              ""}};
     const std::string out = written(rows, true);
     EXPECT_NE(out.find("\"preset (caf\\ufffd\\ufffd.yaml:2:3) \xc3\xa9 \xe2\x80\xae "
                        "\\ufffd\\ufffd\\ufffd\""),
@@ -297,12 +298,12 @@ TEST(ExportTags, AFileHoldingOnePlcExportsWithoutPlcColumns) {
     EXPECT_EQ(row(e, "R4136").plc, "");
     const std::string csv = written(e.rows, false);
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
-              "name,device,unit,table,address,address_1based,type,access,description");
+              "name,device,fatek,unit,table,address,address_1based,type,access,description");
 }
 
 TEST(ExportTags, PlcAndEndpointColumnsForRowsOfPlcsEntries) {
     std::vector<TagRow> rows{{"kiln", "tcp:127.0.0.1:1502", "kiln.R1", "R1", 1,
-                              Table::HoldingRegisters, 1, "int16", true, "x"}};
+                              Table::HoldingRegisters, 1, "int16", true, "x", ""}};
     EXPECT_EQ(written(rows, false),
               "plc,name,device,endpoint,unit,table,address,address_1based,type,access,"
               "description\n"
@@ -312,6 +313,36 @@ TEST(ExportTags, PlcAndEndpointColumnsForRowsOfPlcsEntries) {
               "\"endpoint\": \"tcp:127.0.0.1:1502\", \"unit\": 1, \"table\": "
               "\"holding_register\", \"address\": 1, \"address_1based\": 2, \"type\": \"int16\", "
               "\"access\": \"read-write\", \"description\": \"x\"}\n]\n");
+}
+
+}  // namespace
+}  // namespace plcemu::daemon
+
+namespace plcemu::daemon {
+namespace {
+
+// docs/configuration.md, "Tag export": a family that speaks FATEK's protocol names each device
+// as a FATEK master writes it too; the column is left out for one that does not.
+TEST(ExportTags, FatekColumnForTheFamiliesThatSpeakIt) {
+    const TagExport fbs = rows_of(
+        "profile: fbs\ninit: {R100: 1, D10: 2, Y30: 1}\nprogram:\n"
+        "  - MOV: {en: M1926, s: TMR5, d: R200}\n");
+    EXPECT_EQ(row(fbs, "R100").fatek, "R00100");
+    EXPECT_EQ(row(fbs, "D10").fatek, "D00010");
+    EXPECT_EQ(row(fbs, "Y30").fatek, "Y0030");
+    EXPECT_EQ(row(fbs, "M1926").fatek, "M1926");
+    EXPECT_EQ(row(fbs, "TMR5").fatek, "RT0005");
+    EXPECT_EQ(row(fbs, "sim.time_scale").fatek, "");
+    std::ostringstream csv;
+    write_tags(csv, fbs.rows, false);
+    EXPECT_EQ(csv.str().rfind("name,device,fatek,unit,", 0), 0u) << csv.str().substr(0, 80);
+
+    const TagExport vb = rows_of("profile: vb\ninit: {D100: 1}\n");
+    for (const auto& r : vb.rows) EXPECT_EQ(r.fatek, "") << r.name;
+    ASSERT_FALSE(vb.rows.empty());
+    std::ostringstream vcsv;
+    write_tags(vcsv, vb.rows, false);
+    EXPECT_EQ(vcsv.str().rfind("name,device,unit,", 0), 0u) << vcsv.str().substr(0, 80);
 }
 
 }  // namespace
