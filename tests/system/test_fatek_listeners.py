@@ -172,8 +172,9 @@ def test_fatek_on_the_modbus_port_is_a_clear_error(tmp_path):
                     f"fatek:\n  tcp: {{bind: 127.0.0.1, port: {port}}}\n"
                     "persistence: {enabled: false}\n")
     r = run_plcemud("-c", path, timeout=10)
-    assert r.returncode != 0, r
-    assert str(port) in r.stderr and "fatek" in r.stderr, r.stderr
+    # Refused at load, at the FATEK listener's line, naming both (one port, one protocol).
+    assert r.returncode == 2, r
+    assert re.search(rf"clash\.yaml:4:\d+: .*fatek\.tcp.*{port}.*modbus\.tcp", r.stderr), r.stderr
 
 
 # --- the listings
