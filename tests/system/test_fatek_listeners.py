@@ -9,8 +9,10 @@ import re
 import socket
 import time
 
+import pytest
 from conftest import free_port, run_plcemud
 from plcemu_testing.fatek import Fatek, frame
+from rtu_pty import PtyPair
 
 GIST = frame(1, 0x40)  # gist status of station 1
 RUNNING = frame(1, 0x40, "0010000")  # its reply: RUN
@@ -86,6 +88,53 @@ def test_a_half_open_client_holds_up_nobody(start_plcemud):
         assert slow.receive(timeout=0.3) is None
         slow.send(GIST[4:])  # the rest: the frame is whole and answered
         assert slow.receive() == RUNNING
+
+
+# --- a serial line
+
+
+@pytest.fixture
+def pty(tmp_path):
+    pair = PtyPair(tmp_path)
+    yield pair
+    pair.stop()
+
+
+def test_serial_line_abandons_a_partial_frame_after_1_s(start_plcemud, pty):
+    # On a serial line a frame stalled for 1 s is dropped: its rest then belongs to no frame.
+    d = start_plcemud(config(f"  serial: {{device: {pty.slave}}}\n"))
+    with Fatek.serial(pty.master) as line:
+        deadline = time.monotonic() + 5  # the line opens at start
+        while line.exchange(GIST, timeout=0.2) != RUNNING:
+            assert time.monotonic() < deadline, d.log_text()
+        line.send(GIST[:4])
+        time.sleep(1.5)
+        line.send(GIST[4:])
+        assert line.receive(timeout=0.5) is None
+        line.send(GIST[:4])
+        time.sleep(0.3)  # a shorter pause keeps the frame
+        line.send(GIST[4:])
+        assert line.receive() == RUNNING
+
+
+def test_plcs_on_one_serial_line_answer_their_own_station(plcemud, pty):
+    line = {"serial": {"device": pty.slave}}
+    plcs = plcemud({"plcs": [
+        {"name": "a", "profile": "fbs", "station": 1, "simulator": {"unit": 201},
+         "fatek": line, "init": {"R0": 11}},
+        {"name": "b", "profile": "fbs", "station": 2, "simulator": {"unit": 202},
+         "fatek": line, "init": {"R0": 22}},
+    ]})
+    with Fatek.serial(pty.master) as master:
+        deadline = time.monotonic() + 5
+        while master.exchange(GIST, timeout=0.2) != RUNNING:
+            assert time.monotonic() < deadline, plcs.log
+        assert master.exchange(frame(1, 0x46, "01R00000")) == frame(1, 0x46, "0000B")
+        assert master.exchange(frame(2, 0x46, "01R00000")) == frame(2, 0x46, "00016")
+        assert master.exchange(frame(3, 0x46, "01R00000"), timeout=0.5) is None
+        # Station 0 reaches both, and neither answers.
+        assert master.exchange(frame(0, 0x47, "01R000010007"), timeout=0.5) is None
+    assert plcs["a"].read("R1") == [7] and plcs["b"].read("R1") == [7]
 
 
 # --- access rules
