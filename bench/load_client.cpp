@@ -6,6 +6,9 @@
 // `plcs:` config). One thread and epoll, so the client itself stays cheap next to the server
 // on a small machine.
 //
+// With --protocol fatek it sends FATEK's command 46 (read --quantity registers, at most 64,
+// from R<address>) to station --unit instead, framed STX..ETX with its checksum.
+//
 // Prints one `name value unit` line per figure, names prefixed with --label.
 
 #include <arpa/inet.h>
@@ -31,8 +34,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// MBAP header (7) + function code + byte count + 125 registers is the largest FC03 reply.
-constexpr size_t kMaxFrame = 260;
+// MBAP header (7) + function code + byte count + 125 registers is the largest FC03 reply; a
+// FATEK reply to 64 registers is 265 bytes.
+constexpr size_t kMaxFrame = 512;
 
 struct Options {
     std::string host = "127.0.0.1";
@@ -45,6 +49,7 @@ struct Options {
     int quantity = 125;
     int ports = 1;           // connection i goes to port + i % ports
     double interval_ms = 0;  // 0: closed loop; else each connection's polling period
+    bool fatek = false;      // --protocol fatek
     std::string label;
 };
 
@@ -70,7 +75,7 @@ struct Stats {
     std::fprintf(stderr,
                  "usage: %s --port N [--host 127.0.0.1] [--connections C] [--seconds S]\n"
                  "          [--warmup W] [--unit 1] [--address 0] [--quantity 125] [--label L]\n"
-                 "          [--ports N] [--interval-ms MS]\n",
+                 "          [--ports N] [--interval-ms MS] [--protocol modbus|fatek]\n",
                  argv0);
     std::exit(2);
 }
@@ -88,6 +93,10 @@ Options parse(int argc, char** argv) {
             o.host = value;
         } else if (key == "--label") {
             o.label = value;
+        } else if (key == "--protocol") {
+            const std::string p = value;
+            if (p != "modbus" && p != "fatek") usage(argv[0]);
+            o.fatek = p == "fatek";
         } else if (!numeric) {
             usage(argv[0]);
         } else if (key == "--port") {
@@ -112,8 +121,8 @@ Options parse(int argc, char** argv) {
             usage(argv[0]);
         }
     }
-    if (o.connections < 1 || o.quantity < 1 || o.quantity > 125 || o.seconds <= 0 || o.ports < 1 ||
-        o.interval_ms < 0) {
+    if (o.connections < 1 || o.quantity < 1 || o.quantity > (o.fatek ? 64 : 125) ||
+        o.seconds <= 0 || o.ports < 1 || o.interval_ms < 0) {
         usage(argv[0]);
     }
     if (o.label.empty()) o.label = "load.c" + std::to_string(o.connections);
@@ -148,7 +157,24 @@ void put16(uint8_t* p, unsigned v) {
     p[1] = static_cast<uint8_t>(v);
 }
 
+// FATEK's command 46: STX, station, "46", count, start register, checksum (the low byte of the
+// sum of every byte before it), ETX; every number in upper-case hex but the register's.
+size_t fatek_request(const Options& o, char* out, size_t room) {
+    int n = std::snprintf(out, room, "\x02%02X46%02XR%05d", o.unit & 0xFF, o.quantity, o.address);
+    unsigned sum = 0;
+    for (int i = 0; i < n; ++i) sum += static_cast<unsigned char>(out[i]);
+    n += std::snprintf(out + n, room - static_cast<size_t>(n), "%02X\x03", sum & 0xFF);
+    return static_cast<size_t>(n);
+}
+
 bool send_request(Connection& c, const Options& o) {
+    if (o.fatek) {
+        char frame[32];
+        const size_t n = fatek_request(o, frame, sizeof frame);
+        c.sent = Clock::now();
+        c.waiting = true;
+        return ::send(c.fd, frame, n, MSG_NOSIGNAL) == static_cast<ssize_t>(n);
+    }
     ++c.transaction;
     // MBAP header (protocol 0, length 6 = unit + PDU), then FC03 address and quantity.
     uint8_t frame[12] = {0, 0, 0, 0, 0, 6, static_cast<uint8_t>(o.unit), 0x03};
@@ -169,6 +195,12 @@ bool reply_ok(const Connection& c, const Options& o, const uint8_t* f, size_t le
            f[6] == static_cast<uint8_t>(o.unit) && f[7] == 0x03 && f[8] == bytes;
 }
 
+// STX, station, "46", error "0", four hex digits a register, checksum, ETX.
+bool fatek_reply_ok(const Options& o, const uint8_t* f, size_t len) {
+    return len == 9 + 4 * static_cast<size_t>(o.quantity) && f[0] == 0x02 && f[3] == '4' &&
+           f[4] == '6' && f[5] == '0' && f[len - 1] == 0x03;
+}
+
 void close_connection(Connection& c, Stats& stats) {
     ::close(c.fd);
     c.alive = false;
@@ -187,14 +219,25 @@ void on_readable(Connection& c,
     c.have += static_cast<size_t>(n);
 
     while (c.have >= 6) {
-        const size_t length = static_cast<size_t>(c.in[4] << 8 | c.in[5]);
-        // A length we cannot frame leaves no way to resynchronise the stream.
-        if (length < 2 || 6 + length > kMaxFrame) return close_connection(c, stats);
-        const size_t frame = 6 + length;
-        if (c.have < frame) return;
+        size_t frame = 0;
+        if (o.fatek) {
+            // A FATEK frame ends at its ETX: there is no length field.
+            const auto* end = static_cast<const uint8_t*>(std::memchr(c.in, 0x03, c.have));
+            if (end == nullptr) {
+                if (c.have == kMaxFrame) return close_connection(c, stats);
+                return;
+            }
+            frame = static_cast<size_t>(end - c.in) + 1;
+        } else {
+            const size_t length = static_cast<size_t>(c.in[4] << 8 | c.in[5]);
+            // A length we cannot frame leaves no way to resynchronise the stream.
+            if (length < 2 || 6 + length > kMaxFrame) return close_connection(c, stats);
+            frame = 6 + length;
+            if (c.have < frame) return;
+        }
 
         const auto now = Clock::now();
-        if (!reply_ok(c, o, c.in, frame)) {
+        if (o.fatek ? !fatek_reply_ok(o, c.in, frame) : !reply_ok(c, o, c.in, frame)) {
             ++stats.errors;
         } else if (now >= window_start && now < window_end) {
             stats.latency_ns.push_back((now - c.sent) / std::chrono::nanoseconds(1));

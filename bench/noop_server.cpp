@@ -1,6 +1,8 @@
 // The machine's ceiling for the load client: a Modbus TCP server that only frames requests and
 // answers FC03 with zeros. The gap between it and plcemud is what plcemud's own work costs.
-// One thread and epoll, like plcemud, so the comparison is between equals.
+// One thread and epoll, like plcemud, so the comparison is between equals. With --fatek it
+// speaks FATEK's protocol instead: every frame (STX..ETX) is answered as command 46 with zeros
+// for the count of registers the request names, with a correct checksum, and nothing checked.
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -57,10 +59,26 @@ void answer(const uint8_t* frame, size_t length, std::vector<uint8_t>& out) {
     }
 }
 
+// Appends the reply to one FATEK frame: "<STX>01460" + 4 zeros per register + checksum + ETX.
+void answer_fatek(const uint8_t* frame, size_t length, std::vector<uint8_t>& out) {
+    auto hex = [](uint8_t c) { return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10; };
+    const unsigned count =
+        length >= 7 ? static_cast<unsigned>(hex(frame[5]) << 4 | hex(frame[6])) & 0xFF : 0;
+    const size_t at = out.size();
+    out.insert(out.end(), {0x02, frame[1], frame[2], '4', '6', '0'});
+    out.insert(out.end(), 4 * static_cast<size_t>(count), '0');
+    unsigned sum = 0;
+    for (size_t i = at; i < out.size(); ++i) sum += out[i];
+    const char* digits = "0123456789ABCDEF";
+    out.insert(out.end(), {static_cast<uint8_t>(digits[(sum >> 4) & 0xF]),
+                           static_cast<uint8_t>(digits[sum & 0xF]), 0x03});
+}
+
 class Server {
 public:
-    explicit Server(int port)
-        : port_(port) {}
+    Server(int port, bool fatek)
+        : port_(port),
+          fatek_(fatek) {}
 
     int run() {
         listener_ = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK, 0);
@@ -131,7 +149,15 @@ private:
 
         // Answer every complete frame in the buffer; a partial one waits for the next read.
         size_t pos = 0;
-        while (c.in.size() - pos >= 7) {
+        while (fatek_ && pos < c.in.size()) {
+            const auto* f = c.in.data() + pos;
+            const auto* end = static_cast<const uint8_t*>(std::memchr(f, 0x03, c.in.size() - pos));
+            if (end == nullptr) break;
+            const auto length = static_cast<size_t>(end - f) + 1;
+            answer_fatek(f, length, c.out);
+            pos += length;
+        }
+        while (!fatek_ && c.in.size() - pos >= 7) {
             const uint8_t* f = c.in.data() + pos;
             const size_t length = be16(f + 4);
             // As the Modbus TCP spec asks: a frame we cannot delimit ends the connection.
@@ -168,6 +194,7 @@ private:
     }
 
     int port_;
+    bool fatek_;
     int listener_ = -1;
     int ep_ = -1;
     std::unordered_map<int, Client> clients_;
@@ -176,9 +203,10 @@ private:
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 3 || std::string(argv[1]) != "--port") {
-        std::fprintf(stderr, "usage: %s --port N\n", argv[0]);
+    const bool fatek = argc == 4 && std::string(argv[3]) == "--fatek";
+    if ((argc != 3 && !fatek) || std::string(argv[1]) != "--port") {
+        std::fprintf(stderr, "usage: %s --port N [--fatek]\n", argv[0]);
         return 2;
     }
-    return Server(std::atoi(argv[2])).run();
+    return Server(std::atoi(argv[2]), fatek).run();
 }

@@ -14,7 +14,7 @@
 #   BENCH_SECONDS=2 scripts/bench.sh     # shorter runs (BENCH_WARMUP sets the warm-up)
 #   BENCH_ROUNDS=6 scripts/bench.sh      # rounds of the alternating comparison (4 by default)
 #   BENCH_PLCS=100 scripts/bench.sh      # the many-PLC run with 100 PLCs instead of 500
-#   BENCH_ONLY=many_plcs scripts/bench.sh   # one hook alone (engine, plcemud, servers,
+#   BENCH_ONLY=many_plcs scripts/bench.sh   # one hook alone (engine, plcemud, servers, fatek,
 #                                           # scan_lateness, rtu_turnaround, many_plcs, stepping)
 set -euo pipefail
 
@@ -218,6 +218,54 @@ bench_servers() {
     ratio plcemud_vs_libmodbus plcemud libmodbus
 }
 
+# ---- Hook: FATEK protocol compared -----------------------------------------------------------
+# plcemud serving FATEK's command 46 (64 registers from R0) on its fatek.tcp listener against the
+# do-nothing server answering the same frame (noop_server --fatek), in ROUNDS alternating rounds
+# at 1 and 16 connections. Prints `fatek_<server>.c<N>.rps.median|min|max` and the ratio.
+bench_fatek() {
+    local round name port c out rps cfg=$TMP/fatek.yaml servers=(fatek_noop)
+    declare -A runs=()
+    if [[ $BUILD_OK == 1 && -x $BUILD/plcemud ]]; then
+        servers=(fatek_plcemud fatek_noop)
+    else
+        note "fatek: $BUILD/plcemud not built; measuring the yardstick alone"
+    fi
+    note "fatek: $ROUNDS rounds of ${servers[*]}, command 46 of 64 registers, at 1 and 16 connections"
+    for round in $(seq "$ROUNDS"); do
+        for name in "${servers[@]}"; do
+            port=$(free_port)
+            case $name in
+                fatek_plcemud)
+                    # default.yaml's PLC with its Modbus listener on a port of its own.
+                    { cat config/default.yaml
+                      printf 'fatek: {tcp: {bind: 127.0.0.1, port: %s}}\n' "$port"; } >"$cfg"
+                    start_server "$name" "$port" "$BUILD/plcemud" -c "$cfg" --port 0 || continue ;;
+                fatek_noop)
+                    start_server "$name" "$port" "$BUILD/noop_server" --port "$port" --fatek ||
+                        continue ;;
+            esac
+            for c in 1 16; do
+                if out=$("$BUILD/load_client" --protocol fatek --quantity 64 --port "$port" \
+                    --connections "$c" --seconds "$RUN_SECONDS" --warmup "$WARMUP_SECONDS" \
+                    --label "$name.c$c"); then
+                    rps=$(awk '$1 ~ /\.rps$/ { print $2 }' <<<"$out")
+                    note "round $round: $name.c$c $rps req/s"
+                    runs[$name.c$c]+="$rps"$'\n'
+                else
+                    note "round $round: $name.c$c: load_client could not connect"
+                fi
+            done
+            stop_server
+        done
+    done
+    for name in "${servers[@]}"; do
+        for c in 1 16; do
+            emit < <(printf '%s' "${runs[$name.c$c]:-}" | median_of "$name.c$c.rps" req/s)
+        done
+    done
+    ratio plcemud_vs_noop_fatek fatek_plcemud fatek_noop
+}
+
 # ---- Hook: scan-engine benchmark --------------------------------------------------------------
 # Google Benchmark over the core (build-bench/bench_engine), each result as `engine.<name>.*`.
 bench_engine() {
@@ -397,6 +445,7 @@ port=$(free_port)
 bench_server pymodbus "$port" "$PY" bench/pymodbus_server.py --port "$port"
 # ...and the throughput comparison, which one run per server cannot make.
 bench_servers
+bench_fatek
 bench_scan_lateness
 bench_rtu_turnaround
 bench_many_plcs

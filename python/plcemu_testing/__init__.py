@@ -12,14 +12,16 @@ Load it with `pytest -p plcemu_testing` (python/ on PYTHONPATH) or install the p
 registers it. The API is in docs/testing.md.
 """
 
-from .errors import DaemonError, DeviceError, ModbusError, PlcemuError
+from .errors import DaemonError, DeviceError, FatekError, FatekTimeout, ModbusError, PlcemuError
+from .fatek import Fatek
 from .plc import Plc, PlcApi
 from .plcs import PlcEntry, Plcs
 from .process import find_plcemud
 from .wire_map import WireMap, parse_device
 
-__all__ = ["DaemonError", "DeviceError", "ModbusError", "PlcemuError", "Plc", "PlcApi",
-           "PlcEntry", "Plcs", "WireMap", "find_plcemud", "parse_device", "plcemud"]
+__all__ = ["DaemonError", "DeviceError", "Fatek", "FatekError", "FatekTimeout", "ModbusError",
+           "PlcemuError", "Plc", "PlcApi", "PlcEntry", "Plcs", "WireMap", "find_plcemud",
+           "parse_device", "plcemud"]
 
 try:
     import pytest  # noqa: F401

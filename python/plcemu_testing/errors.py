@@ -31,6 +31,31 @@ class DeviceError(PlcemuError, ValueError):
         self.reason = reason
 
 
+class FatekError(PlcemuError):
+    """A FATEK protocol reply with a non-zero error code (`code`, 2-15: the manual's digit
+    2-9 or A), or a reply that is not a frame (`code` None, `detail` says why)."""
+
+    NAMES = {2: "illegal value", 3: "write disabled",
+             4: "illegal format, or command cannot be executed",
+             5: "cannot RUN: ladder checksum error", 6: "cannot RUN: PLC ID differs from ladder ID",
+             7: "cannot RUN: syntax error", 9: "cannot RUN: function not supported",
+             10: "illegal address"}
+
+    def __init__(self, operation, device, code=None, detail=None):
+        self.operation = operation
+        self.device = device
+        self.code = code
+        self.detail = detail
+        self.error_name = self.NAMES.get(code, "unknown error") if code else None
+        what = (f"FATEK error {code:X} ({self.error_name})" if code is not None else str(detail))
+        super().__init__(f"{operation} {device}: {what}" if device else f"{operation}: {what}")
+
+
+class FatekTimeout(FatekError, TimeoutError):
+    """No FATEK reply within the client's timeout (a discarded frame, another station, a
+    broadcast, or no listener)."""
+
+
 class ModbusError(PlcemuError):
     """The daemon answered a request with a Modbus exception, or did not answer."""
 

@@ -16,6 +16,7 @@ from pymodbus.exceptions import ModbusException
 from pymodbus.pdu import ExceptionResponse
 
 from .errors import DaemonError, DeviceError, ModbusError
+from .fatek import Fatek
 from .process import Process, free_port
 from .tags import FUNCTIONS, WIDTH, from_registers, read_tags, to_registers
 from .wire_map import BIT_TABLES, WORD_TABLES, WireMap, parse_device, width
@@ -70,6 +71,7 @@ def config_text(config):
         tcp = modbus.setdefault("tcp", {}) or {}
         modbus["tcp"] = tcp
         tcp.setdefault("bind", "127.0.0.1")
+        fatek_listener(cfg, given={})
         return json.dumps(cfg, indent=1) + "\n"
     if isinstance(config, str) and "\n" in config:
         return config
@@ -78,6 +80,52 @@ def config_text(config):
         return path.read_text()
     except OSError as e:
         raise DaemonError(f"cannot read the config {path}: {e}") from e
+
+
+def fatek_listener(cfg, given=None):
+    """(transport, host, port) of the FATEK listener a client reaches a config (a dict: one PLC
+    or a `plcs:` entry) on: its fatek.tcp, else its fatek.udp, else None. With `given` (a dict
+    of listener as written -> port it got, shared by the entries that write the same one), each
+    listener gets a free port, bound to 127.0.0.1 unless it says otherwise (as modbus.tcp)."""
+    fatek = cfg.get("fatek") if isinstance(cfg, Mapping) else None
+    found = None
+    for transport in ("tcp", "udp") if isinstance(fatek, Mapping) else ():
+        listener = fatek.get(transport)
+        if not isinstance(listener, dict) or listener.get("enabled", True) is False:
+            continue
+        if given is not None:
+            key = ("fatek", transport, listener.get("bind"), listener.get("port"))
+            if key not in given:
+                given[key] = free_port(taken=set(given.values()),
+                                       kind="udp" if transport == "udp" else "tcp")
+            listener["port"] = given[key]
+            listener.setdefault("bind", "127.0.0.1")
+        bind = listener.get("bind", "0.0.0.0")
+        host = "127.0.0.1" if bind in ("0.0.0.0", "::") else bind
+        found = found or (transport, host, int(listener.get("port", 500)))
+    return found
+
+
+def fatek_config(path):
+    """The config file at `path` as a dict when it names `fatek` (JSON, else YAML: PyYAML
+    needed then), else {}: what the FATEK client needs of it, without PyYAML for the others."""
+    text = Path(path).read_text()
+    if "fatek" not in text:
+        return {}
+    try:
+        return json.loads(text)
+    except ValueError:
+        pass
+    try:
+        import yaml
+    except ImportError as e:
+        raise DaemonError(f"{path}: a YAML config with fatek: needs PyYAML (python3-yaml) for "
+                          "plc.fatek; or pass it as a dict") from e
+    try:
+        loaded = yaml.safe_load(text)
+    except yaml.YAMLError:
+        return {}  # plcemud says what is wrong
+    return loaded if isinstance(loaded, Mapping) else {}
 
 
 class PlcApi:
@@ -223,6 +271,29 @@ class PlcApi:
             self._call("write", self._label(device, len(values)), self.client.write_coils, wire,
                        [bool(v) for v in values[i:i + count]])
             i += count
+
+    # --- the FATEK protocol ------------------------------------------------------------------
+
+    _fatek = None
+
+    @property
+    def fatek(self):
+        """A FATEK protocol master (fatek.py) on the PLC's fatek.tcp listener, else its fatek.udp
+        one, at its station: connected at first use, closed when the daemon stops."""
+        if self._fatek is None:
+            found = fatek_listener(self._own_config())
+            if found is None:
+                raise DaemonError(f"{self.config_path}: the PLC has no fatek.tcp or fatek.udp "
+                                  "listener")
+            transport, host, port = found
+            connect_to = Fatek.tcp if transport == "tcp" else Fatek.udp
+            self._fatek = connect_to(port, host, station=self.station)
+        return self._fatek
+
+    def _close_fatek(self):
+        if self._fatek is not None:
+            self._fatek.close()
+            self._fatek = None
 
     # --- the tag export -------------------------------------------------------------------
 
@@ -401,12 +472,17 @@ class Plc(Process, PlcApi):
         return ["--port", str(self.port)]
 
     def _ports(self):
-        return [self.port]
+        fatek = fatek_listener(self._own_config())
+        return [self.port] + ([fatek[2]] if fatek and fatek[0] == "tcp" else [])
+
+    def _own_config(self):
+        return fatek_config(self.config_path)
 
     def _connect(self):
         self.client = connect(self.port)
 
     def _disconnect(self):
+        self._close_fatek()
         if self.client is not None:
             self.client.close()
             self.client = None

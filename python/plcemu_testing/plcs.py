@@ -7,7 +7,7 @@ import re
 from collections.abc import Mapping
 
 from .errors import DaemonError
-from .plc import PlcApi, _settings, config_text, connect
+from .plc import PlcApi, _settings, config_text, connect, fatek_config, fatek_listener
 from .process import Process, free_port
 from .tags import read_tags
 from .wire_map import WireMap
@@ -74,6 +74,10 @@ class PlcEntry(PlcApi):
     def config_path(self):
         return self.daemon.config_path
 
+    def _own_config(self):
+        entries = fatek_config(self.config_path).get("plcs") or []
+        return entries[self.index] if self.index < len(entries) else {}
+
     @property
     def log(self):
         return self.daemon.log
@@ -116,6 +120,7 @@ class Plcs(Process):
         for i, e in enumerate(entries):
             e = e if isinstance(e, dict) else {}
             port = self._listen(e)
+            fatek_listener(e, self._given)
             scan_ms, station = _settings(e)
             name = e.get("name")
             self._entries.append({
@@ -145,12 +150,16 @@ class Plcs(Process):
         return []  # each entry names its port (plcemud refuses --port with plcs:)
 
     def _ports(self):
-        return sorted({e["port"] for e in self._entries if e["port"]})
+        fatek = [fatek_listener(p._own_config()) for p in getattr(self, "plcs", ())]
+        return sorted({e["port"] for e in self._entries if e["port"]}
+                      | {f[2] for f in fatek if f and f[0] == "tcp"})
 
     def _connect(self):
         self._clients = [connect(e["port"]) if e["port"] else None for e in self._entries]
 
     def _disconnect(self):
+        for p in getattr(self, "plcs", ()):
+            p._close_fatek()
         for c in self._clients:
             if c is not None:
                 c.close()

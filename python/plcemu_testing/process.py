@@ -18,11 +18,11 @@ STOP_TIMEOUT_S = 5.0
 RELOAD_TIMEOUT_S = 30.0
 
 
-def free_port(taken=()):
-    """A TCP port on 127.0.0.1 that nothing listens on at the moment of the call, and not one
-    of `taken`."""
+def free_port(taken=(), kind="tcp"):
+    """A TCP (or `kind` "udp": UDP) port on 127.0.0.1 that nothing listens on at the moment of
+    the call, and not one of `taken`."""
     while True:
-        with socket.socket() as s:
+        with socket.socket(type=socket.SOCK_DGRAM if kind == "udp" else socket.SOCK_STREAM) as s:
             s.bind(("127.0.0.1", 0))
             port = s.getsockname()[1]
         if port not in taken:

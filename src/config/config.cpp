@@ -14,9 +14,11 @@
 #include <tuple>
 
 #include "config/config_file.hpp"
+#include "config/listener_sections.hpp"
 #include "config/yaml_tree.hpp"
 #include "plcemu/config/family.hpp"
 #include "plcemu/config/listener_key.hpp"
+#include "plcemu/config/listeners.hpp"
 #include "plcemu/config/tree.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
@@ -26,8 +28,8 @@ namespace plcemu::config {
 namespace {
 
 // The sections every profile has; a profile adds its own (Family::sections).
-constexpr std::array<std::string_view, 12> kCommonSections{
-    "profile", "model",   "station", "scan_ms",   "time_scale",  "modbus",
+constexpr std::array<std::string_view, 13> kCommonSections{
+    "profile", "model",   "station", "scan_ms",   "time_scale",  "modbus", "fatek",
     "init",    "program", "plant",   "simulator", "persistence", "log"};
 
 // "duplicate device 'D07' (first at line 3 as 'D7')" for a key naming what an earlier key
@@ -40,29 +42,21 @@ std::string again(const std::string& kind,
            (first.first == key ? "" : " as '" + excerpt(first.first) + "'") + ")";
 }
 
-// A numeric IPv4/IPv6 address, as the listener and the allow list take them.
-bool valid_address(const std::string& a) {
-    unsigned char buf[16];
-    return ::inet_pton(AF_INET, a.c_str(), buf) == 1 || ::inet_pton(AF_INET6, a.c_str(), buf) == 1;
-}
-
-// "192.168.1.0/24", "10.0.0.1", "::1/128".
-bool valid_cidr(const std::string& text) {
-    const auto slash = text.find('/');
-    const std::string addr = text.substr(0, slash);
-    if (!valid_address(addr)) return false;
-    if (slash == std::string::npos) return true;
-    const std::string p = text.substr(slash + 1);
-    if (p.empty() || p.size() > 3 || p.find_first_not_of("0123456789") != std::string::npos) {
-        return false;
-    }
-    return std::stoi(p) <= (addr.find(':') == std::string::npos ? 32 : 128);
-}
-
 }  // namespace
 
 void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what) {
-    r.check_keys(n, what, {"device", "baud", "parity", "data_bits", "stop_bits"});
+    read_line(r, n, rtu, what, false);
+}
+
+void read_line(
+    const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what, bool with_read_only) {
+    std::vector<std::string> keys{"device", "baud", "parity", "data_bits", "stop_bits"};
+    if (with_read_only) keys.emplace_back("read_only");
+    r.check_keys(n, what, keys);
+    r.attempt([&] {
+        if (with_read_only && n["read_only"])
+            rtu.read_only = r.boolean(n["read_only"], what + ".read_only");
+    });
     r.attempt([&] {
         if (!n["device"]) r.fail(n, what + ": 'device' is required");
         rtu.device = r.scalar(n["device"], what + ".device");
@@ -202,83 +196,10 @@ void read_map(const Reader& r,
     for (const auto& e : n.items) r.attempt([&] { read_map_row(r, e, layout, rows); });
 }
 
-void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp) {
-    r.check_keys(n, "modbus.tcp",
-                 {"enabled", "bind", "port", "unknown_unit", "allow", "max_clients",
-                  "idle_timeout_s", "frame_timeout_ms"});
-    r.attempt([&] {
-        if (n["enabled"]) tcp.enabled = r.boolean(n["enabled"], "modbus.tcp.enabled");
-    });
-    r.attempt([&] {
-        if (n["bind"]) {
-            tcp.bind = r.scalar(n["bind"], "modbus.tcp.bind");
-            if (!valid_address(tcp.bind)) {
-                r.fail(n["bind"],
-                       "modbus.tcp.bind: expected a numeric IPv4 or IPv6 address such as "
-                       "0.0.0.0 or ::, got '" +
-                           excerpt(tcp.bind) + "'");
-            }
-        }
-    });
-    r.attempt([&] {
-        if (n["port"])
-            tcp.port =
-                static_cast<std::uint16_t>(r.integer(n["port"], "modbus.tcp.port", 0, 65535));
-    });
-    r.attempt([&] {
-        if (n["unknown_unit"]) {
-            const std::string s = r.scalar(n["unknown_unit"], "modbus.tcp.unknown_unit");
-            if (s == "exception") {
-                tcp.unknown_unit = UnknownUnit::Exception;
-            } else if (s == "silent") {
-                tcp.unknown_unit = UnknownUnit::Silent;
-            } else {
-                r.fail(n["unknown_unit"],
-                       "modbus.tcp.unknown_unit: expected 'exception' or 'silent'");
-            }
-        }
-    });
-    r.attempt([&] {
-        if (const auto& a = n["allow"]) {
-            if (!a.is_sequence()) r.fail(a, "modbus.tcp.allow: expected a list of CIDR ranges");
-            for (const auto& e : a.items) {
-                r.attempt([&] {
-                    tcp.allow.push_back(r.scalar(e, "modbus.tcp.allow entry"));
-                    if (!valid_cidr(tcp.allow.back())) {
-                        r.fail(
-                            e,
-                            "modbus.tcp.allow: expected a CIDR range such as 192.168.1.0/24 or an "
-                            "address, got '" +
-                                excerpt(tcp.allow.back()) + "'");
-                    }
-                });
-            }
-        }
-    });
-    r.attempt([&] {
-        if (n["max_clients"]) {
-            tcp.max_clients =
-                static_cast<int>(r.integer(n["max_clients"], "modbus.tcp.max_clients", 1, 10000));
-        }
-    });
-    r.attempt([&] {
-        if (n["idle_timeout_s"]) {
-            tcp.idle_timeout_s = static_cast<int>(
-                r.integer(n["idle_timeout_s"], "modbus.tcp.idle_timeout_s", 0, 86400));
-        }
-    });
-    r.attempt([&] {
-        if (n["frame_timeout_ms"]) {
-            tcp.frame_timeout_ms = static_cast<int>(
-                r.integer(n["frame_timeout_ms"], "modbus.tcp.frame_timeout_ms", 100, 60000));
-        }
-    });
-}
-
 void read_modbus(const Reader& r, const Node& n, ModbusConfig& mb) {
     r.check_keys(n, "modbus", {"tcp", "rtu", "read_only", "write_protect", "map"});
     r.attempt([&] {
-        if (n["tcp"]) read_tcp(r, n["tcp"], mb.tcp);
+        if (n["tcp"]) read_tcp(r, n["tcp"], mb.tcp, "modbus.tcp");
     });
     r.attempt([&] {
         if (n["rtu"] && !n["rtu"].is_null()) {
@@ -545,6 +466,29 @@ void section(const Reader& r,
     });
 }
 
+// True when `family` speaks the protocol of config section `protocol` ("fatek").
+bool speaks(const Family& family, std::string_view protocol) {
+    const auto p = family.protocols();
+    return std::find(p.begin(), p.end(), protocol) != p.end();
+}
+
+// "profiles fb and fbs do", "no profile does".
+std::string speakers(std::string_view protocol) {
+    std::vector<std::string> names;
+    for (const Family* f : families()) {
+        if (speaks(*f, protocol)) names.emplace_back(f->name());
+    }
+    if (names.empty()) return "no profile does";
+    std::string s = names.size() == 1 ? "profile " : "profiles ";
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        if (i > 0) s += i + 1 == names.size() ? " and " : ", ";
+        s += names[i];
+    }
+    return s + (names.size() == 1 ? " does" : " do");
+}
+
+void check_own_listeners(const Reader& r, const Node& entry, const Config& c);
+
 // A PLC's station and its simulator unit are two unit IDs on its listeners: the same one would
 // leave the simulator unreachable (docs/configuration.md, "Configuration").
 void check_own_units(const Reader& r, const Node& root, const Config& c) {
@@ -643,6 +587,15 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
             c.time_scale = r.number(root["time_scale"], "time_scale", 0.001, 100000);
     });
     section(r, root, "modbus", read_modbus, c.modbus);
+    r.attempt([&] {
+        const Node& f = root["fatek"];
+        if (!f) return;
+        if (!speaks(*profile, "fatek")) {
+            r.fail(f, "fatek: profile " + c.profile + " does not speak FATEK's protocol (" +
+                          speakers("fatek") + ")");
+        }
+        read_fatek(r, f, c.fatek);
+    });
     section(r, root, "init", read_init, c.init);
     section(r, root, "program", read_program, c.program);
     section(r, root, "plant", read_plant, c.plant);
@@ -665,6 +618,7 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     // only repeat it in other words (docs/configuration.md, "Configuration").
     if (r.errors_found() != errors_before) return c;
     check_own_units(r, root, c);
+    check_own_listeners(r, root, c);
     profile->check(c);
     return c;
 }
@@ -688,21 +642,57 @@ const Node& where(const Node& entry, std::initializer_list<const char*> path) {
     return *n;
 }
 
+// The node of `key` in a dotted `section` ("fatek.tcp") under `entry`, or the nearest ancestor
+// written.
+const Node& where_in(const Node& entry, std::string_view section, const char* key) {
+    const Node* n = &entry;
+    std::string_view rest = section;
+    while (!rest.empty()) {
+        const auto dot = rest.find('.');
+        const std::string part(rest.substr(0, dot));
+        rest = dot == std::string_view::npos ? std::string_view() : rest.substr(dot + 1);
+        const Node& next = (*n)[part.c_str()];
+        if (!next) return *n;
+        n = &next;
+    }
+    const Node& k = (*n)[key];
+    return k ? k : *n;
+}
+
+// One listener an entry takes, with its key worked out once. Its settings are copied: the
+// entry's Config moves on into the list of entries.
+struct Held {
+    Held(const ListenerConfig& from, std::string k)
+        : protocol(from.protocol),
+          section(from.section),
+          carrier(from.carrier),
+          net(from.net != nullptr ? *from.net : TcpConfig{}),
+          line(from.line != nullptr ? *from.line : RtuConfig{}),
+          key(std::move(k)),
+          any(from.net != nullptr && any_address(from.net->bind)) {}
+
+    std::string_view protocol;
+    std::string_view section;
+    Carrier carrier;
+    TcpConfig net;     // Tcp and Udp
+    RtuConfig line;    // Serial
+    std::string key;   // listener_key
+    bool any = false;  // bound to every address
+};
+
 // What an entry takes that another may share or clash with, worked out once per entry: the keys
 // resolve addresses and device paths, and every later entry is compared with this one.
 struct Taken {
-    std::string tcp;         // tcp_listener_key, empty when TCP is off
-    bool tcp_any = false;    // bound to every address
-    std::string rtu;         // serial_line_key, empty without RTU
+    std::vector<Held> listeners;
     std::string state_file;  // state_file_key, empty without persistence
     Position state_at;       // where the entry names it (the entry itself for the default)
 
     Taken(const Config& c, const Node& entry) {
-        if (c.modbus.tcp.enabled && c.modbus.tcp.port != 0) {
-            tcp = tcp_listener_key(c.modbus.tcp);
-            tcp_any = any_address(c.modbus.tcp.bind);
+        for (const ListenerConfig& l : listeners_of(c)) {
+            // A port of 0 is the kernel's choice: never shared, never a clash.
+            if (l.net != nullptr && l.net->port == 0) continue;
+            listeners.emplace_back(l, listener_key(l));
         }
-        if (c.modbus.rtu) rtu = serial_line_key(c.modbus.rtu->device);
         if (c.persistence.enabled) {
             // Where the daemon will open it, so --check-config compares what a start would.
             const char* dir = std::getenv("STATE_DIRECTORY");
@@ -712,26 +702,37 @@ struct Taken {
     }
 };
 
-// Two listeners clash on one port when either takes every address or both take the same one,
-// however each writes it.
-bool same_port(const Config& c, const Taken& a, const Config& o, const Taken& b) {
-    if (a.tcp.empty() || b.tcp.empty() || c.modbus.tcp.port != o.modbus.tcp.port) return false;
-    return a.tcp == b.tcp || a.tcp_any || b.tcp_any;
+// Two listeners are one for the kernel: the same serial device, or one port of one carrier where
+// either takes every address or both take the same one, however each writes it.
+bool same_listener(const Held& a, const Held& b) {
+    if (a.carrier != b.carrier) return false;
+    if (a.carrier == Carrier::Serial) return a.key == b.key;
+    if (a.net.port != b.net.port) return false;
+    return a.key == b.key || a.any || b.any;
 }
 
-// PLCs on one listener are told apart by unit ID: each needs a station and a simulator unit of
-// its own there (docs/configuration.md, "Sharing a listener").
+// "tcp listener 0.0.0.0:502", "udp listener ...", "serial line '/dev/ttyS0'".
+std::string listener_words(const Held& l) {
+    if (l.carrier == Carrier::Serial) return "serial line '" + excerpt(l.line.device) + "'";
+    return std::string(l.carrier == Carrier::Tcp ? "tcp" : "udp") + " listener " + l.net.bind +
+           ":" + std::to_string(l.net.port);
+}
+
+// PLCs on one listener are told apart by unit ID: each needs a station and (Modbus) a simulator
+// unit of its own there (docs/configuration.md, "Sharing a listener").
 void check_units(const Reader& r,
                  const Node& entry,
                  const Config& c,
                  const Config& o,
-                 const std::string& listener) {
+                 const std::string& listener,
+                 bool simulator) {
     const std::string shared = " on the shared " + listener;
     if (c.station == o.station) {
         r.fail(where(entry, {"station"}), "station: " + std::to_string(c.station) + " is also " +
                                               o.label + "'s" + shared +
                                               " (each PLC there needs a station of its own)");
     }
+    if (!simulator) return;
     const int sim = c.simulator.unit;
     const int other_sim = o.simulator.unit;
     if (sim != 0 && (sim == other_sim || sim == o.station)) {
@@ -746,50 +747,84 @@ void check_units(const Reader& r,
     }
 }
 
-// PLCs behind one TCP listener share its settings: they must say the same.
-void check_tcp_agrees(
-    const Reader& r, const Node& entry, const Config& c, const Config& o, bool same_address) {
-    const TcpConfig& a = c.modbus.tcp;
-    const TcpConfig& b = o.modbus.tcp;
-    const char* key = !same_address                              ? "bind"
-                      : a.unknown_unit != b.unknown_unit         ? "unknown_unit"
+// PLCs behind one TCP or UDP listener share its settings: they must say the same.
+void check_net_agrees(
+    const Reader& r, const Node& entry, const Held& mine, const Held& theirs, const Config& o) {
+    const TcpConfig& a = mine.net;
+    const TcpConfig& b = theirs.net;
+    const std::string section(mine.section);
+    if (mine.key != theirs.key) {
+        r.fail(where_in(entry, section, "port"),
+               section + ".port: " + std::to_string(a.port) + " is also " + o.label +
+                   "'s on another address (PLCs share a port only with the same " + section +
+                   ".bind)");
+    }
+    const char* key = a.unknown_unit != b.unknown_unit           ? "unknown_unit"
                       : a.allow != b.allow                       ? "allow"
                       : a.max_clients != b.max_clients           ? "max_clients"
                       : a.idle_timeout_s != b.idle_timeout_s     ? "idle_timeout_s"
                       : a.frame_timeout_ms != b.frame_timeout_ms ? "frame_timeout_ms"
+                      : a.read_only != b.read_only               ? "read_only"
                                                                  : nullptr;
     if (key == nullptr) return;
-    const std::string what = std::string("modbus.tcp.") + key;
-    if (std::string(key) == "bind") {
-        r.fail(where(entry, {"modbus", "tcp", "port"}),
-               "modbus.tcp.port: " + std::to_string(a.port) + " is also " + o.label +
-                   "'s on another address (PLCs share a port only with the same modbus.tcp.bind)");
-    }
-    r.fail(where(entry, {"modbus", "tcp", key}),
-           what + ": differs from " + o.label + "'s, which shares the tcp listener " + a.bind +
-               ":" + std::to_string(a.port) + " (PLCs sharing a listener need the same " + what +
-               ")");
+    const std::string what = section + "." + key;
+    r.fail(where_in(entry, section, key),
+           what + ": differs from " + o.label + "'s, which shares the " + listener_words(mine) +
+               " (PLCs sharing a listener need the same " + what + ")");
 }
 
 // PLCs on one serial line share its settings.
-void check_rtu_agrees(const Reader& r, const Node& entry, const Config& c, const Config& o) {
-    const RtuConfig& a = *c.modbus.rtu;
-    const RtuConfig& b = *o.modbus.rtu;
+void check_line_agrees(
+    const Reader& r, const Node& entry, const Held& mine, const Held& theirs, const Config& o) {
+    const RtuConfig& a = mine.line;
+    const RtuConfig& b = theirs.line;
     const char* key = a.baud != b.baud             ? "baud"
                       : a.parity != b.parity       ? "parity"
                       : a.data_bits != b.data_bits ? "data_bits"
                       : a.stop_bits != b.stop_bits ? "stop_bits"
+                      : a.read_only != b.read_only ? "read_only"
                                                    : nullptr;
     if (key == nullptr) return;
-    const std::string what = std::string("modbus.rtu.") + key;
-    r.fail(where(entry, {"modbus", "rtu", key}),
+    const std::string what = std::string(mine.section) + "." + key;
+    r.fail(where_in(entry, mine.section, key),
            what + ": differs from " + o.label + "'s, which shares the serial line '" +
                excerpt(a.device) + "' (PLCs on one line need the same " + what + ")");
 }
 
-// The devices and files an entry takes, checked against the earlier entries: PLCs may share a TCP
-// listener (same bind and port) or a serial line (same device) when they agree on its settings
-// and answer to different unit IDs; they cannot write one state file.
+// One port or line carries one protocol: `mine` may not take what `other` (of `whose`: "this
+// PLC's", "plcs[0]'s") takes for another.
+void check_one_protocol(const Reader& r,
+                        const Node& entry,
+                        const Held& mine,
+                        const Held& other,
+                        const std::string& whose) {
+    if (mine.protocol == other.protocol && mine.section == other.section) return;
+    if (mine.carrier == Carrier::Serial) {
+        r.fail(where_in(entry, mine.section, "device"),
+               std::string(mine.section) + ".device: '" + excerpt(mine.line.device) + "' is also " +
+                   whose + " " + std::string(other.section) +
+                   " (one serial line carries one protocol)");
+    }
+    r.fail(where_in(entry, mine.section, "port"),
+           std::string(mine.section) + ".port: " + std::to_string(mine.net.port) + " is also " +
+               whose + " " + std::string(other.section) + " port (one port carries one protocol)");
+}
+
+// A PLC's own listeners may not take one port or line twice.
+void check_own_listeners(const Reader& r, const Node& entry, const Config& c) {
+    const Taken mine(c, entry);
+    for (std::size_t i = 0; i < mine.listeners.size(); ++i) {
+        for (std::size_t j = 0; j < i; ++j) {
+            if (same_listener(mine.listeners[i], mine.listeners[j])) {
+                check_one_protocol(r, entry, mine.listeners[i], mine.listeners[j], "this PLC's");
+            }
+        }
+    }
+}
+
+// The devices and files an entry takes, checked against the earlier entries: PLCs may share a
+// listener (same bind and port, or same device) when it carries one protocol, they agree on its
+// settings and answer to different unit IDs; they cannot write one state file.
 void check_shared(const Reader& r,
                   const Node& entry,
                   const Config& c,
@@ -802,15 +837,17 @@ void check_shared(const Reader& r,
         if (!c.name.empty() && c.name == o.name) {
             r.fail(entry["name"], "name: '" + c.name + "' is also " + o.label + "'s");
         }
-        if (same_port(c, mine, o, t)) {
-            check_tcp_agrees(r, entry, c, o, mine.tcp == t.tcp);
-            check_units(
-                r, entry, c, o,
-                "tcp listener " + c.modbus.tcp.bind + ":" + std::to_string(c.modbus.tcp.port));
-        }
-        if (!mine.rtu.empty() && mine.rtu == t.rtu) {
-            check_rtu_agrees(r, entry, c, o);
-            check_units(r, entry, c, o, "serial line '" + excerpt(c.modbus.rtu->device) + "'");
+        for (const Held& m : mine.listeners) {
+            for (const Held& h : t.listeners) {
+                if (!same_listener(m, h)) continue;
+                check_one_protocol(r, entry, m, h, o.label + "'s");
+                if (m.carrier == Carrier::Serial) {
+                    check_line_agrees(r, entry, m, h, o);
+                } else {
+                    check_net_agrees(r, entry, m, h, o);
+                }
+                check_units(r, entry, c, o, listener_words(m), m.protocol.rfind("modbus", 0) == 0);
+            }
         }
         if (!mine.state_file.empty() && mine.state_file == t.state_file) {
             // Paths are quoted whole up to a length real ones do not reach.

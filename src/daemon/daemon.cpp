@@ -218,6 +218,10 @@ public:
             return nullptr;
         }
         plc->plant().restore(plc_->plant().state());
+        // RUN/STOP and the disabled discretes are a master's doing, not the config's: the new
+        // program takes them over (docs/profile-fbs.md, "FATEK protocol").
+        plc->engine().holds() = plc_->engine().holds();
+        plc->engine().set_running(plc_->engine().running());
         std::unique_ptr<Plc> old = std::move(plc_);
         plc_ = std::move(plc);
         cfg_ = std::move(applied);
@@ -525,7 +529,7 @@ private:
 engine::Program probe(const config::Config& c) {
     try {
         Plc plc(c);
-        tcp_options(c);
+        check_listeners(c);
         return plc.engine().take_program();
     } catch (const config::ConfigError& e) {
         if (c.label.empty()) throw;

@@ -3,86 +3,118 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
 #include <utility>
 
 #include "daemon/fd_limit.hpp"
 #include "daemon/protocols.hpp"
-#include "plcemu/config/listener_key.hpp"
+#include "listener/serial_listener.hpp"
+#include "listener/tcp_listener.hpp"
+#include "listener/udp_listener.hpp"
 
 namespace plcemu::daemon {
 
-listener::TcpOptions tcp_options(const config::Config& c) {
-    listener::TcpOptions o;
-    o.bind = c.modbus.tcp.bind;
-    o.port = c.modbus.tcp.port;
-    o.max_clients = c.modbus.tcp.max_clients;
-    o.idle_timeout_s = c.modbus.tcp.idle_timeout_s;
-    o.frame_timeout_ms = c.modbus.tcp.frame_timeout_ms;
-    for (const auto& a : c.modbus.tcp.allow) {
-        listener::Cidr cidr;
-        if (!listener::Cidr::parse(a, cidr)) {
-            throw config::ConfigError({c.path, 0, 0},
-                                      "modbus.tcp.allow: bad CIDR '" + config::excerpt(a) + "'");
-        }
-        o.allow.push_back(cidr);
-    }
-    return o;
-}
+using config::Carrier;
 
 namespace {
 
 // Descriptors a PLC needs besides its clients: its state file, a serial line, a master port.
 constexpr int kPerPlc = 4;
 
-// What a PLC listens on: "ADDR:PORT" (each PLC on port 0 gets a port of its own), the serial
-// device, both as the config loader compares them; empty for none. PLCs with one key share that
-// listener (the loader made sure they agree on its settings).
-std::string tcp_key(const config::Config& c, std::size_t index) {
-    if (!c.modbus.tcp.enabled) return {};
-    if (c.modbus.tcp.port == 0) return "#" + std::to_string(index);
-    return config::tcp_listener_key(c.modbus.tcp);
+// A network listener's settings; throws ConfigError on an allow list entry it cannot take.
+listener::TcpOptions net_options(const config::Config& c, const config::ListenerConfig& l) {
+    const config::TcpConfig& t = *l.net;
+    listener::TcpOptions o;
+    o.bind = t.bind;
+    o.port = t.port;
+    o.max_clients = t.max_clients;
+    o.idle_timeout_s = t.idle_timeout_s;
+    o.frame_timeout_ms = t.frame_timeout_ms;
+    for (const auto& a : t.allow) {
+        listener::Cidr cidr;
+        if (!listener::Cidr::parse(a, cidr)) {
+            throw config::ConfigError(
+                {c.path, 0, 0},
+                std::string(l.section) + ".allow: bad CIDR '" + config::excerpt(a) + "'");
+        }
+        o.allow.push_back(cidr);
+    }
+    return o;
 }
 
-std::string rtu_key(const config::Config& c, std::size_t) {
-    return c.modbus.rtu ? config::serial_line_key(c.modbus.rtu->device) : std::string();
+// The listener of `section` in `c`, if it asks for one.
+std::optional<config::ListenerConfig> listener_in(const config::Config& c,
+                                                  std::string_view section) {
+    for (const auto& l : config::listeners_of(c)) {
+        if (l.section == section) return l;
+    }
+    return std::nullopt;
 }
 
+// How logs and the status line name a listener's kind: "tcp" and "rtu" for Modbus (as always),
+// "fatek tcp", "fatek udp", "fatek serial" for the others.
+std::string kind_words(std::string_view protocol, Carrier carrier) {
+    if (protocol == "modbus-tcp") return "tcp";
+    if (protocol == "modbus-rtu") return "rtu";
+    const char* c = carrier == Carrier::Tcp ? "tcp" : carrier == Carrier::Udp ? "udp" : "serial";
+    return std::string(protocol) + " " + c;
+}
+
+bool is_modbus(std::string_view protocol) { return protocol.rfind("modbus", 0) == 0; }
+
+// One listener a set of PLCs asks for. PLCs with one key share it (the loader made sure they
+// agree on its settings and its protocol).
 struct Group {
-    std::string key;
+    std::string key;  // config::listener_key; "#3 fatek.tcp" for a PLC's own port 0
+    std::string_view protocol;
+    std::string_view section;
+    Carrier carrier = Carrier::Tcp;
     std::vector<std::size_t> members;
 };
 
-template <typename Config, typename Key>
-std::vector<Group> group(const std::vector<Config>& plcs, Key key) {
+const config::Config& config_of(const config::Config& c) { return c; }
+const config::Config& config_of(const ListenerMember& m) { return *m.config; }
+
+template <typename Plcs>
+std::vector<Group> group(const Plcs& plcs, std::initializer_list<Carrier> carriers) {
     std::vector<Group> out;
     for (std::size_t i = 0; i < plcs.size(); ++i) {
-        const std::string k = key(plcs[i], i);
-        if (k.empty()) continue;
-        auto it = std::find_if(out.begin(), out.end(), [&](const Group& g) { return g.key == k; });
-        if (it == out.end()) {
-            out.push_back({k, {i}});
-        } else {
-            it->members.push_back(i);
+        for (const auto& l : config::listeners_of(config_of(plcs[i]))) {
+            if (std::find(carriers.begin(), carriers.end(), l.carrier) == carriers.end()) continue;
+            const std::string k = l.net != nullptr && l.net->port == 0
+                                      ? "#" + std::to_string(i) + " " + std::string(l.section)
+                                      : config::listener_key(l);
+            auto it =
+                std::find_if(out.begin(), out.end(), [&](const Group& g) { return g.key == k; });
+            if (it == out.end()) {
+                out.push_back({k, l.protocol, l.section, l.carrier, {i}});
+            } else {
+                it->members.push_back(i);
+            }
         }
     }
     return out;
 }
 
-std::vector<std::size_t> members_with(const std::vector<Group>& groups, std::size_t plc) {
+constexpr std::initializer_list<Carrier> kAll{Carrier::Tcp, Carrier::Udp, Carrier::Serial};
+
+std::vector<std::size_t> members_with(const std::vector<Group>& groups,
+                                      std::size_t plc,
+                                      std::string_view section) {
     for (const auto& g : groups) {
-        if (std::find(g.members.begin(), g.members.end(), plc) != g.members.end()) return g.members;
+        if (g.section == section &&
+            std::find(g.members.begin(), g.members.end(), plc) != g.members.end()) {
+            return g.members;
+        }
     }
     return {};
 }
 
-listener::UnknownUnit policy(const config::Config& c) {
-    return c.modbus.tcp.unknown_unit == config::UnknownUnit::Silent ? listener::UnknownUnit::Silent
-                                                                    : listener::UnknownUnit::Refuse;
+listener::UnknownUnit policy(const config::Config& c, std::string_view section) {
+    return section == "modbus.tcp" && c.modbus.tcp.unknown_unit == config::UnknownUnit::Silent
+               ? listener::UnknownUnit::Silent
+               : listener::UnknownUnit::Refuse;
 }
-
-// The protocols today's config sections name: `modbus.tcp` and `modbus.rtu`.
-constexpr std::string_view kTcpProtocol = "modbus-tcp";
-constexpr std::string_view kSerialProtocol = "modbus-rtu";
 
 std::vector<listener::Seat> seats(const std::vector<std::size_t>& members,
                                   const std::vector<ListenerMember>& plcs) {
@@ -91,41 +123,6 @@ std::vector<listener::Seat> seats(const std::vector<std::size_t>& members,
     for (std::size_t i : members) v.push_back(plcs[i].seat);
     return v;
 }
-
-// A TCP listener's protocol, with no PLCs yet (route() seats them).
-std::unique_ptr<listener::StreamProtocol> stream_protocol(std::string_view name) {
-    return protocol(name).stream({});
-}
-
-}  // namespace
-
-struct Listeners::Tcp {
-    std::string key;
-    std::vector<std::size_t> members;
-    listener::TcpOptions options;
-    // What it speaks; the server holds it, so it outlives the server.
-    std::unique_ptr<listener::StreamProtocol> protocol = stream_protocol(kTcpProtocol);
-    std::unique_ptr<listener::TcpListener> server;
-};
-
-struct Listeners::Rtu {
-    std::string key;
-    std::vector<std::size_t> members;
-    std::unique_ptr<listener::SerialProtocol> protocol;
-    std::unique_ptr<listener::SerialListener> server;
-};
-
-struct Listeners::Staged {
-    std::size_t kept = 0;        // index into tcp_ when `fresh` is null
-    std::unique_ptr<Tcp> fresh;  // a new listener
-};
-
-Listeners::Listeners(asio::io_context& io)
-    : io_(io) {}
-
-Listeners::~Listeners() { stop(); }
-
-namespace {
 
 // "plcs[0] (a), plcs[1]" for a shared listener's log line.
 std::string names(const std::vector<std::size_t>& members,
@@ -150,60 +147,139 @@ void log_listening(const std::string& what,
 
 }  // namespace
 
+void check_listeners(const config::Config& c) {
+    for (const auto& l : config::listeners_of(c)) {
+        if (l.net != nullptr) net_options(c, l);
+    }
+}
+
+struct Listeners::Listener {
+    explicit Listener(const Group& g)
+        : key(g.key),
+          protocol(g.protocol),
+          section(g.section),
+          carrier(g.carrier),
+          members(g.members) {}
+
+    // "tcp", "rtu", "fatek udp": as logs and the status line name it.
+    std::string what() const { return kind_words(protocol, carrier); }
+    // Where it listens: the endpoint bound, or the device; the key while it is closed.
+    std::string where() const {
+        if (tcp) return tcp->endpoint();
+        if (udp) return udp->endpoint();
+        if (line) return line->description();
+        return key.substr(key.find(' ') + 1);
+    }
+    bool open() const { return tcp || udp || line; }
+    listener::UnitTable& units() { return stream ? stream->units() : serial->units(); }
+    void stop() {
+        if (tcp) tcp->stop();
+        if (udp) udp->stop();
+        if (line) line->stop();
+    }
+    bool has(std::size_t plc) const {
+        return std::find(members.begin(), members.end(), plc) != members.end();
+    }
+
+    std::string key;
+    std::string_view protocol;
+    std::string_view section;
+    Carrier carrier;
+    std::vector<std::size_t> members;
+    listener::TcpOptions options;  // TCP and UDP
+    // What it speaks; the server holds it, so it outlives the server.
+    std::unique_ptr<listener::StreamProtocol> stream;
+    std::unique_ptr<listener::SerialProtocol> serial;
+    std::unique_ptr<listener::TcpListener> tcp;
+    std::unique_ptr<listener::UdpListener> udp;
+    std::unique_ptr<listener::SerialListener> line;
+};
+
+struct Listeners::Staged {
+    std::size_t kept = 0;             // index into tcp_ when `fresh` is null
+    std::unique_ptr<Listener> fresh;  // a new listener
+};
+
+Listeners::Listeners(asio::io_context& io)
+    : io_(io) {}
+
+Listeners::~Listeners() { stop(); }
+
+namespace {
+
+// A TCP listener of group `g`, its protocol made, its server not opened yet.
+template <typename Plcs>
+std::unique_ptr<Listeners::Listener> tcp_listener(const Group& g, const Plcs& plcs) {
+    auto t = std::make_unique<Listeners::Listener>(g);
+    const config::Config& c = config_of(plcs[g.members.front()]);
+    t->options = net_options(c, *listener_in(c, g.section));
+    // Its PLCs are seated by route().
+    t->stream = protocol(g.protocol).stream({});
+    return t;
+}
+
+}  // namespace
+
 void Listeners::open(const std::vector<ListenerMember>& plcs) {
     plcs_ = plcs;
-    for (auto& g :
-         group(plcs, [](const ListenerMember&m, std::size_t i) { return tcp_key(*m.config, i); })) {
-        auto t = std::make_unique<Tcp>();
-        t->key = std::move(g.key);
-        t->members = std::move(g.members);
-        t->options = tcp_options(*plcs[t->members.front()].config);
-        t->server = std::make_unique<listener::TcpListener>(io_, *t->protocol, t->options);
+    for (const auto& g : group(plcs, {Carrier::Tcp})) {
+        auto t = tcp_listener(g, plcs);
+        t->tcp = std::make_unique<listener::TcpListener>(io_, *t->stream, t->options);
         tcp_.push_back(std::move(t));
     }
     route(plcs);
     raise_fd_limit(plcs.size());
-    for (const auto& t : tcp_) log_listening("tcp", t->server->endpoint(), t->members, plcs_);
-    open_rtu(plcs, true);
+    for (const auto& t : tcp_) log_listening(t->what(), t->where(), t->members, plcs_);
+    open_reopened(plcs, true);
 }
 
-void Listeners::open_rtu(const std::vector<ListenerMember>& plcs, bool at_start) {
-    for (auto& g :
-         group(plcs, [](const ListenerMember&m, std::size_t i) { return rtu_key(*m.config, i); })) {
-        auto r = std::make_unique<Rtu>();
-        r->key = std::move(g.key);
-        r->members = std::move(g.members);
-        const config::RtuConfig& c = *plcs[r->members.front()].config->modbus.rtu;
-        r->protocol = protocol(kSerialProtocol)
-                          .serial({seats(r->members, plcs),
-                                   listener::UnknownUnit::Silent,
-                                   {c.device, c.baud, c.parity, c.data_bits, c.stop_bits}});
-        const std::string& label = plcs_[r->members.front()].config->label;
-        const std::string prefix = r->members.size() == 1 && !label.empty() ? label + ": " : "";
+void Listeners::open_reopened(const std::vector<ListenerMember>& plcs, bool at_start) {
+    for (const auto& g : group(plcs, {Carrier::Udp, Carrier::Serial})) {
+        auto r = std::make_unique<Listener>(g);
+        const config::Config& c = *plcs[g.members.front()].config;
+        const config::ListenerConfig l = *listener_in(c, g.section);
+        listener::ProtocolSetup setup{seats(g.members, plcs), listener::UnknownUnit::Silent, {}};
+        const std::string& label = c.label;
+        const std::string prefix = g.members.size() == 1 && !label.empty() ? label + ": " : "";
         try {
-            r->server = std::make_unique<listener::SerialListener>(
-                io_, *r->protocol,
-                listener::LineSettings{c.device, c.baud, c.parity, c.data_bits, c.stop_bits},
-                "rtu");
+            if (g.carrier == Carrier::Udp) {
+                r->options = net_options(c, l);
+                setup.read_only = l.net->read_only;
+                r->stream = protocol(g.protocol).datagram(std::move(setup));
+                r->udp = std::make_unique<listener::UdpListener>(
+                    io_, *r->stream,
+                    listener::UdpOptions{r->options.bind, r->options.port, r->options.allow});
+            } else {
+                const config::RtuConfig& s = *l.line;
+                setup.line = {s.device, s.baud, s.parity, s.data_bits, s.stop_bits};
+                setup.read_only = s.read_only;
+                r->serial = protocol(g.protocol).serial(setup);
+                r->line = std::make_unique<listener::SerialListener>(io_, *r->serial, setup.line,
+                                                                     r->what());
+            }
         } catch (const std::exception& e) {
             if (at_start) throw;
-            // The line stays listed without a server: its PLCs keep their unit IDs there (a
+            // The listener stays listed without a server: its PLCs keep their unit IDs there (a
             // station change is checked against them), and the next reload tries it again.
-            // e.what() says "rtu: ..." already.
-            spdlog::error("reload: {}{}; serving without the serial port{}", prefix, e.what(),
-                          r->members.size() > 1 ? " for " + names(r->members, plcs_) : "");
-            rtu_.push_back(std::move(r));
+            // e.what() names it ("rtu: ...", "cannot listen on udp ...").
+            spdlog::error("reload: {}{}; serving without {}{}", prefix, e.what(),
+                          g.carrier == Carrier::Serial ? "the serial port" : "it",
+                          g.members.size() > 1 ? " for " + names(g.members, plcs_) : "");
+            reopened_.push_back(std::move(r));
             continue;
         }
-        log_listening("rtu", r->server->description(), r->members, plcs_);
-        rtu_.push_back(std::move(r));
+        log_listening(r->what(), r->where(), r->members, plcs_);
+        reopened_.push_back(std::move(r));
     }
 }
 
 void Listeners::route(const std::vector<ListenerMember>& plcs) {
     for (auto& t : tcp_) {
-        t->protocol->units().assign(seats(t->members, plcs));
-        t->protocol->units().set_unknown_unit(policy(*plcs[t->members.front()].config));
+        const config::Config& c = *plcs[t->members.front()].config;
+        t->units().assign(seats(t->members, plcs));
+        t->units().set_unknown_unit(policy(c, t->section));
+        const auto l = listener_in(c, t->section);
+        t->units().set_read_only(l && l->net->read_only);
     }
 }
 
@@ -216,25 +292,27 @@ void Listeners::raise_fd_limit(std::size_t plcs) const {
 }
 
 std::string Listeners::refusal(const std::vector<config::Config>& next) const {
-    auto old_groups = [](const auto& list) {
-        std::vector<Group> out;
-        out.reserve(list.size());
-        for (const auto& l : list) out.push_back({l->key, l->members});
-        return out;
-    };
-    const std::vector<Group> tcp_before = old_groups(tcp_);
-    const std::vector<Group> rtu_before = old_groups(rtu_);
-    const std::vector<Group> tcp_after = group(next, tcp_key);
-    const std::vector<Group> rtu_after = group(next, rtu_key);
+    std::vector<Group> before;
+    for (const auto* list : {&tcp_, &reopened_}) {
+        for (const auto& l : *list) {
+            before.push_back({l->key, l->protocol, l->section, l->carrier, l->members});
+        }
+    }
+    const std::vector<Group> after = group(next, kAll);
     for (std::size_t i = 0; i < next.size(); ++i) {
-        for (const auto& [before, after, what] :
-             {std::tuple{&tcp_before, &tcp_after, "tcp listener"},
-              std::tuple{&rtu_before, &rtu_after, "serial line"}}) {
-            const auto was = members_with(*before, i);
-            const auto now = members_with(*after, i);
-            if ((was.size() > 1 || now.size() > 1) && was != now) {
-                return next[i].label + ": the PLCs sharing its " + what +
-                       " changed; restart plcemud to apply it";
+        for (const std::vector<Group>* groups : std::array{&std::as_const(before), &after}) {
+            for (const auto& g : *groups) {
+                if (std::find(g.members.begin(), g.members.end(), i) == g.members.end()) continue;
+                const auto was = members_with(before, i, g.section);
+                const auto now = members_with(after, i, g.section);
+                if ((was.size() > 1 || now.size() > 1) && was != now) {
+                    const char* what = g.carrier == Carrier::Serial ? "serial line"
+                                       : g.carrier == Carrier::Udp  ? "udp listener"
+                                                                    : "tcp listener";
+                    return next[i].label + ": the PLCs sharing its " +
+                           (is_modbus(g.protocol) ? "" : std::string(g.protocol) + " ") + what +
+                           " changed; restart plcemud to apply it";
+                }
             }
         }
     }
@@ -244,12 +322,12 @@ std::string Listeners::refusal(const std::vector<config::Config>& next) const {
 bool Listeners::stage(const std::vector<config::Config>& next) {
     staged_.clear();
     stopped_for_stage_.clear();
-    for (auto& g : group(next, tcp_key)) {
+    for (const auto& g : group(next, {Carrier::Tcp})) {
         // The running listener of the same PLCs, if any (refusal() made sure the members are
         // the same ones when shared).
         const std::size_t first = g.members.front();
         auto running = std::find_if(tcp_.begin(), tcp_.end(), [&](const auto& t) {
-            return std::find(t->members.begin(), t->members.end(), first) != t->members.end();
+            return t->section == g.section && t->has(first);
         });
         Staged s;
         if (running != tcp_.end() && (*running)->key == g.key) {
@@ -257,21 +335,18 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
             staged_.push_back(std::move(s));
             continue;
         }
-        s.fresh = std::make_unique<Tcp>();
-        s.fresh->key = g.key;
-        s.fresh->members = g.members;
-        s.fresh->options = tcp_options(next[first]);
+        s.fresh = tcp_listener(g, next);
         const std::string& label = next[first].label;
         const std::string prefix = label.empty() ? "" : label + ": ";
         try {
-            s.fresh->server =
-                std::make_unique<listener::TcpListener>(io_, *s.fresh->protocol, s.fresh->options);
+            s.fresh->tcp =
+                std::make_unique<listener::TcpListener>(io_, *s.fresh->stream, s.fresh->options);
             staged_.push_back(std::move(s));
             continue;
         } catch (const std::exception& e) {
             // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
             if (running == tcp_.end() || s.fresh->options.port == 0 ||
-                s.fresh->options.port != (*running)->options.port || !(*running)->server) {
+                s.fresh->options.port != (*running)->options.port || !(*running)->tcp) {
                 spdlog::error("reload: {}{}", prefix, e.what());
                 unstage();
                 return false;
@@ -279,14 +354,14 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
         }
         // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the port, so it
         // goes first; if the new one still fails, the old one comes back.
-        spdlog::info("reload: {}closing tcp {} to listen on {}:{}", prefix,
-                     (*running)->server->endpoint(), s.fresh->options.bind, s.fresh->options.port);
-        (*running)->server->stop();
-        (*running)->server.reset();
+        spdlog::info("reload: {}closing {} {} to listen on {}:{}", prefix, (*running)->what(),
+                     (*running)->where(), s.fresh->options.bind, s.fresh->options.port);
+        (*running)->tcp->stop();
+        (*running)->tcp.reset();
         stopped_for_stage_.push_back(static_cast<std::size_t>(running - tcp_.begin()));
         try {
-            s.fresh->server =
-                std::make_unique<listener::TcpListener>(io_, *s.fresh->protocol, s.fresh->options);
+            s.fresh->tcp =
+                std::make_unique<listener::TcpListener>(io_, *s.fresh->stream, s.fresh->options);
             staged_.push_back(std::move(s));
         } catch (const std::exception& e) {
             spdlog::error("reload: {}{}", prefix, e.what());
@@ -299,92 +374,85 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
 
 void Listeners::unstage() {
     for (auto& s : staged_) {
-        if (s.fresh && s.fresh->server) s.fresh->server->stop();
+        if (s.fresh) s.fresh->stop();
     }
     staged_.clear();
     // The previous listeners again, after a reload that had to close them failed.
     for (std::size_t i : stopped_for_stage_) {
-        Tcp& t = *tcp_[i];
+        Listener& t = *tcp_[i];
         try {
-            t.server = std::make_unique<listener::TcpListener>(io_, *t.protocol, t.options);
+            t.tcp = std::make_unique<listener::TcpListener>(io_, *t.stream, t.options);
         } catch (const std::exception& e) {
-            spdlog::error("tcp: cannot listen on {} again: {}; serving no TCP there", t.key,
-                          e.what());
+            spdlog::error("{}: cannot listen on {} again: {}; serving nothing there", t.what(),
+                          t.key, e.what());
         }
     }
     stopped_for_stage_.clear();
 }
 
 void Listeners::apply(const std::vector<ListenerMember>& plcs) {
-    std::vector<std::unique_ptr<Tcp>> now;
+    std::vector<std::unique_ptr<Listener>> now;
     for (auto& s : staged_) {
         if (s.fresh) {
             now.push_back(std::move(s.fresh));
-            log_listening("tcp", now.back()->server->endpoint(), now.back()->members, plcs_);
+            log_listening(now.back()->what(), now.back()->where(), now.back()->members, plcs_);
             continue;
         }
         auto kept = std::move(tcp_[s.kept]);
-        kept->options = tcp_options(*plcs[kept->members.front()].config);
-        if (kept->server) kept->server->set_limits(kept->options);
+        const config::Config& c = *plcs[kept->members.front()].config;
+        kept->options = net_options(c, *listener_in(c, kept->section));
+        if (kept->tcp) kept->tcp->set_limits(kept->options);
         now.push_back(std::move(kept));
     }
     staged_.clear();
     stopped_for_stage_.clear();
     for (auto& t : tcp_) {
-        if (t && t->server) t->server->stop();  // not kept: its PLCs left it
+        if (t) t->stop();  // not kept: its PLCs left it
     }
     tcp_ = std::move(now);
     plcs_ = plcs;
     route(plcs);
     raise_fd_limit(plcs.size());
-    // Serial lines are reopened with their new settings (and a device that came back is tried).
-    for (auto& r : rtu_) {
-        if (r->server) r->server->stop();
-    }
-    rtu_.clear();
-    open_rtu(plcs, false);
+    // UDP listeners and serial lines are reopened with their new settings (and a device that
+    // came back is tried).
+    for (auto& r : reopened_) r->stop();
+    reopened_.clear();
+    open_reopened(plcs, false);
 }
 
 void Listeners::stop() {
     for (auto& t : tcp_) {
-        if (t && t->server) t->server->stop();
+        if (t) t->stop();
     }
     for (auto& s : staged_) {
-        if (s.fresh && s.fresh->server) s.fresh->server->stop();
+        if (s.fresh) s.fresh->stop();
     }
-    for (auto& r : rtu_) {
-        if (r->server) r->server->stop();
-    }
+    for (auto& r : reopened_) r->stop();
 }
 
 std::string Listeners::holder(std::size_t index, std::uint8_t unit) const {
-    auto in = [index](const auto& l) {
-        return std::find(l->members.begin(), l->members.end(), index) != l->members.end();
-    };
-    auto check = [&](const auto& l, const std::string& where) -> std::string {
-        for (std::size_t j : l->members) {
-            const listener::Seat& d = plcs_[j].seat;
-            const char* what = j != index && *d.station == unit ? " station on "
-                               : d.simulator != nullptr && d.simulator_unit == unit
-                                   ? " simulator unit on "
-                                   : nullptr;
-            if (what == nullptr) continue;
-            std::string who = j == index ? "its own" : plcs_[j].config->label + "'s";
-            who += what;
-            who += where;
-            return who;
+    for (const auto* list : {&tcp_, &reopened_}) {
+        for (const auto& l : *list) {
+            if (!l->has(index)) continue;
+            // A PLC on port 0 has a key of its own ("#3 modbus.tcp"): the port it got says more.
+            const std::string where = l->carrier == Carrier::Serial
+                                          ? (is_modbus(l->protocol) ? "" : l->what() + " ") +
+                                                "serial line " + l->key.substr(7)
+                                          : l->what() + " " + l->where();
+            for (std::size_t j : l->members) {
+                const listener::Seat& d = plcs_[j].seat;
+                const bool sim =
+                    is_modbus(l->protocol) && d.simulator != nullptr && d.simulator_unit == unit;
+                const char* what = j != index && *d.station == unit ? " station on "
+                                   : sim                            ? " simulator unit on "
+                                                                    : nullptr;
+                if (what == nullptr) continue;
+                std::string who = j == index ? "its own" : plcs_[j].config->label + "'s";
+                who += what;
+                who += where;
+                return who;
+            }
         }
-        return {};
-    };
-    for (const auto& t : tcp_) {
-        if (!in(t)) continue;
-        // A PLC on port 0 has a key of its own ("#3"): the port it got says more.
-        const std::string where = "tcp " + (t->server ? t->server->endpoint() : t->key);
-        if (auto who = check(t, where); !who.empty()) return who;
-    }
-    for (const auto& r : rtu_) {
-        if (!in(r)) continue;
-        if (auto who = check(r, "serial line " + r->key); !who.empty()) return who;
     }
     return {};
 }
@@ -406,23 +474,25 @@ std::string Listeners::unit_clash(const std::vector<config::Config>& next,
                    station(i) + " is also its simulator.unit";
         }
     }
-    for (const auto& [groups, what] : {std::pair{group(next, tcp_key), "tcp listener "},
-                                       std::pair{group(next, rtu_key), "serial line "}}) {
-        for (const auto& g : groups) {
-            for (std::size_t a = 0; a < g.members.size(); ++a) {
-                for (std::size_t b = 0; b < a; ++b) {
-                    const std::size_t i = g.members[a];
-                    const std::size_t j = g.members[b];
-                    const std::string where = " on the shared " + std::string(what) + g.key;
-                    if (stations[i] == stations[j]) {
-                        return next[i].label + ": its " + station(i) + " is also " + next[j].label +
-                               "'s " + station(j) + where;
-                    }
-                    for (const auto& [x, y] : {std::pair{i, j}, std::pair{j, i}}) {
-                        if (next[y].simulator.unit == stations[x]) {
-                            return next[x].label + ": its " + station(x) + " is also " +
-                                   next[y].label + "'s simulator unit" + where;
-                        }
+    for (const auto& g : group(next, kAll)) {
+        const std::string what = (is_modbus(g.protocol) ? "" : std::string(g.protocol) + " ") +
+                                 (g.carrier == Carrier::Serial ? "serial line "
+                                  : g.carrier == Carrier::Udp  ? "udp listener "
+                                                               : "tcp listener ");
+        const std::string where = " on the shared " + what + g.key.substr(g.key.find(' ') + 1);
+        for (std::size_t a = 0; a < g.members.size(); ++a) {
+            for (std::size_t b = 0; b < a; ++b) {
+                const std::size_t i = g.members[a];
+                const std::size_t j = g.members[b];
+                if (stations[i] == stations[j]) {
+                    return next[i].label + ": its " + station(i) + " is also " + next[j].label +
+                           "'s " + station(j) + where;
+                }
+                if (!is_modbus(g.protocol)) continue;
+                for (const auto& [x, y] : {std::pair{i, j}, std::pair{j, i}}) {
+                    if (next[y].simulator.unit == stations[x]) {
+                        return next[x].label + ": its " + station(x) + " is also " + next[y].label +
+                               "'s simulator unit" + where;
                     }
                 }
             }
@@ -433,14 +503,10 @@ std::string Listeners::unit_clash(const std::vector<config::Config>& next,
 
 std::string Listeners::describe(std::size_t index) const {
     std::string s;
-    auto has = [index](const auto& l) {
-        return std::find(l->members.begin(), l->members.end(), index) != l->members.end();
-    };
-    for (const auto& t : tcp_) {
-        if (has(t) && t->server) s += ", tcp " + t->server->endpoint();
-    }
-    for (const auto& r : rtu_) {
-        if (has(r) && r->server) s += ", rtu " + r->server->description();
+    for (const auto* list : {&tcp_, &reopened_}) {
+        for (const auto& l : *list) {
+            if (l->has(index) && l->open()) s += ", " + l->what() + " " + l->where();
+        }
     }
     return s;
 }

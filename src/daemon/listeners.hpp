@@ -1,8 +1,9 @@
 #pragma once
-// The process's listeners, keyed by what they listen on: one TCP listener per bind address and
-// port, one serial line per device, each naming the protocol it carries and holding the unit
-// table of the PLCs that share it (docs/configuration.md, "Sharing a listener"). The Runtime
-// owns it; the PLCs are seated in `plcs:` order.
+// The process's listeners, keyed by what they listen on: one TCP or UDP listener per bind
+// address and port, one serial line per device, each carrying the protocol its config section
+// names (config::listeners_of) and holding the unit table of the PLCs that share it
+// (docs/configuration.md, "Sharing a listener"). The Runtime owns it; the PLCs are seated in
+// `plcs:` order.
 
 #include <asio.hpp>
 #include <cstdint>
@@ -10,15 +11,15 @@
 #include <string>
 #include <vector>
 
-#include "listener/serial_listener.hpp"
-#include "listener/tcp_listener.hpp"
 #include "plcemu/config/config.hpp"
+#include "plcemu/config/listeners.hpp"
 #include "plcemu/listener/protocol.hpp"
 
 namespace plcemu::daemon {
 
-/// The TCP listener settings of a config; throws ConfigError on a bad modbus.tcp.allow entry.
-listener::TcpOptions tcp_options(const config::Config& c);
+/// Checks what the config loader cannot see of a config's network listeners (an allow list
+/// entry the listener cannot take); throws ConfigError.
+void check_listeners(const config::Config& c);
 
 /// One PLC as the listeners see it.
 struct ListenerMember {
@@ -47,8 +48,8 @@ public:
     /// Undoes stage().
     void unstage();
     /// A reload's second half, after the PLCs took their new configs: the staged listeners
-    /// replace the old ones, kept ones take the new limits, serial lines are reopened with their
-    /// new settings, and every unit table learns the PLCs' new seats.
+    /// replace the old ones, kept ones take the new limits, UDP listeners and serial lines are
+    /// reopened with their new settings, and every unit table learns the PLCs' new seats.
     void apply(const std::vector<ListenerMember>& plcs);
 
     /// What answers `unit` on a listener of the PLC at `index`, other than that PLC's station:
@@ -64,20 +65,20 @@ public:
 
     /// Closes every listener.
     void stop();
-    /// ", tcp ADDR:PORT, rtu DEVICE ..." for the PLC at `index`, for the status line.
+    /// ", tcp ADDR:PORT, rtu DEVICE, fatek tcp ADDR:PORT ..." for the PLC at `index`, for the
+    /// status line.
     std::string describe(std::size_t index) const;
 
-    struct Tcp;
-    struct Rtu;
+    struct Listener;
 
 private:
-    void open_rtu(const std::vector<ListenerMember>& plcs, bool at_start);
+    void open_reopened(const std::vector<ListenerMember>& plcs, bool at_start);
     void route(const std::vector<ListenerMember>& plcs);
     void raise_fd_limit(std::size_t plcs) const;
 
     asio::io_context& io_;
-    std::vector<std::unique_ptr<Tcp>> tcp_;
-    std::vector<std::unique_ptr<Rtu>> rtu_;
+    std::vector<std::unique_ptr<Listener>> tcp_;       // TCP listeners (kept across reloads)
+    std::vector<std::unique_ptr<Listener>> reopened_;  // UDP and serial: reopened at a reload
     std::vector<ListenerMember> plcs_;  // every PLC, by index, as last opened or applied
     // What stage() prepared for apply(): per new TCP listener, the running one it keeps (index
     // into tcp_) or a new one.

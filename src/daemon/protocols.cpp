@@ -4,12 +4,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "fatek/protocols.hpp"
 #include "modbus_slave/protocols.hpp"
 
 namespace plcemu::daemon {
 
 std::span<const listener::ProtocolKind> protocols() {
-    static const std::array kinds{modbus_slave::kModbusTcp, modbus_slave::kModbusRtu};
+    static const std::array kinds{modbus_slave::kModbusTcp, modbus_slave::kModbusRtu,
+                                  fatek::kFatek};
     return kinds;
 }
 

@@ -112,7 +112,7 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         backoff = std::min<Clock::duration>(backoff * 2, kMaxReopen);
         int fd = -1;
         try {
-            fd = modbus::open_serial_line(options);
+            fd = modbus::open_serial_line(options, name);
         } catch (const std::system_error&) {
             reopen_later();  // still gone: silent, "lost" said it once
             return;
@@ -164,7 +164,7 @@ SerialListener::SerialListener(asio::io_context& io,
                                LineSettings line,
                                std::string name)
     : state_(std::make_shared<State>(io, protocol, std::move(line), std::move(name))) {
-    state_->line.assign(modbus::open_serial_line(state_->options));
+    state_->line.assign(modbus::open_serial_line(state_->options, state_->name));
     state_->read();
 }
 

@@ -59,11 +59,11 @@ std::string describe(const RtuOptions& o) {
            std::to_string(o.stop_bits);
 }
 
-int open_serial_line(const RtuOptions& o) {
+int open_serial_line(const RtuOptions& o, const std::string& name) {
     const int fd = ::open(o.device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) fail(fd, "rtu: cannot open " + o.device);
+    if (fd < 0) fail(fd, name + ": cannot open " + o.device);
     termios tio{};
-    if (::tcgetattr(fd, &tio) != 0) fail(fd, "rtu: " + o.device + " is not a serial device");
+    if (::tcgetattr(fd, &tio) != 0) fail(fd, name + ": " + o.device + " is not a serial device");
     ::cfmakeraw(&tio);
     tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS);
     tio.c_cflag |= CLOCAL | CREAD | (o.data_bits == 7 ? CS7 : CS8);
@@ -79,16 +79,16 @@ int open_serial_line(const RtuOptions& o) {
     tio.c_cc[VTIME] = 0;
     const speed_t speed = speed_of(o.baud);
     if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0) {
-        fail(fd, "rtu: " + o.device + ": cannot set " + std::to_string(o.baud) + " baud");
+        fail(fd, name + ": " + o.device + ": cannot set " + std::to_string(o.baud) + " baud");
     }
-    if (::tcsetattr(fd, TCSANOW, &tio) != 0) fail(fd, "rtu: cannot configure " + o.device);
+    if (::tcsetattr(fd, TCSANOW, &tio) != 0) fail(fd, name + ": cannot configure " + o.device);
     // tcsetattr succeeds when any part of the request was applied: say what was not.
     termios now{};
     constexpr tcflag_t kLine = CSIZE | PARENB | PARODD | CSTOPB;
     if (::tcgetattr(fd, &now) == 0 &&
         ((now.c_cflag & kLine) != (tio.c_cflag & kLine) || ::cfgetispeed(&now) != speed)) {
-        spdlog::warn("rtu: {} did not take every line setting of {} {}{}{} (a pty ignores them)",
-                     o.device, o.baud, o.data_bits, o.parity, o.stop_bits);
+        spdlog::warn("{}: {} did not take every line setting of {} {}{}{} (a pty ignores them)",
+                     name, o.device, o.baud, o.data_bits, o.parity, o.stop_bits);
     }
     // Whatever was waiting from before we opened the line is not a request to us.
     ::tcflush(fd, TCIOFLUSH);

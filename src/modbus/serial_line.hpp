@@ -15,6 +15,6 @@ std::string describe(const RtuOptions& o);
 /// the baud rate, parity and data and stop bits (a setting the device does not take, as a pty
 /// takes none, is logged). Whatever waited on the line is flushed. Returns the descriptor;
 /// throws std::system_error when the device cannot be opened or configured.
-int open_serial_line(const RtuOptions& o);
+int open_serial_line(const RtuOptions& o, const std::string& name = "rtu");
 
 }  // namespace plcemu::modbus

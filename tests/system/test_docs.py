@@ -79,15 +79,16 @@ def test_plcemud_yaml_5_documents_every_key():
     assert {"profile", "modbus", "plant", "persistence", "log"} <= top
     missing = [k for k in sorted(top) if not re.search(rf"(?<![\w.]){k}(?![\w])", text)]
     assert not missing, missing
-    # Every key the loader accepts (its check_keys lists in src/config/config.cpp), by name,
-    # and the sections profiles read themselves (src/profiles/<name>/*_config.cpp).
-    sources = [REPO / "src" / "config" / "config.cpp",
+    # Every key the loader accepts (its check_keys lists and key vectors in src/config/), by
+    # name, and the sections profiles read themselves (src/profiles/<name>/*_config.cpp).
+    sources = [*sorted((REPO / "src" / "config").glob("*.cpp")),
                *sorted((REPO / "src" / "profiles").glob("*/*_config.cpp"))]
     source = "".join(p.read_text() for p in sources)
     accepted = set()
-    for group in re.findall(r"check_keys\([^{]*\{([^}]*)\}", source):
+    for group in re.findall(r"(?:check_keys\(|std::vector<std::string> keys)[^{]*\{([^}]*)\}",
+                            source):
         accepted |= set(re.findall(r'"([a-z_]+)"', group))
-    assert {"frame_timeout_ms", "sync_ms", "reading_frozen", "writable"} <= accepted
+    assert {"frame_timeout_ms", "sync_ms", "reading_frozen", "writable", "udp"} <= accepted
     missing = [k for k in sorted(accepted) if not re.search(rf"(?<![\w]){k}(?![\w])", text)]
     assert not missing, missing
     # Every registered profile (src/profiles/<name>/profile.cpp; src/profiles/fatek/ holds what

@@ -52,6 +52,9 @@ struct TcpConfig {
     int max_clients = 64;            ///< concurrent connections
     int idle_timeout_s = 0;          ///< no request this long: close (0 = never)
     int frame_timeout_ms = 5000;     ///< a begun request must be whole, and replies taken, by then
+    /// Nothing may be changed through this listener (FATEK listeners; Modbus has
+    /// modbus.read_only for all of its listeners).
+    bool read_only = false;
 };
 
 /// `modbus.rtu` (absent = no serial port)
@@ -61,6 +64,8 @@ struct RtuConfig {
     char parity = 'E';   ///< 'N', 'E' or 'O'
     int data_bits = 8;   ///< 7 or 8
     int stop_bits = 1;   ///< 1 or 2
+    /// Nothing may be changed through this line (FATEK lines; Modbus has modbus.read_only).
+    bool read_only = false;
 };
 
 /// The Modbus table of a `modbus.map` row.
@@ -85,6 +90,14 @@ struct ModbusConfig {
     std::vector<image::Range> write_protect;  ///< device ranges writes may not touch
     /// `modbus.map`: when present, replaces the profile's default map entirely.
     std::optional<std::vector<MapRowConfig>> map;
+};
+
+/// `fatek` (FATEK's own protocol, docs/profile-fbs.md, "FATEK protocol"): each listener is off
+/// unless its key is present.
+struct FatekConfig {
+    std::optional<TcpConfig> tcp;     ///< `fatek.tcp`, port 500 by default
+    std::optional<TcpConfig> udp;     ///< `fatek.udp`, port 500 by default
+    std::optional<RtuConfig> serial;  ///< `fatek.serial`, 9600 7E1 by default
 };
 
 /// Fault switches of a plant channel (docs/simulator-and-plant.md).
@@ -167,6 +180,7 @@ struct Config {
     int scan_ms = 10;                        ///< scan period
     double time_scale = 1.0;                 ///< simulated seconds per real second
     ModbusConfig modbus;                     ///< transports and access
+    FatekConfig fatek;                       ///< FATEK's protocol (families that speak it)
     std::vector<InitEntry> init;             ///< presets
     std::vector<InstructionConfig> program;  ///< ordered instruction list
     /// The sections the profile reads itself (Family::sections), as written.

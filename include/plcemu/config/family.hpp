@@ -36,6 +36,9 @@ public:
     virtual const image::Naming& naming() const = 0;
     /// Area sizes, holes and default retentive ranges.
     virtual image::Layout layout() const = 0;
+    /// The protocols the family speaks besides Modbus, by their config section ("fatek"); the
+    /// loader refuses the sections of the others at their line.
+    virtual std::vector<std::string_view> protocols() const { return {}; }
     /// Top-level config sections of subsystems the family has (e.g. "temperature"); the loader
     /// refuses the others at their line.
     virtual std::vector<std::string_view> sections() const { return {}; }

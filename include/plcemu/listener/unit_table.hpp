@@ -60,6 +60,11 @@ public:
     void set_unknown_unit(UnknownUnit u) { unknown_ = u; }
     /// The policy for unit IDs nobody has.
     UnknownUnit unknown_unit() const { return unknown_; }
+    /// Makes the listener read-only (its config's `read_only`), or not: a protocol that has such
+    /// a setting asks it for every request, so a reload changes it at once.
+    void set_read_only(bool read_only) { read_only_ = read_only; }
+    /// True when nothing may be changed through the listener.
+    bool read_only() const { return read_only_; }
 
     /// The PLC that has `unit` as its station or simulator unit. `device_itself` says whether the
     /// ID also names "the device itself" (Modbus TCP's 0 and 255, implementation guide
@@ -75,6 +80,7 @@ public:
 private:
     std::vector<Seat> seats_;
     UnknownUnit unknown_ = UnknownUnit::Refuse;
+    bool read_only_ = false;
     UnitTableStats stats_;
 };
 

@@ -43,6 +43,8 @@ public:
     }
 
     std::vector<std::string_view> sections() const override { return {"temperature"}; }
+    // Port 0 of every FATEK PLC speaks FATEK's own protocol (FBs manual, chapter 11).
+    std::vector<std::string_view> protocols() const override { return {"fatek"}; }
     void check(const config::Config& config) const override { temperature_config(config); }
 
     const modbus::AddressMap& map() const override { return fbs::map(); }

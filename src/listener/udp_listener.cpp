@@ -1,0 +1,118 @@
+#include "udp_listener.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <system_error>
+#include <utility>
+
+#include "modbus/log_limiter.hpp"
+
+namespace plcemu::listener {
+
+using asio::ip::udp;
+using modbus::LogCause;
+using modbus::LogLimiter;
+
+namespace {
+
+// Refused peers are logged a few at a time, as the TCP listener's are.
+constexpr int kLogBurst = 5;
+constexpr std::chrono::seconds kLogWindow{10};
+
+std::string peer_name(const udp::endpoint& ep) {
+    return ep.address().to_string() + ":" + std::to_string(ep.port());
+}
+
+}  // namespace
+
+struct UdpListener::State : std::enable_shared_from_this<State> {
+    State(asio::io_context& io, StreamProtocol& p, UdpOptions o)
+        : socket(io),
+          protocol(p),
+          options(std::move(o)),
+          in(p.max_frame() + 1),
+          out(p.max_frame()) {}
+
+    void receive() {
+        // One byte more than a frame: a longer datagram is seen as too long, not cut to size.
+        socket.async_receive_from(
+            asio::buffer(in), sender,
+            [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
+                if (ec == asio::error::operation_aborted || !self->socket.is_open()) return;
+                if (!ec) self->serve(n);
+                self->receive();
+            });
+    }
+
+    void serve(std::size_t n) noexcept {
+        if (n > protocol.max_frame()) return;
+        if (!allowed(sender.address())) {
+            if (limiter.allow(LogCause::RefusedNotAllowed, std::chrono::steady_clock::now())) {
+                spdlog::warn("udp {}: ignored a datagram from {}, not in the allow list", name,
+                             peer_name(sender));
+            }
+            return;
+        }
+        const std::size_t size = protocol.answer(std::span(in.data(), n), std::span(out));
+        if (size == 0) return;
+        // A datagram socket's send does not wait for the peer; should the kernel's buffer be
+        // full, the reply is lost as on a real network and the master asks again.
+        asio::error_code ec;
+        socket.send_to(asio::buffer(out.data(), size), sender, 0, ec);
+    }
+
+    bool allowed(const asio::ip::address& a) const {
+        if (options.allow.empty()) return true;
+        for (const auto& c : options.allow) {
+            if (c.contains(a)) return true;
+        }
+        return false;
+    }
+
+    udp::socket socket;
+    StreamProtocol& protocol;
+    UdpOptions options;
+    std::vector<std::uint8_t> in;
+    std::vector<std::uint8_t> out;
+    udp::endpoint sender;
+    LogLimiter limiter{kLogBurst, kLogWindow};
+    std::string name;
+};
+
+UdpListener::UdpListener(asio::io_context& io, StreamProtocol& protocol, UdpOptions options)
+    : state_(std::make_shared<State>(io, protocol, std::move(options))) {
+    const std::string where =
+        "cannot listen on udp " + state_->options.bind + ":" + std::to_string(state_->options.port);
+    asio::error_code ec;
+    const auto addr = asio::ip::make_address(state_->options.bind, ec);
+    if (ec) throw std::system_error(ec, where);
+    const udp::endpoint ep(addr, state_->options.port);
+    state_->socket.open(ep.protocol(), ec);
+    if (!ec) state_->socket.bind(ep, ec);
+    if (!ec) state_->socket.non_blocking(true, ec);
+    if (ec) throw std::system_error(ec, where);
+    state_->name = endpoint();
+    state_->receive();
+}
+
+UdpListener::~UdpListener() { stop(); }
+
+std::uint16_t UdpListener::port() const {
+    asio::error_code ec;
+    return state_->socket.local_endpoint(ec).port();
+}
+
+std::string UdpListener::endpoint() const {
+    asio::error_code ec;
+    return peer_name(state_->socket.local_endpoint(ec));
+}
+
+void UdpListener::set_allow(std::vector<Cidr> allow) { state_->options.allow = std::move(allow); }
+
+void UdpListener::stop() {
+    asio::error_code ec;
+    state_->socket.close(ec);
+}
+
+}  // namespace plcemu::listener
