@@ -45,7 +45,6 @@ private:
     void abandon_after_gap(Clock::time_point now) noexcept;
 
     listener::UnitTable units_;
-    bool read_only_;
     std::array<std::uint8_t, kMaxFrame> buf_{};
     std::size_t used_ = 0;
     Clock::time_point last_{};

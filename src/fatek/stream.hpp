@@ -22,7 +22,6 @@ public:
 
 private:
     listener::UnitTable units_;
-    bool read_only_;
 };
 
 /// Makes the protocol for a TCP listener (listener::ProtocolKind).
