@@ -19,12 +19,14 @@
 # Harnesses (docs/development.md, "Fuzzing", says what each covers): fuzz_tcp_request (a Modbus
 # TCP byte stream into the dispatcher), fuzz_rtu_frame (RTU frames or serial chunks), fuzz_config
 # (YAML text into the config loader), fuzz_config_tree (the same loader fed trees without the
-# YAML library, then the PLC build and scans), fuzz_master_reply (replies a Modbus master gets).
+# YAML library, then the PLC build and scans), fuzz_master_reply (replies a Modbus master gets),
+# fuzz_fatek_frame (a FATEK TCP byte stream into the FATEK protocol).
 set -euo pipefail
 TIMEFORMAT='%R %U %S'
 cd "$(dirname "$0")/.."
 
-readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config fuzz_config_tree fuzz_master_reply)
+readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config fuzz_config_tree fuzz_master_reply
+    fuzz_fatek_frame)
 readonly BUILD=build-fuzz
 
 usage() {
@@ -102,6 +104,8 @@ for h in "${harnesses[@]}"; do
     # grow to hundreds of frames and scans each, every input slower as the corpus grew
     # (docs/development.md, "Speed").
     [[ $h == fuzz_tcp_request || $h == fuzz_rtu_frame ]] && max_len=(-max_len=264)
+    # The FATEK harness: room for two of its largest frames (508 bytes each).
+    [[ $h == fuzz_fatek_frame ]] && max_len=(-max_len=1024)
     rc=0
     read -r load _ </proc/loadavg
     # -verbosity=0: no status line per new input (unbuffered, each a few write calls); crash

@@ -9,10 +9,9 @@
 namespace plcemu::fatek {
 
 FatekSerial::FatekSerial(listener::ProtocolSetup setup) {
-    // The listener's read_only lives in its unit table, where a reload changes it.
-    units_.set_read_only(setup.read_only);
     units_.assign(std::move(setup.seats));
     units_.set_unknown_unit(listener::UnknownUnit::Silent);
+    units_.set_read_only(setup.read_only);
 }
 
 void FatekSerial::abandon_after_gap(Clock::time_point now) noexcept {
@@ -43,8 +42,7 @@ void FatekSerial::drain() noexcept {
         const std::span<const std::uint8_t> piece(buf_.data(), s.size);
         if (piece.front() == kStx && piece.back() == kEtx) ++stats_.frames;
         if (reply_.size() - reply_size_ >= kMaxFrame) {
-            const std::size_t r =
-                serve(units_, units_.read_only(), piece, std::span(reply_).subspan(reply_size_));
+            const std::size_t r = serve(units_, piece, std::span(reply_).subspan(reply_size_));
             reply_size_ += r;
             stats_.answered += r > 0 ? 1 : 0;
         } else {

@@ -39,10 +39,10 @@ std::size_t execute(const listener::Seat& seat,
 }  // namespace
 
 std::size_t serve(listener::UnitTable& units,
-                  bool read_only,
                   std::span<const std::uint8_t> frame,
                   std::span<std::uint8_t> out) noexcept {
     if (out.size() < kMaxFrame) return 0;
+    const bool read_only = units.read_only();
     const auto req = parse_request(frame);
     if (!req || req->station == kNoStation) return 0;
     if (req->station == 0) {

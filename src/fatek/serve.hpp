@@ -12,10 +12,9 @@
 namespace plcemu::fatek {
 
 /// Answers the whole frame `frame` into `out` (at least kMaxFrame bytes); returns the reply's
-/// size, 0 when nothing is to be sent. With `read_only`, every command that changes the PLC is
-/// refused with error 3.
+/// size, 0 when nothing is to be sent. On a read-only listener (`units.read_only()`, read for
+/// every request) every command that changes the PLC is refused with error 3.
 std::size_t serve(listener::UnitTable& units,
-                  bool read_only,
                   std::span<const std::uint8_t> frame,
                   std::span<std::uint8_t> out) noexcept;
 

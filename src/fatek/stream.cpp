@@ -7,11 +7,10 @@
 namespace plcemu::fatek {
 
 FatekStream::FatekStream(listener::ProtocolSetup setup) {
-    // The listener's read_only lives in its unit table, where a reload changes it.
-    units_.set_read_only(setup.read_only);
     // Unknown stations are always silent here: the unknown-unit policy is Modbus's.
     units_.assign(std::move(setup.seats));
     units_.set_unknown_unit(listener::UnknownUnit::Silent);
+    units_.set_read_only(setup.read_only);
 }
 
 std::size_t FatekStream::max_frame() const noexcept { return kMaxFrame; }
@@ -24,7 +23,7 @@ std::size_t FatekStream::answer(std::span<const std::uint8_t> frame,
                                 std::span<std::uint8_t> out) noexcept {
     // The frame is checked whole: split() may have cut off bytes to skip, and a datagram is
     // whatever the sender put in it.
-    return serve(units_, units_.read_only(), frame, out);
+    return serve(units_, frame, out);
 }
 
 std::unique_ptr<listener::StreamProtocol> make_stream(listener::ProtocolSetup setup) {

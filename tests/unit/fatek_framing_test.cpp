@@ -199,6 +199,18 @@ TEST(FatekAccess, ReadOnlyListenerRefusesEveryChangeWithError3) {
     EXPECT_EQ(rig.send(frame("4401M0001")), reply("4400"));
 }
 
+// A reload that makes a kept listener read-only (or not) takes effect at the next request.
+TEST(FatekAccess, ReadOnlyFollowsTheListenerAtOnce) {
+    FatekRig rig;
+    EXPECT_EQ(rig.send(frame("4701R000010001")), reply("470"));
+    rig.protocol.units().set_read_only(true);
+    EXPECT_EQ(rig.send(frame("4701R000010002")), reply("473"));
+    EXPECT_EQ(rig.plc.image().word(Area::R, 1), 1);
+    rig.protocol.units().set_read_only(false);
+    EXPECT_EQ(rig.send(frame("4701R000010002")), reply("470"));
+    EXPECT_EQ(rig.plc.image().word(Area::R, 1), 2);
+}
+
 TEST(FatekAccess, DisabledInputIsWrittenAndKeptThroughScans) {
     FatekRig rig;
     EXPECT_EQ(rig.send(frame("4501X00071")),
