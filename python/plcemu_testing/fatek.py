@@ -23,6 +23,7 @@ from .errors import DeviceError, FatekError, FatekTimeout
 STX = 0x02
 ETX = 0x03
 MAX_DATA = 500  # characters of a frame's data field
+CONNECT_RETRY_S = 2.0  # how long a refused TCP connect is tried again
 LOOP_BACK = 0x4E  # the one reply without an error code
 
 DISCRETES = ("X", "Y", "M", "S", "T", "C")
@@ -143,11 +144,23 @@ class _Line:
 class _Tcp(_Line):
     def __init__(self, host, port, source=None):
         super().__init__()
-        self.sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        if source:
-            self.sock.bind((source, 0))
-        self.sock.settimeout(5)
-        self.sock.connect((host, port))
+        # A daemon just started opens its listeners one after another: a port refused at first
+        # is tried again for a moment (the Modbus port may already answer while this one is not
+        # listening yet).
+        deadline = time.monotonic() + CONNECT_RETRY_S
+        while True:
+            self.sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+            if source:
+                self.sock.bind((source, 0))
+            self.sock.settimeout(5)
+            try:
+                self.sock.connect((host, port))
+                break
+            except ConnectionRefusedError:
+                self.sock.close()
+                if time.monotonic() > deadline:
+                    raise
+                time.sleep(0.05)
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
     def send(self, data):

@@ -222,7 +222,13 @@ std::unique_ptr<Listeners::Listener> tcp_listener(const Group& g, const Plcs& pl
 
 void Listeners::open(const std::vector<ListenerMember>& plcs) {
     plcs_ = plcs;
-    for (const auto& g : group(plcs, {Carrier::Tcp})) {
+    // Modbus TCP ports open last: a client that waits for one (the system tests, a supervisor's
+    // probe) finds every other listener of the process open by then.
+    open_reopened(plcs, true);
+    auto groups = group(plcs, {Carrier::Tcp});
+    std::stable_partition(groups.begin(), groups.end(),
+                          [](const Group& g) { return g.protocol != "modbus-tcp"; });
+    for (const auto& g : groups) {
         auto t = tcp_listener(g, plcs);
         t->tcp = std::make_unique<listener::TcpListener>(io_, *t->stream, t->options);
         tcp_.push_back(std::move(t));
@@ -230,7 +236,6 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
     route(plcs);
     raise_fd_limit(plcs.size());
     for (const auto& t : tcp_) log_listening(t->what(), t->where(), t->members, plcs_);
-    open_reopened(plcs, true);
 }
 
 void Listeners::open_reopened(const std::vector<ListenerMember>& plcs, bool at_start) {
