@@ -118,8 +118,9 @@ std::optional<config::MasterConfig> read_mbus(const config::Config& c, const Rea
         if (!routes) return;
         if (!routes.is_map())
             r.fail(routes, "mbus.routes: expected a mapping such as {5: \"127.0.0.1:5022\"}");
-        for (const auto& [key, value] : routes.entries) {
+        for (const auto& entry : routes.entries) {
             r.attempt([&] {
+                const Node& key = entry.first;
                 config::MasterRoute route;
                 route.station = static_cast<std::uint8_t>(
                     r.integer(key, "mbus.routes station", 1, kMaxStation));
@@ -127,7 +128,7 @@ std::optional<config::MasterConfig> read_mbus(const config::Config& c, const Rea
                     if (earlier.station == route.station)
                         r.fail(key, "mbus.routes: station " + key.text + " twice");
                 }
-                route.endpoint = vb::route(r, value);
+                route.endpoint = vb::route(r, entry.second);
                 m.routes.push_back(route);
             });
         }

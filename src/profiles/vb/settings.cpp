@@ -1,5 +1,7 @@
 #include "profiles/vb/settings.hpp"
 
+#include <string>
+
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/vb/file_registers.hpp"
 #include "profiles/vb/mbus_config.hpp"
@@ -9,7 +11,10 @@ namespace plcemu::profiles::vb {
 std::shared_ptr<const Settings> read_settings(const config::Config& config,
                                               const config::Reader& r) {
     auto s = std::make_shared<Settings>();
-    for (const auto& [name, node] : config.sections) {
+    // Named references, not a structured binding: clang 14 cannot capture one in a lambda.
+    for (const auto& section : config.sections) {
+        const std::string& name = section.first;
+        const config::Node& node = section.second;
         if (name == "modules") {
             r.attempt([&] { s->modules = read_modules(r, node); });
         } else if (name == "file_registers" && !node.is_null()) {
