@@ -624,7 +624,7 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     if (r.errors_found() != errors_before) return c;
     check_own_units(r, root, c);
     check_own_listeners(r, root, c);
-    profile->check(c);
+    c.settings = profile->read(c, r);
     return c;
 }
 

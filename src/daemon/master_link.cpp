@@ -9,7 +9,7 @@ namespace plcemu::daemon {
 
 namespace {
 
-// The config checked the addresses (mbus_config).
+// The config checked the addresses (vb::read_mbus).
 asio::ip::tcp::endpoint endpoint_of(const config::TcpEndpoint& e) {
     return {asio::ip::make_address(e.host), e.port};
 }

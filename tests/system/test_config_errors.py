@@ -1,7 +1,7 @@
 """Configuration errors reported together (docs/configuration.md, "Configuration"): a file with
 several errors names every one, each on a line of its own at its file:line:col, in the order of
-the file, at --check-config (exit status 2) and at a SIGHUP reload; past 20 the loader stops and
-says so."""
+the file, at --check-config (exit status 2) and at a SIGHUP reload, a profile's own section's
+too; past 20 the loader stops and says so."""
 
 import re
 import signal
@@ -53,6 +53,26 @@ def test_check_config_prints_every_error_at_its_position_and_exits_2(tmp_path):
     assert r.stdout == ""
     # One log line per error, each "config: file:line:col: message".
     assert_three_errors(error_lines(r.stderr, p, "config: "))
+    assert len(r.stderr.splitlines()) == 3, r.stderr
+
+
+def test_check_config_prints_every_error_of_a_profile_section(tmp_path):
+    # Three errors in the FBs `temperature:` section, a profile's own, each at its position.
+    p = tmp_path / "temperature.yaml"
+    p.write_text(
+        "profile: fbs\n"
+        "temperature:\n"
+        "  table: X0\n"
+        "  modules: [TC6:K, TC7]\n"
+        "  scan_rate: slow\n"
+    )
+    r = run_plcemud("-c", p, "--check-config")
+    assert r.returncode == 2, r.stderr
+    found = error_lines(r.stderr, p, "config: ")
+    assert [(line, col) for line, col, _ in found] == [(3, 10), (4, 20), (5, 14)], r.stderr
+    assert found[0][2] == "temperature.table: expected an R or D register", r.stderr
+    assert found[1][2].startswith("temperature.modules: unknown module 'TC7'"), r.stderr
+    assert found[2][2] == "temperature.scan_rate: expected 'normal' or 'fast'", r.stderr
     assert len(r.stderr.splitlines()) == 3, r.stderr
 
 

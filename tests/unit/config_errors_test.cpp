@@ -191,6 +191,58 @@ TEST(ConfigErrors, ProgramOperandErrorsOfSeveralPlcsAreAllReported) {
     expect_config_errors(f, "t.yaml", {{5, 25, "plcs[0]: MOV.d"}, {9, 18, "plcs[1]: MOV.s"}});
 }
 
+// A profile's own section is read like the common ones: each key and each list entry on its
+// own, so the four errors in this FBs `temperature:` are all reported.
+TEST(ConfigErrors, EveryErrorInTheFbsTemperatureSectionIsReported) {
+    const ConfigFailure f = one_plc(
+        "profile: fbs\n"
+        "temperature:\n"
+        "  table: X0\n"
+        "  modules: [TC6:K, TC7, RTD6:K]\n"
+        "  scan_rate: slow\n");
+    expect_config_errors(f, "t.yaml",
+                         {{3, 10, "temperature.table: expected an R or D register"},
+                          {4, 20, "temperature.modules: unknown module 'TC7'"},
+                          {4, 25, "temperature.modules: unknown sensor 'K'"},
+                          {5, 14, "temperature.scan_rate: expected 'normal' or 'fast'"}});
+}
+
+// The FB's `temperature:`: keys of the FBs and module entries, each its own error.
+TEST(ConfigErrors, EveryErrorInTheFbTemperatureSectionIsReported) {
+    const ConfigFailure f = one_plc(
+        "profile: fb\n"
+        "temperature:\n"
+        "  scan_rate: fast\n"
+        "  modules: [FB-2AK4, FB-2AX4, FB-4AK24]\n");
+    expect_config_errors(
+        f, "t.yaml",
+        {{3, 14, "temperature.scan_rate is not valid in profile fb"},
+         {4, 22, "temperature.modules: unknown module 'FB-2AX4'"},
+         {4, 31,
+          "temperature.modules: FB-4AK24 cannot be used together with the FB-2AK4 at "
+          "t.yaml:4:13"}});
+}
+
+// The VB's three sections: an error in `modules:`, in `mbus:` and in `file_registers:`, and
+// two in one `modules:` list.
+TEST(ConfigErrors, EveryErrorInTheVbSectionsIsReported) {
+    const ConfigFailure f = one_plc(
+        "profile: vb\n"
+        "modules: [VB-8T, VB-9T, {type: VB-4PT, mode: -1}]\n"
+        "mbus:\n"
+        "  transport: udp\n"
+        "  tcp: {host: plc.local}\n"
+        "  routes: {0: \"127.0.0.1:5022\"}\n"
+        "file_registers: M0-M9\n");
+    expect_config_errors(f, "t.yaml",
+                         {{2, 18, "modules.type: unknown module 'VB-9T'"},
+                          {2, 46, "modules.mode: -1 is out of range"},
+                          {4, 14, "mbus.transport: expected tcp or rtu, got 'udp'"},
+                          {5, 15, "mbus.tcp.host: expected an IP address"},
+                          {6, 12, "mbus.routes station: 0 is out of range"},
+                          {7, 17, "file_registers: expected a range of D0-D7999"}});
+}
+
 // A reader without an error list (a profile's own sections) stops at the first error as before.
 TEST(ConfigErrors, AReaderWithoutAnErrorListThrowsTheFirstError) {
     Node n;

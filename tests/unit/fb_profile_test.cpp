@@ -196,8 +196,12 @@ TEST(FbTemperatureModules, Refusals) {
 // docs/profile-fb.md, "Temperature modules": each accepted name becomes its module, in chain
 // order: an FB-2A…4 by its Tp code with 4 points, an FB-4AJ/K multiplexed with its points.
 TEST(FbTemperatureModules, Accepted) {
-    const fb::TemperatureConfig slim = fb::temperature_config(config::parse_config(
-        "profile: fb\ntemperature: {modules: [FB-2AK4, FB-2AT4-3, FB-2AH4-3]}\n", "fb.yaml"));
+    const fb::TemperatureConfig slim =
+        fb::settings_of(
+            config::parse_config(
+                "profile: fb\ntemperature: {modules: [FB-2AK4, FB-2AT4-3, FB-2AH4-3]}\n",
+                "fb.yaml"))
+            ->temperature;
     ASSERT_EQ(slim.modules.size(), 3u);
     const int tp[] = {0, 5, 4};
     for (std::size_t i = 0; i < 3; ++i) {
@@ -213,8 +217,11 @@ TEST(FbTemperatureModules, Accepted) {
     };
     for (const Case& c : {Case{"FB-4AJ12", 1, 12}, Case{"FB-4AJ16", 1, 16}, Case{"FB-4AK18", 0, 18},
                           Case{"FB-4AK24", 0, 24}}) {
-        const fb::TemperatureConfig t = fb::temperature_config(config::parse_config(
-            "profile: fb\ntemperature: {modules: [" + std::string(c.name) + "]}\n", "fb.yaml"));
+        const fb::TemperatureConfig t =
+            fb::settings_of(config::parse_config("profile: fb\ntemperature: {modules: [" +
+                                                     std::string(c.name) + "]}\n",
+                                                 "fb.yaml"))
+                ->temperature;
         ASSERT_EQ(t.modules.size(), 1u) << c.name;
         EXPECT_EQ(t.modules[0].name, c.name);
         EXPECT_TRUE(t.modules[0].multiplexed) << c.name;

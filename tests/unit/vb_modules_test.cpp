@@ -10,6 +10,7 @@
 #include "plcemu/image/image.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/vb/modules_config.hpp"
+#include "profiles/vb/settings.hpp"
 #include "profiles/vb/temperature_modules.hpp"
 
 namespace plcemu::profiles::vb {
@@ -25,7 +26,8 @@ public:
 };
 
 std::vector<ModuleConfig> parse(const std::string& modules) {
-    return modules_config(config::parse_config("profile: vb\nmodules: " + modules + "\n", "t"));
+    return settings_of(config::parse_config("profile: vb\nmodules: " + modules + "\n", "t"))
+        ->modules;
 }
 
 std::uint16_t word(TemperatureModules& m, int module, int w) {

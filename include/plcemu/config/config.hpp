@@ -3,6 +3,7 @@
 // the errors that later stages (instruction binding) may still find.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -17,6 +18,8 @@
 #include "plcemu/image/naming.hpp"
 
 namespace plcemu::config {
+
+class ProfileSettings;  // family.hpp
 
 /// A scalar operand of an instruction as written ("R100", "0", "K10"), with its position.
 struct Operand {
@@ -185,6 +188,9 @@ struct Config {
     std::vector<InstructionConfig> program;  ///< ordered instruction list
     /// The sections the profile reads itself (Family::sections), as written.
     std::vector<std::pair<std::string, Node>> sections;
+    /// Those sections as the family read them at load (Family::read); null in a Config built
+    /// without the loader, or for a family without sections.
+    std::shared_ptr<const ProfileSettings> settings;
     PlantConfig plant;              ///< thermal plant
     SimulatorConfig simulator;      ///< simulator-control unit
     PersistenceConfig persistence;  ///< retentive state file

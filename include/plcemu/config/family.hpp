@@ -5,6 +5,7 @@
 // the profiles: the dependency points from the profiles to config (docs/architecture.md,
 // "Dependencies").
 
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,6 +16,14 @@
 namespace plcemu::config {
 
 struct Config;
+class Reader;
+
+/// What a family reads from its own sections at load (Family::read), as one value: each family
+/// derives its own and casts back to it (docs/architecture.md, "Adding a profile").
+class ProfileSettings {
+public:
+    virtual ~ProfileSettings() = default;
+};
 
 /// A PLC family as the loader sees it (profiles::Profile is one).
 class Family {
@@ -42,9 +51,14 @@ public:
     /// Top-level config sections of subsystems the family has (e.g. "temperature"); the loader
     /// refuses the others at their line.
     virtual std::vector<std::string_view> sections() const { return {}; }
-    /// Reads those sections of a loaded config (Config::sections) as the loader's last step, so
-    /// that their errors come with the others. Throws config::ConfigError at the faulty node.
-    virtual void check(const Config& /*config*/) const {}
+    /// Turns those sections of a loaded config (Config::sections) into the family's settings
+    /// (Config::settings), with `r`, the loader's reader: as the loader's last step, so that
+    /// their errors come with the others, each recorded where it stands (Reader::attempt) and
+    /// the reading going on. Null: the family reads no section.
+    virtual std::shared_ptr<const ProfileSettings> read(const Config& /*config*/,
+                                                        const Reader& /*r*/) const {
+        return nullptr;
+    }
 };
 
 /// Makes `family` known to the loader under its name. Called during static initialisation, in

@@ -16,6 +16,7 @@
 #include "plcemu/config/config.hpp"
 #include "plcemu/config/family.hpp"
 #include "plcemu/config/master.hpp"
+#include "plcemu/config/reader.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/sensors.hpp"
 #include "plcemu/image/layout.hpp"
@@ -27,7 +28,7 @@
 namespace plcemu::profiles {
 
 /// One PLC family. What the config loader asks of it (name, models, station, naming, layout,
-/// its own sections and their check) is declared in config::Family.
+/// its own sections and the settings it reads from them) is declared in config::Family.
 class Profile : public config::Family {
 public:
     /// What it emulates, for --help and logs: "FATEK FBs".
@@ -93,6 +94,17 @@ const Profile* find(std::string_view name);
 const Profile& of(const config::Config& config);
 /// Every registered profile, by name.
 std::vector<const Profile*> all();
+
+/// A family's settings (`S`, what its Family::read returns) of a config: those the loader read,
+/// cast back (the family knows its own type). A Config built without the loader has none; its
+/// sections are read now with `read` and a reader that throws at the first error.
+template <class S>
+std::shared_ptr<const S> settings_of(const config::Config& config,
+                                     std::shared_ptr<const S> (*read)(const config::Config&,
+                                                                      const config::Reader&)) {
+    if (config.settings) return std::static_pointer_cast<const S>(config.settings);
+    return read(config, config::Reader(of(config).naming()));
+}
 
 /// Registers a profile at static initialisation: `const Registration reg{instance};` in the
 /// profile's own file. It joins the families the config loader knows (config::add_family).

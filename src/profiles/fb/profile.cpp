@@ -56,9 +56,13 @@ public:
     std::vector<std::string_view> sections() const override { return {"temperature"}; }
     // Port 0 of every FATEK PLC speaks FATEK's own protocol (FBs manual, chapter 11).
     std::vector<std::string_view> protocols() const override { return {"fatek"}; }
-    void check(const config::Config& config) const override {
-        temperature_config(config);
-        check_temperature_program(config);
+    std::shared_ptr<const config::ProfileSettings> read(const config::Config& config,
+                                                        const config::Reader& r) const override {
+        const std::size_t before = r.errors_found();
+        auto settings = read_settings(config, r);
+        // The program against the modules: only once they read cleanly.
+        if (r.errors_found() == before) r.attempt([&] { check_temperature_program(config); });
+        return settings;
     }
 
     const modbus::AddressMap& map() const override { return fb::map(); }
@@ -73,7 +77,7 @@ public:
 
     std::unique_ptr<instructions::Services> services(const config::Config& config) const override {
         auto s = std::make_unique<Services>();
-        s->modules = temperature_config(config).modules;
+        s->modules = settings_of(config)->temperature.modules;
         return s;
     }
 

@@ -49,14 +49,46 @@ std::optional<TemperatureModule> module(std::string_view s) {
     return multiplexed(s);
 }
 
+// One `temperature.modules` entry, checked against the modules before it.
+TemperatureModule module(const config::Reader& r,
+                         const config::Node& e,
+                         const std::vector<TemperatureModule>& before,
+                         std::size_t& slim) {
+    const std::string s = r.scalar(e, "temperature.modules entry");
+    std::optional<TemperatureModule> m = module(s);
+    if (!m) {
+        r.fail(e, "temperature.modules: unknown module '" + excerpt(s) +
+                      "' (expected FB-2AK4, FB-2AJ4, FB-2AH4, FB-2AT4, FB-2AH4-3, FB-2AT4-3, "
+                      "or FB-4AJ/FB-4AK with 12, 16, 18 or 24 points)");
+    }
+    m->name = s;
+    m->pos = r.pos(e);
+    // FB manual FUN73: the FB-2A…4 cannot be used with the FB-4AJ(K)xx, and an FB-4AJ(K)xx
+    // is used alone.
+    for (const auto& other : before) {
+        if (other.multiplexed || m->multiplexed) {
+            r.fail(e, "temperature.modules: " + s + " cannot be used together with the " +
+                          other.name + " at " + position_text(other.pos) +
+                          " (an FB-4AJ(K)xx is used alone, without FB-2A…4 modules)");
+        }
+    }
+    if (!m->multiplexed && ++slim > kMaxSlim) {
+        r.fail(e, "temperature.modules: at most 8 FB-2A…4 modules (32 points)");
+    }
+    return *m;
+}
+
+// Each key and each module entry on its own: an error in one is recorded and the others are
+// still read (docs/configuration.md, "Configuration").
 void read(const config::Reader& r, const config::Node& n, TemperatureConfig& t) {
     r.check_keys(n, "temperature", {"modules", "table", "scan_rate"});
     // The FBs configuration table and its conversion rate: an FB measures with instructions.
     for (const char* key : {"table", "scan_rate"}) {
         if (n[key]) {
-            r.fail(n[key], std::string("temperature.") + key +
-                               " is not valid in profile fb (the FB measures with the TP4, TSTC "
-                               "and TPSNS instructions; temperature.modules lists its modules)");
+            r.report(n[key], std::string("temperature.") + key +
+                                 " is not valid in profile fb (the FB measures with the TP4, "
+                                 "TSTC and TPSNS instructions; temperature.modules lists its "
+                                 "modules)");
         }
     }
     const auto& list = n["modules"];
@@ -65,28 +97,7 @@ void read(const config::Reader& r, const config::Node& n, TemperatureConfig& t) 
         r.fail(list, "temperature.modules: expected a list such as [FB-2AK4, FB-2AK4]");
     std::size_t slim = 0;
     for (const auto& e : list.items) {
-        const std::string s = r.scalar(e, "temperature.modules entry");
-        std::optional<TemperatureModule> m = module(s);
-        if (!m) {
-            r.fail(e, "temperature.modules: unknown module '" + excerpt(s) +
-                          "' (expected FB-2AK4, FB-2AJ4, FB-2AH4, FB-2AT4, FB-2AH4-3, FB-2AT4-3, "
-                          "or FB-4AJ/FB-4AK with 12, 16, 18 or 24 points)");
-        }
-        m->name = s;
-        m->pos = r.pos(e);
-        // FB manual FUN73: the FB-2A…4 cannot be used with the FB-4AJ(K)xx, and an FB-4AJ(K)xx
-        // is used alone.
-        for (const auto& other : t.modules) {
-            if (other.multiplexed || m->multiplexed) {
-                r.fail(e, "temperature.modules: " + s + " cannot be used together with the " +
-                              other.name + " at " + position_text(other.pos) +
-                              " (an FB-4AJ(K)xx is used alone, without FB-2A…4 modules)");
-            }
-        }
-        if (!m->multiplexed && ++slim > kMaxSlim) {
-            r.fail(e, "temperature.modules: at most 8 FB-2A…4 modules (32 points)");
-        }
-        t.modules.push_back(*m);
+        r.attempt([&] { t.modules.push_back(module(r, e, t.modules, slim)); });
     }
 }
 
@@ -105,12 +116,18 @@ std::string position_text(const config::Position& p) {
 
 std::string declared_at(const TemperatureModule& module) { return position_text(module.pos); }
 
-TemperatureConfig temperature_config(const config::Config& config) {
-    TemperatureConfig t;
-    for (const auto& [name, node] : config.sections) {
-        if (name == "temperature") read(config::Reader(profiles::of(config).naming()), node, t);
+std::shared_ptr<const Settings> read_settings(const config::Config& config,
+                                              const config::Reader& r) {
+    auto s = std::make_shared<Settings>();
+    for (const auto& section : config.sections) {
+        if (section.first == "temperature")
+            r.attempt([&] { read(r, section.second, s->temperature); });
     }
-    return t;
+    return s;
+}
+
+std::shared_ptr<const Settings> settings_of(const config::Config& config) {
+    return profiles::settings_of<Settings>(config, &read_settings);
 }
 
 }  // namespace plcemu::profiles::fb

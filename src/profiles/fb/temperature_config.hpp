@@ -2,11 +2,14 @@
 // The FB `temperature:` section: the temperature modules of the emulated expansion chain, in
 // order (FB manual FUN72/FUN73 and FUN85/FUN86; docs/profile-fb.md, "Temperature modules").
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/config/family.hpp"
+#include "plcemu/config/reader.hpp"
 
 namespace plcemu::profiles::fb {
 
@@ -33,8 +36,17 @@ std::string position_text(const config::Position& pos);
 /// "file:line:col" of a module's entry.
 std::string declared_at(const TemperatureModule& module);
 
-/// The `temperature:` section of a config (empty when it has none). Throws config::ConfigError
-/// at the faulty node.
-TemperatureConfig temperature_config(const config::Config& config);
+/// What the FB reads from its own sections at load: its `temperature:` section.
+struct Settings final : config::ProfileSettings {
+    TemperatureConfig temperature;  ///< empty when the config has no `temperature:`
+};
+
+/// Reads the `temperature:` section of `config` with `r`: each key and each module entry on its
+/// own, an error recorded where `r` records errors (else thrown) and the reading going on.
+std::shared_ptr<const Settings> read_settings(const config::Config& config,
+                                              const config::Reader& r);
+
+/// The settings of a config (profiles::settings_of).
+std::shared_ptr<const Settings> settings_of(const config::Config& config);
 
 }  // namespace plcemu::profiles::fb

@@ -45,7 +45,10 @@ public:
     std::vector<std::string_view> sections() const override { return {"temperature"}; }
     // Port 0 of every FATEK PLC speaks FATEK's own protocol (FBs manual, chapter 11).
     std::vector<std::string_view> protocols() const override { return {"fatek"}; }
-    void check(const config::Config& config) const override { temperature_config(config); }
+    std::shared_ptr<const config::ProfileSettings> read(const config::Config& config,
+                                                        const config::Reader& r) const override {
+        return read_settings(config, r);
+    }
 
     const modbus::AddressMap& map() const override { return fbs::map(); }
 
@@ -59,7 +62,7 @@ public:
 
     std::unique_ptr<instructions::Services> services(const config::Config& config) const override {
         auto s = std::make_unique<Services>();
-        s->temperature_table = temperature_config(config).table;
+        s->temperature_table = settings_of(config)->temperature.table;
         if (const auto own = temperature::module_outputs(config)) {
             s->reserved_outputs.emplace_back(
                 *own,
@@ -84,7 +87,7 @@ public:
                 const config::Config& config,
                 engine::SensorSource& sensors) const override {
         // The measurement samples the plant before the program reads its readings.
-        if (temperature_config(config).table)
+        if (settings_of(config)->temperature.table)
             engine.add_subsystem(make_temperature_table(config, sensors));
     }
 

@@ -33,58 +33,72 @@ bool sensor_code(std::uint8_t module, const std::string& s, std::uint8_t& out) {
     return true;
 }
 
+// One `temperature.modules` entry such as "TC6:K".
+ModuleConfig module(const config::Reader& r, const config::Node& e) {
+    const std::string s = r.scalar(e, "temperature.modules entry");
+    const auto colon = s.find(':');
+    ModuleConfig mc;
+    mc.pos = r.pos(e);
+    mc.name_code = module_code(s.substr(0, colon));
+    if (mc.name_code == 0) {
+        r.fail(e, "temperature.modules: unknown module '" + excerpt(s.substr(0, colon)) +
+                      "' (expected TC6, RTD6, TC16, RTD16 or TC2)");
+    }
+    const bool rtd = mc.name_code == 2 || mc.name_code == 4;
+    const std::string sensor =
+        colon == std::string::npos ? (rtd ? "PT100_DIN" : "K") : s.substr(colon + 1);
+    if (!sensor_code(mc.name_code, sensor, mc.sensor_type)) {
+        r.fail(e, "temperature.modules: unknown sensor '" + excerpt(sensor) + "' (expected " +
+                      (rtd ? "PT100_DIN, PT100_JIS, PT1000_DIN or PT1000_JIS"
+                           : "J, K, T, E, N, B, R or S") +
+                      ")");
+    }
+    return mc;
+}
+
+// Each key and each module entry on its own: an error in one is recorded and the others are
+// still read (docs/configuration.md, "Configuration").
 void read(const config::Reader& r, const config::Node& n, TemperatureConfig& t) {
     r.check_keys(n, "temperature", {"table", "modules", "scan_rate"});
-    if (n["table"]) {
-        t.table = r.device(n["table"], "temperature.table");
-        if (t.table->word_of_bits ||
-            (t.table->area != image::Area::R && t.table->area != image::Area::D)) {
+    r.attempt([&] {
+        if (!n["table"]) return;
+        const image::Device table = r.device(n["table"], "temperature.table");
+        if (table.word_of_bits || (table.area != image::Area::R && table.area != image::Area::D)) {
             r.fail(n["table"], "temperature.table: expected an R or D register");
         }
-    }
-    if (const auto& m = n["modules"]) {
+        t.table = table;
+    });
+    r.attempt([&] {
+        const auto& m = n["modules"];
+        if (!m) return;
         if (!m.is_sequence())
             r.fail(m, "temperature.modules: expected a list such as [TC6:K, RTD6:PT100_DIN]");
-        for (const auto& e : m.items) {
-            const std::string s = r.scalar(e, "temperature.modules entry");
-            const auto colon = s.find(':');
-            ModuleConfig mc;
-            mc.pos = r.pos(e);
-            mc.name_code = module_code(s.substr(0, colon));
-            if (mc.name_code == 0) {
-                r.fail(e, "temperature.modules: unknown module '" + excerpt(s.substr(0, colon)) +
-                              "' (expected TC6, RTD6, TC16, RTD16 or TC2)");
-            }
-            const bool rtd = mc.name_code == 2 || mc.name_code == 4;
-            const std::string sensor =
-                colon == std::string::npos ? (rtd ? "PT100_DIN" : "K") : s.substr(colon + 1);
-            if (!sensor_code(mc.name_code, sensor, mc.sensor_type)) {
-                r.fail(e, "temperature.modules: unknown sensor '" + excerpt(sensor) +
-                              "' (expected " +
-                              (rtd ? "PT100_DIN, PT100_JIS, PT1000_DIN or PT1000_JIS"
-                                   : "J, K, T, E, N, B, R or S") +
-                              ")");
-            }
-            t.modules.push_back(mc);
-        }
+        for (const auto& e : m.items) r.attempt([&] { t.modules.push_back(module(r, e)); });
         if (t.modules.size() > 8) r.fail(m, "temperature.modules: at most 8 modules");
-    }
-    if (n["scan_rate"]) {
+    });
+    r.attempt([&] {
+        if (!n["scan_rate"]) return;
         const std::string s = r.scalar(n["scan_rate"], "temperature.scan_rate");
         if (s != "normal" && s != "fast")
             r.fail(n["scan_rate"], "temperature.scan_rate: expected 'normal' or 'fast'");
         t.fast = s == "fast";
-    }
+    });
 }
 
 }  // namespace
 
-TemperatureConfig temperature_config(const config::Config& config) {
-    TemperatureConfig t;
-    for (const auto& [name, node] : config.sections) {
-        if (name == "temperature") read(config::Reader(profiles::of(config).naming()), node, t);
+std::shared_ptr<const Settings> read_settings(const config::Config& config,
+                                              const config::Reader& r) {
+    auto s = std::make_shared<Settings>();
+    for (const auto& section : config.sections) {
+        if (section.first == "temperature")
+            r.attempt([&] { read(r, section.second, s->temperature); });
     }
-    return t;
+    return s;
+}
+
+std::shared_ptr<const Settings> settings_of(const config::Config& config) {
+    return profiles::settings_of<Settings>(config, &read_settings);
 }
 
 }  // namespace plcemu::profiles::fbs

@@ -4,10 +4,13 @@
 // "Temperature measurement").
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/config/family.hpp"
+#include "plcemu/config/reader.hpp"
 #include "plcemu/image/area.hpp"
 
 namespace plcemu::profiles::fbs {
@@ -27,8 +30,17 @@ struct TemperatureConfig {
     bool fast = false;  ///< "scan rate": fast conversion (half time, 1° resolution)
 };
 
-/// The `temperature:` section of a config (empty when it has none). Throws config::ConfigError
-/// at the faulty node.
-TemperatureConfig temperature_config(const config::Config& config);
+/// What the FBs reads from its own sections at load: its `temperature:` section.
+struct Settings final : config::ProfileSettings {
+    TemperatureConfig temperature;  ///< empty when the config has no `temperature:`
+};
+
+/// Reads the `temperature:` section of `config` with `r`: each key and each module entry on its
+/// own, an error recorded where `r` records errors (else thrown) and the reading going on.
+std::shared_ptr<const Settings> read_settings(const config::Config& config,
+                                              const config::Reader& r);
+
+/// The settings of a config (profiles::settings_of).
+std::shared_ptr<const Settings> settings_of(const config::Config& config);
 
 }  // namespace plcemu::profiles::fbs

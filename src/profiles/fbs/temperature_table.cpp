@@ -108,9 +108,8 @@ std::uint32_t main_unit_outputs(const config::Config& config) {
 }
 
 std::optional<image::Range> module_outputs(const config::Config& config) {
-    const auto modules = temperature_config(config).modules;
-    if (modules.empty()) return std::nullopt;
-    const auto n = static_cast<std::uint32_t>(modules.size());
+    const auto n = static_cast<std::uint32_t>(settings_of(config)->temperature.modules.size());
+    if (n == 0) return std::nullopt;
     return image::Range{image::Area::Y, main_unit_outputs(config), 8 * n};
 }
 
@@ -137,7 +136,8 @@ TemperatureTable::TemperatureTable(TemperatureOptions options, engine::SensorSou
 
 TemperatureOptions TemperatureTable::options_of(const config::Config& config) {
     TemperatureOptions o;
-    const TemperatureConfig t = temperature_config(config);
+    const auto settings = settings_of(config);
+    const TemperatureConfig& t = settings->temperature;
     if (t.table) o.table = *t.table;
     o.installed = t.modules;
     o.fast = t.fast;
@@ -345,7 +345,7 @@ void TemperatureTable::inputs(engine::ScanContext& ctx) noexcept {
 engine::Tags temperature_tags(const config::Config& config, const image::Image& image) {
     using engine::Number;
     engine::Tags t;
-    const auto table = temperature_config(config).table;
+    const auto table = settings_of(config)->temperature.table;
     if (!table) return t;
     const image::Layout& layout = image.layout();
     auto word = [&](std::uint32_t offset) -> std::uint16_t {

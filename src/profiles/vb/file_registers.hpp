@@ -3,14 +3,12 @@
 // FNC149: "File Registers are read only registers and their contents are assumed as a part of
 // program"; docs/profile-vb.md, "File registers").
 
-#include <optional>
-
-#include "plcemu/config/config.hpp"
+#include "plcemu/config/reader.hpp"
 #include "plcemu/image/area.hpp"
 
 namespace plcemu::profiles::vb {
 
-/// `file_registers: D1000-D1099`, or nothing. Throws config::ConfigError at the faulty node.
-std::optional<image::Range> file_registers(const config::Config& config);
+/// Reads `file_registers: D1000-D1099` with `r`. Throws config::ConfigError at the faulty node.
+image::Range read_file_registers(const config::Reader& r, const config::Node& section);
 
 }  // namespace plcemu::profiles::vb

@@ -4,8 +4,6 @@
 
 #include <string>
 
-#include "plcemu/profiles/profile.hpp"
-
 namespace plcemu::profiles::vb {
 
 namespace {
@@ -81,7 +79,7 @@ bool has_mbus(const config::Config& c, config::Position& where) {
 
 }  // namespace
 
-std::optional<config::MasterConfig> mbus_config(const config::Config& c) {
+std::optional<config::MasterConfig> read_mbus(const config::Config& c, const Reader& r) {
     const Node* section = nullptr;
     for (const auto& [name, node] : c.sections) {
         if (name == "mbus") section = &node;
@@ -97,35 +95,46 @@ std::optional<config::MasterConfig> mbus_config(const config::Config& c) {
         }
         return std::nullopt;
     }
-    const Reader r(profiles::of(c).naming());
     const Node& n = *section;
+    // Each key and each route on its own: an error in one is recorded and the others are still
+    // read (docs/configuration.md, "Configuration").
+    const std::size_t before = r.errors_found();
     r.check_keys(n, "mbus", {"transport", "tcp", "routes", "rtu"});
     config::MasterConfig m;
-    if (n["transport"]) {
+    r.attempt([&] {
+        if (!n["transport"]) return;
         const std::string t = r.scalar(n["transport"], "mbus.transport");
         if (t == "rtu") {
             m.transport = config::MasterTransport::Rtu;
         } else if (t != "tcp") {
             r.fail(n["transport"], "mbus.transport: expected tcp or rtu, got '" + excerpt(t) + "'");
         }
-    }
-    if (n["tcp"]) m.tcp = tcp(r, n["tcp"]);
-    if (const Node& routes = n["routes"]) {
+    });
+    r.attempt([&] {
+        if (n["tcp"]) m.tcp = tcp(r, n["tcp"]);
+    });
+    r.attempt([&] {
+        const Node& routes = n["routes"];
+        if (!routes) return;
         if (!routes.is_map())
             r.fail(routes, "mbus.routes: expected a mapping such as {5: \"127.0.0.1:5022\"}");
-        for (const auto& [key, value] : routes.entries) {
-            config::MasterRoute route;
-            route.station =
-                static_cast<std::uint8_t>(r.integer(key, "mbus.routes station", 1, kMaxStation));
-            for (const auto& earlier : m.routes) {
-                if (earlier.station == route.station)
-                    r.fail(key, "mbus.routes: station " + key.text + " twice");
-            }
-            route.endpoint = vb::route(r, value);
-            m.routes.push_back(route);
+        for (const auto& entry : routes.entries) {
+            r.attempt([&] {
+                const Node& key = entry.first;
+                config::MasterRoute route;
+                route.station = static_cast<std::uint8_t>(
+                    r.integer(key, "mbus.routes station", 1, kMaxStation));
+                for (const auto& earlier : m.routes) {
+                    if (earlier.station == route.station)
+                        r.fail(key, "mbus.routes: station " + key.text + " twice");
+                }
+                route.endpoint = vb::route(r, entry.second);
+                m.routes.push_back(route);
+            });
         }
-    }
-    if (n["rtu"]) {
+    });
+    r.attempt([&] {
+        if (!n["rtu"]) return;
         config::RtuConfig rtu;
         config::read_rtu(r, n["rtu"], rtu, "mbus.rtu");
         // The CP2 is a port of its own: the slave port cannot be the master's too.
@@ -135,7 +144,10 @@ std::optional<config::MasterConfig> mbus_config(const config::Config& c) {
                                            "needs a serial line of its own");
         }
         m.rtu = rtu;
-    }
+    });
+    // What the transport needs, once the keys it needs read cleanly (a key in error is not
+    // reported again as missing).
+    if (r.errors_found() != before) return m;
     if (m.transport == config::MasterTransport::Tcp && !n["tcp"] && m.routes.empty()) {
         r.fail(n, "mbus: transport tcp needs tcp: {host: ..., port: ...} or routes:");
     }

@@ -7,12 +7,15 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/config/master.hpp"
+#include "plcemu/config/reader.hpp"
 
 namespace plcemu::profiles::vb {
 
-/// The `mbus:` section of a config (nothing without one), checked against the rest of the
-/// config: a program with MBUS needs it, and its serial device may not be the slave port's.
-/// Throws config::ConfigError at the faulty node.
-std::optional<config::MasterConfig> mbus_config(const config::Config& config);
+/// Reads the `mbus:` section of `config` (nothing without one) with `r`, each key and route on
+/// its own (an error recorded where `r` records errors, else thrown), and checks it against the
+/// rest of the config: a program with MBUS needs it, and its serial device may not be the slave
+/// port's.
+std::optional<config::MasterConfig> read_mbus(const config::Config& config,
+                                              const config::Reader& r);
 
 }  // namespace plcemu::profiles::vb

@@ -55,28 +55,27 @@ ModuleConfig module(const config::Reader& r, const config::Node& e) {
 
 }  // namespace
 
-std::vector<ModuleConfig> modules_config(const config::Config& config) {
+std::vector<ModuleConfig> read_modules(const config::Reader& r, const config::Node& section) {
     std::vector<ModuleConfig> out;
-    for (const auto& [name, node] : config.sections) {
-        if (name != "modules") continue;
-        const config::Reader r(profiles::of(config).naming());
-        if (node.is_null()) continue;
-        if (!node.is_sequence()) {
-            r.fail(node, "modules: expected a list such as [VB-8T, {type: VB-4PT, mode: 1}]");
+    if (section.is_null()) return out;
+    if (!section.is_sequence()) {
+        r.fail(section, "modules: expected a list such as [VB-8T, {type: VB-4PT, mode: 1}]");
+    }
+    int channels = 0;
+    for (const auto& e : section.items) {
+        if (!r.attempt([&] { out.push_back(module(r, e)); })) continue;
+        channels += out.back().channels;
+        // Past a bound the entries after it add nothing: one error, where it is crossed.
+        if (out.size() > kMaxModules) {
+            r.report(e, "modules: at most " + std::to_string(kMaxModules) + " modules");
+            break;
         }
-        int channels = 0;
-        for (const auto& e : node.items) {
-            out.push_back(module(r, e));
-            channels += out.back().channels;
-            if (out.size() > kMaxModules) {
-                r.fail(e, "modules: at most " + std::to_string(kMaxModules) + " modules");
-            }
-            // Each channel is one channel of the plant, numbered across modules.
-            if (channels > plant::kChannels) {
-                r.fail(e, "modules: more than " + std::to_string(plant::kChannels) +
-                              " channels in all (the plant has " +
-                              std::to_string(plant::kChannels) + ")");
-            }
+        // Each channel is one channel of the plant, numbered across modules.
+        if (channels > plant::kChannels) {
+            r.report(e, "modules: more than " + std::to_string(plant::kChannels) +
+                            " channels in all (the plant has " + std::to_string(plant::kChannels) +
+                            ")");
+            break;
         }
     }
     return out;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "plcemu/config/config.hpp"
+#include "plcemu/config/reader.hpp"
 
 namespace plcemu::profiles::vb {
 
@@ -25,8 +26,8 @@ struct ModuleConfig {
 /// Modules on one PLC, at most.
 inline constexpr std::size_t kMaxModules = 8;
 
-/// The `modules:` section of a config (empty without one). Throws config::ConfigError at the
-/// faulty node.
-std::vector<ModuleConfig> modules_config(const config::Config& config);
+/// Reads a `modules:` section with `r`, each entry on its own: an error is recorded where `r`
+/// records errors (else thrown) and the other entries are still read.
+std::vector<ModuleConfig> read_modules(const config::Reader& r, const config::Node& section);
 
 }  // namespace plcemu::profiles::vb

@@ -13,16 +13,14 @@
 #include "instructions/tmr.hpp"
 #include "instructions/wor.hpp"
 #include "plcemu/profiles/profile.hpp"
-#include "profiles/vb/file_registers.hpp"
 #include "profiles/vb/hour.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/mbus.hpp"
-#include "profiles/vb/mbus_config.hpp"
 #include "profiles/vb/model.hpp"
-#include "profiles/vb/modules_config.hpp"
 #include "profiles/vb/operation_error.hpp"
 #include "profiles/vb/pid.hpp"
 #include "profiles/vb/services.hpp"
+#include "profiles/vb/settings.hpp"
 #include "profiles/vb/specials.hpp"
 #include "profiles/vb/temperature_modules.hpp"
 #include "profiles/vb/tpid.hpp"
@@ -146,14 +144,13 @@ public:
     std::vector<std::string_view> sections() const override {
         return {"modules", "mbus", "file_registers"};
     }
-    void check(const config::Config& config) const override {
-        modules_config(config);
-        mbus_config(config);
-        file_registers(config);
+    std::shared_ptr<const config::ProfileSettings> read(const config::Config& config,
+                                                        const config::Reader& r) const override {
+        return read_settings(config, r);
     }
 
     std::vector<image::Range> program_data(const config::Config& config) const override {
-        const auto r = file_registers(config);
+        const auto r = settings_of(config)->file_registers;
         return r ? std::vector<image::Range>{*r} : std::vector<image::Range>{};
     }
 
@@ -172,16 +169,16 @@ public:
     void attach(engine::Engine& engine,
                 const config::Config& config,
                 engine::SensorSource& sensors) const override {
-        const auto modules = modules_config(config);
-        if (modules.empty()) return;
-        auto bus = std::make_unique<TemperatureModules>(modules, sensors);
+        const auto settings = settings_of(config);
+        if (settings->modules.empty()) return;
+        auto bus = std::make_unique<TemperatureModules>(settings->modules, sensors);
         engine.set_module_bus(bus.get());
         engine.add_subsystem(std::move(bus));
     }
 
     // FNC149 MBUS polls its slaves through the CP2 port `mbus:` describes.
     std::optional<config::MasterConfig> master(const config::Config& config) const override {
-        return mbus_config(config);
+        return settings_of(config)->mbus;
     }
 
 private:
