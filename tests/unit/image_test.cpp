@@ -86,15 +86,22 @@ TEST(Image, RetentiveRangesAreContiguousInOneBlock) {
     const Layout l = test::fbs_layout();
     Image img(l);
     auto* base = reinterpret_cast<std::uint8_t*>(img.storage().data());
+    int bit_ranges = 0;
+    int word_ranges = 0;
     for (const auto& r : l.retentive) {
         const std::size_t off = Image::area_offset(l, r.area);
         if (is_bit_area(r.area)) {
             EXPECT_EQ(img.bits(r.area), base + off);
+            ++bit_ranges;
         } else {
             EXPECT_EQ(reinterpret_cast<std::uint8_t*>(img.words(r.area)), base + off);
+            ++word_ranges;
         }
         EXPECT_LE(off + (r.end()) * (is_bit_area(r.area) ? 1u : 2u), img.storage().size());
     }
+    // The FBs latches bits (M, S) and words (R, D): both kinds were checked.
+    EXPECT_GT(bit_ranges, 0);
+    EXPECT_GT(word_ranges, 0);
 }
 
 // docs/profile-fbs.md, The FBs profile and Modbus map: C200-C255 are 32-bit (two words, low word
