@@ -76,7 +76,11 @@ TEST(FbLayout, AreasAsFbsButDEndsAtD3071) {
     const image::Layout l = fb().layout();
     EXPECT_TRUE(l.contains(Range{Area::D, 0, 3072}));
     EXPECT_FALSE(l.contains(Range{Area::D, 3072, 1}));
-    EXPECT_TRUE(l.contains(Range{Area::R, 0, 8072}));
+    // R0-R4167 and R5000-R8071, as the FBs: R4168-R4999 are a hole of the FATEK layout.
+    EXPECT_TRUE(l.contains(Range{Area::R, 0, 4168}));
+    EXPECT_TRUE(l.contains(Range{Area::R, 5000, 3072}));
+    EXPECT_FALSE(l.contains(Range{Area::R, 4168, 1}));
+    EXPECT_FALSE(l.contains(Range{Area::R, 4999, 1}));
     EXPECT_TRUE(l.contains(Range{Area::M, 0, 2002}));
     EXPECT_FALSE(l.contains(Range{Area::M, 2002, 1}));
     EXPECT_EQ(fb().naming().parse_device("TMR5"), (Device{Area::TV, 5, false}));
