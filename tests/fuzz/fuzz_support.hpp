@@ -501,7 +501,7 @@ inline const std::vector<image::Range>& protected_ranges() {
         using image::Area;
         std::vector<image::Range> v{
             {Area::X, 0, 256}, {Area::R, 3840, 64}, {Area::M, 1920, 8}, {Area::R, 4136, 3}};
-        const auto& map = test::fbs().map().read_only();
+        const auto& map = testing::fbs().map().read_only();
         v.insert(v.end(), map.begin(), map.end());
         const auto& wp = harness_config().modbus.write_protect;
         v.insert(v.end(), wp.begin(), wp.end());

@@ -8,7 +8,7 @@
 #include "plcemu/image/naming.hpp"
 #include "plcemu/profiles/profile.hpp"
 
-namespace plcemu::test {
+namespace plcemu::testing {
 
 /// A registered profile (the test fails loudly on a typo: the pointer is checked).
 inline const profiles::Profile& profile(std::string_view name) {
@@ -28,4 +28,4 @@ inline std::optional<image::Device> fbs_device(std::string_view text) {
     return fbs_naming().parse_device(text);
 }
 
-}  // namespace plcemu::test
+}  // namespace plcemu::testing

@@ -14,33 +14,21 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/image/image.hpp"
 #include "support/config_errors.hpp"
+#include "support/plc_rig.hpp"
 
 namespace plcemu::testing {
 
 /// A VB PLC built from `vb.yaml`: "profile: vb", then `head` (other keys, whole lines), then
 /// "program:" and `program` (YAML list entries, one per line). With `storage` the image lives
 /// there, as a state file's does.
-struct VbPlc {
+struct VbPlc : PlcRig {
     explicit VbPlc(const std::string& program,
                    const std::string& head = "",
                    std::span<std::byte> storage = {},
                    daemon::Start start = daemon::Start::Retained)
-        : plc(config::parse_config("profile: vb\n" + head + "program:\n" + program, "vb.yaml"),
-              storage,
-              start) {}
+        : PlcRig("profile: vb\n" + head + "program:\n" + program, "vb.yaml", storage, start) {}
 
-    /// Runs `n` scans.
-    void scan(std::uint64_t n = 1) { plc.engine().run_scans(n); }
-    /// A bit.
-    bool bit(image::Area a, std::uint32_t i) { return plc.image().bit(a, i); }
-    /// Sets a bit.
-    void set(image::Area a, std::uint32_t i, bool v) { plc.image().set_bit(a, i, v); }
-    /// A word.
-    std::uint16_t word(image::Area a, std::uint32_t i) { return plc.image().word(a, i); }
-    /// Sets a word.
-    void set_word(image::Area a, std::uint32_t i, std::uint16_t v) {
-        plc.image().set_word(a, i, v);
-    }
+    using PlcRig::d;
     /// `n` words from D `i` on.
     std::vector<std::uint16_t> d(std::uint32_t i, std::uint32_t n) {
         std::vector<std::uint16_t> out;
@@ -51,8 +39,6 @@ struct VbPlc {
     void set_d(std::uint32_t i, std::initializer_list<std::uint16_t> values) {
         for (const auto v : values) set_word(image::Area::D, i++, v);
     }
-
-    daemon::Plc plc;
 };
 
 /// Checks (GoogleTest) that a VB PLC running the one-line `program` is refused at vb.yaml:3:`col`

@@ -17,7 +17,7 @@
 #include "plcemu/plant/plant.hpp"
 #include "support/profiles.hpp"
 
-namespace plcemu::test {
+namespace plcemu::testing {
 
 class VbRig {
 public:
@@ -94,4 +94,4 @@ private:
     std::optional<Loop> loop_;
 };
 
-}  // namespace plcemu::test
+}  // namespace plcemu::testing

@@ -10,6 +10,7 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/image/image.hpp"
 #include "support/config_errors.hpp"
+#include "support/plc_rig.hpp"
 
 namespace plcemu::instructions {
 namespace {
@@ -17,20 +18,19 @@ namespace {
 using image::Area;
 
 // A VB PLC running `program` (YAML list entries, one per line), stepped scan by scan.
-struct Rig {
+struct Rig : testing::PlcRig {
     explicit Rig(const std::string& program)
-        : plc(config::parse_config("profile: vb\nprogram:\n" + program, "c.yaml")) {}
-    void pulse(std::uint32_t m, int n = 1) {
+        : PlcRig("profile: vb\nprogram:\n" + program, "c.yaml") {}
+    void pulse(std::uint32_t bit, int n = 1) {
         for (int i = 0; i < n; ++i) {
-            plc.image().set_bit(Area::M, m, true);
-            plc.engine().run_scans(1);
-            plc.image().set_bit(Area::M, m, false);
-            plc.engine().run_scans(1);
+            set_m(bit, true);
+            scan();
+            set_m(bit, false);
+            scan();
         }
     }
-    std::uint16_t cv(std::uint32_t word) { return plc.image().word(Area::CV, word); }
-    bool contact(std::uint32_t c) { return plc.image().bit(Area::C, c); }
-    daemon::Plc plc;
+    std::uint16_t cv(std::uint32_t i) { return word(Area::CV, i); }
+    bool contact(std::uint32_t c) { return bit(Area::C, c); }
 };
 
 TEST(Cnt, SixteenBitCounterCountsRisingEdgesAndStopsAtK) {

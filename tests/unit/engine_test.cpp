@@ -60,6 +60,8 @@ private:
     std::string name_;
 };
 
+// An engine with a probe program that logs each scan (kept here, not a testing::PlcRig: the
+// probe is this test's own instruction).
 struct Rig {
     explicit Rig(int scan_ms = 10, std::uint8_t station = 1, std::uint16_t model = 0x0118) {
         EngineOptions o;
@@ -76,7 +78,7 @@ struct Rig {
     std::uint16_t r(std::uint32_t i) const { return img.word(Area::R, i); }
     bool m(std::uint32_t i) const { return img.bit(Area::M, i); }
 
-    image::Image img{test::fbs_layout()};
+    image::Image img{testing::fbs_layout()};
     std::vector<std::string> log;
     Probe* probe = nullptr;
     std::unique_ptr<Engine> engine;
@@ -102,7 +104,7 @@ TEST(Engine, RunsScansAtTheFixedPeriod) {
 // docs/profile-fbs.md, Scan cycle and special registers: each scan runs inputs, the program in
 // order, outputs (reverse order).
 TEST(Engine, ScanOrderInputsProgramOutputs) {
-    image::Image img{test::fbs_layout()};
+    image::Image img{testing::fbs_layout()};
     std::vector<std::string> log;
     Program p;
     p.push_back(std::make_unique<Probe>(log, "first"));
@@ -177,7 +179,7 @@ struct DriverRig {
         engine->add_subsystem(std::make_unique<InputsOn>());
         engine->power_up();
     }
-    image::Image img{test::fbs_layout()};
+    image::Image img{testing::fbs_layout()};
     Driver* driver = nullptr;
     std::unique_ptr<Engine> engine;
 };
@@ -451,7 +453,7 @@ TEST(Engine, R4055IsARequestTheScanReportsAndSetStationGrants) {
 // A family without a station register (as the VB) reports no request, and a station granted
 // anyway changes no register.
 TEST(Engine, ScansWithoutSpecialsReportNoStationRequest) {
-    image::Image img{test::fbs_layout()};
+    image::Image img{testing::fbs_layout()};
     Engine e(img, {}, {});
     e.power_up();
     img.set_word(Area::R, 4055, 0x5505);
@@ -465,7 +467,7 @@ TEST(Engine, ScansWithoutSpecialsReportNoStationRequest) {
 // docs/profile-fbs.md, Scan cycle and special registers: R4057 power-up counter (retentive): one
 // more at every power-up.
 TEST(Engine, R4057CountsPowerUps) {
-    image::Image img{test::fbs_layout()};
+    image::Image img{testing::fbs_layout()};
     img.set_word(Area::R, 4057, 41);  // retained from earlier runs
     Engine e(img, {}, {}, profiles::fbs::make_specials(0x0118));
     e.power_up();

@@ -72,7 +72,7 @@ TEST(FbConversion, R4009Fahrenheit) {
     EXPECT_EQ(thermocouple_display(200, f), 392);
     EXPECT_EQ(thermocouple_display(991, f), 1815);
     EXPECT_EQ(rtd_display(500, f), 1220);  // 50.0 °C = 122.0 °F
-    image::Image img(test::profile("fb").layout());
+    image::Image img(testing::profile("fb").layout());
     img.set_word(Area::R, 4009, 1);
     EXPECT_TRUE(Factors::read(img).fahrenheit);
     img.set_word(Area::R, 4009, 2);  // any other value: °C
@@ -122,7 +122,7 @@ TEST(FbConversion, R4021LineResistanceCompensation) {
     EXPECT_EQ(rtd_sample(50.0, 1.5, 0.0, tp::kPt100, 2, false), 539);
     EXPECT_EQ(rtd_sample(50.0, 1.5, 1.5, tp::kPt100, 2, false), 500);  // compensated
     EXPECT_EQ(rtd_sample(50.0, 0.0, 1.0, tp::kPt1000, 2, false), 497);
-    image::Image img(test::profile("fb").layout());
+    image::Image img(testing::profile("fb").layout());
     img.set_word(Area::R, 4020, 0x0001);
     img.set_word(Area::R, 4021, 5000);
     img.set_word(Area::R, 5003, 15);

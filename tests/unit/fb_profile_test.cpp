@@ -13,6 +13,7 @@
 #include "plcemu/modbus/address_map.hpp"
 #include "profiles/fb/temperature_config.hpp"
 #include "support/config_errors.hpp"
+#include "support/plc_rig.hpp"
 #include "support/profiles.hpp"
 #include "support/wire.hpp"
 
@@ -23,20 +24,15 @@ using image::Area;
 using image::Device;
 using image::Range;
 
-const Profile& fb() { return test::profile("fb"); }
+const Profile& fb() { return testing::profile("fb"); }
 
 // An FB PLC built from config text (the profile line is added).
-struct Rig {
+struct Rig : testing::WiredPlcRig {
     explicit Rig(const std::string& yaml = "")
-        : plc(config::parse_config("profile: fb\n" + yaml, "fb.yaml")) {}
-    void scan(std::uint64_t n = 1) { plc.engine().run_scans(n, {}); }
-    std::uint16_t r(std::uint32_t i) { return plc.image().word(Area::R, i); }
+        : WiredPlcRig("profile: fb\n" + yaml, "fb.yaml") {}
     std::uint8_t fc_exception(std::uint8_t fc, std::uint16_t addr) {
         return testing::exception_of(wire.tcp(1, testing::read_pdu(fc, addr, 1)));
     }
-
-    daemon::Plc plc;
-    testing::Wire wire{plc};
 };
 
 // ---- identity

@@ -11,6 +11,7 @@
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/plant/plant.hpp"
+#include "support/plc_rig.hpp"
 #include "support/config_errors.hpp"
 
 namespace plcemu::profiles::fb {
@@ -23,28 +24,19 @@ constexpr const char* kTp4 =
     "alm: M111}\n";
 
 // An FB PLC whose plant channels sit at their ambient (k 0).
-struct Rig {
+struct Rig : testing::PlcRig {
     explicit Rig(const std::string& program = kTp4,
                  const std::string& plant = "    0: {ambient: 200}\n")
-        : plc(config::parse_config("profile: fb\nscan_ms: 10\nplant:\n  defaults: {k: 0}\n"
-                                   "  channels:\n" +
-                                       plant + "program:\n" + program,
-                                   "fb.yaml")) {}
-    void scan(std::uint64_t n = 1) { plc.engine().run_scans(n, {}); }
-    std::uint16_t r(std::uint32_t i) { return plc.image().word(Area::R, i); }
+        : PlcRig("profile: fb\nscan_ms: 10\nplant:\n  defaults: {k: 0}\n  channels:\n" + plant +
+                     "program:\n" + program,
+                 "fb.yaml") {}
     int sr(std::uint32_t i) { return static_cast<std::int16_t>(r(i)); }
-    void set_r(std::uint32_t i, int v) {
-        plc.image().set_word(Area::R, i, static_cast<std::uint16_t>(v));
-    }
     /// Writes R`reg` = `v`, runs one round of 4 × 500 ms and returns R0, the point 0 reading.
     int after(std::uint32_t reg, int v) {
         set_r(reg, v);
         scan(200);
         return sr(0);
     }
-    bool y(std::uint32_t i) { return plc.image().bit(Area::Y, i); }
-    bool m(std::uint32_t i) { return plc.image().bit(Area::M, i); }
-    void set_m(std::uint32_t i, bool v) { plc.image().set_bit(Area::M, i, v); }
     unsigned relays() {
         unsigned bits = 0;
         for (std::uint32_t i = 0; i < 8; ++i) bits |= y(16 + i) ? 1u << i : 0u;
@@ -56,20 +48,13 @@ struct Rig {
         plc.plant().set_params(channel, p);
         plc.plant().set_temperature(channel, c);
     }
-    void fault(int channel, bool broken) {
-        plant::Faults f;
-        f.sensor_broken = broken;
-        plc.plant().set_faults(channel, f);
-    }
     /// EN on and a first round measured, then channel `channel`'s sensor broken for a round.
     void break_after_first_round(int channel) {
         set_m(3, true);
         scan(201);
-        fault(channel, true);
+        sensor_broken(channel, true);
         scan(200);
     }
-
-    daemon::Plc plc;
 };
 
 // "当执行控制 EN=1 时，本指令执行多任务温度量测"; R4014 ms between points ("500 × 4 = 2000mS").
@@ -128,7 +113,7 @@ TEST(FbTp4, BrokenThermocoupleAndInstalledBits) {
     EXPECT_FALSE(rig.m(111));
     EXPECT_EQ(rig.r(3968), 4095);  // raw is still written
     rig.set_r(4010, 0xFFFF);
-    rig.fault(0, false);
+    rig.sensor_broken(0, false);
     rig.scan(200);
     EXPECT_EQ(rig.r(0), 200);
     EXPECT_FALSE(rig.m(111));
@@ -176,7 +161,7 @@ TEST(FbTp4, RtdPointsAndLineResistance) {
     rig.scan(200);
     EXPECT_EQ(rig.r(0), 539);
     EXPECT_EQ(rig.after(5000, 15), 500);
-    rig.fault(0, true);
+    rig.sensor_broken(0, true);
     rig.scan(200);
     EXPECT_EQ(rig.r(0), 32767);
     EXPECT_EQ(rig.r(3968), 4095);

@@ -11,6 +11,7 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/plant/plant.hpp"
 #include "profiles/fb/tpctl.hpp"
+#include "support/plc_rig.hpp"
 #include "support/config_errors.hpp"
 
 namespace plcemu::profiles::fb {
@@ -51,24 +52,14 @@ std::string elsewhere(std::string text) {
 
 // An FB PLC with an FB-4AK24 (or `modules`) whose plant channels sit at `ambient` °C; `plant`
 // replaces the defaults line.
-struct Rig {
+struct Rig : testing::PlcRig {
     explicit Rig(const std::string& program = tpsns() + tpctl(),
                  const std::string& modules = "[FB-4AK24]",
                  const std::string& plant = "  defaults: {k: 0, ambient: 200}\n")
-        : plc(config::parse_config("profile: fb\nscan_ms: 10\ntemperature:\n  modules: " + modules +
-                                       "\nplant:\n" + plant + "program:\n" + program,
-                                   "fb.yaml")) {}
-    void scan(std::uint64_t n = 1) { plc.engine().run_scans(n, {}); }
-    std::uint16_t r(std::uint32_t i) { return plc.image().word(Area::R, i); }
-    void set_r(std::uint32_t i, int v) {
-        plc.image().set_word(Area::R, i, static_cast<std::uint16_t>(v));
-    }
-    void set_block(std::uint32_t at, int v, int n = 24) {
-        for (int i = 0; i < n; ++i) set_r(at + static_cast<std::uint32_t>(i), v);
-    }
-    bool y(std::uint32_t i) { return plc.image().bit(Area::Y, i); }
-    bool m(std::uint32_t i) { return plc.image().bit(Area::M, i); }
-    void set_m(std::uint32_t i, bool v) { plc.image().set_bit(Area::M, i, v); }
+        : PlcRig("profile: fb\nscan_ms: 10\ntemperature:\n  modules: " + modules + "\nplant:\n" +
+                     plant + "program:\n" + program,
+                 "fb.yaml") {}
+    void set_block(std::uint32_t at, int v, int n = 24) { PlcRig::set_block(at, v, n); }
     /// SP `sp`, offset 5, Kc `kc`, Ti `ti`, Td 0; both ENs on and the 24 points read (scan 200).
     void start(int sp, int kc = 60, int ti = 17) {
         set_block(300, sp);
@@ -80,8 +71,6 @@ struct Rig {
         set_m(1, true);
         scan(201);
     }
-
-    daemon::Plc plc;
 };
 
 // A tpctl("sn: 4, zn: 2"): SP 201 (E = 1 °C on the 200 °C readings), offset 5, Kc 60, Ti 17,

@@ -10,6 +10,7 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/plant/plant.hpp"
 #include "profiles/fb/tpsns.hpp"
+#include "support/plc_rig.hpp"
 #include "support/config_errors.hpp"
 
 namespace plcemu::profiles::fb {
@@ -21,27 +22,13 @@ const std::string kTpsns =
     "  - TPSNS: {en: M1, tp: 0, pl: 0, tr: R0, wr: R250, err: M120, alm: M121}\n";
 
 // An FB PLC with `modules`; plant channels at 200 °C (k 0: nothing heats), channel 5 at 300 °C.
-struct Rig {
+struct Rig : testing::PlcRig {
     explicit Rig(const std::string& program = kTpsns, const std::string& modules = "[FB-4AK24]")
-        : plc(config::parse_config("profile: fb\nscan_ms: 10\ntemperature:\n  modules: " + modules +
-                                       "\nplant:\n  defaults: {k: 0, ambient: 200}\n  channels:\n"
-                                       "    5: {ambient: 300}\nprogram:\n" +
-                                       program,
-                                   "fb.yaml")) {}
-    void scan(std::uint64_t n = 1) { plc.engine().run_scans(n, {}); }
-    std::uint16_t r(std::uint32_t i) { return plc.image().word(Area::R, i); }
-    void set_r(std::uint32_t i, int v) {
-        plc.image().set_word(Area::R, i, static_cast<std::uint16_t>(v));
-    }
-    bool m(std::uint32_t i) { return plc.image().bit(Area::M, i); }
-    void set_m(std::uint32_t i, bool v) { plc.image().set_bit(Area::M, i, v); }
-    void broken(int channel, bool b) {
-        plant::Faults f;
-        f.sensor_broken = b;
-        plc.plant().set_faults(channel, f);
-    }
-
-    daemon::Plc plc;
+        : PlcRig("profile: fb\nscan_ms: 10\ntemperature:\n  modules: " + modules +
+                     "\nplant:\n  defaults: {k: 0, ambient: 200}\n  channels:\n"
+                     "    5: {ambient: 300}\nprogram:\n" +
+                     program,
+                 "fb.yaml") {}
 };
 
 std::string program_with(const std::string& from, const std::string& to) {
@@ -134,8 +121,8 @@ TEST(FbTpsns, RawIntoR3968PlusPReadingIntoTrPlusP) {
 // R4010/R4011 bit is 0 reads 0 and is never broken.
 TEST(FbTpsns, WorkingWordsAndAlm) {
     Rig rig;
-    rig.broken(17, true);
-    rig.broken(2, true);
+    rig.sensor_broken(17, true);
+    rig.sensor_broken(2, true);
     rig.set_m(1, true);
     rig.scan(201);
     EXPECT_EQ(rig.r(250), 0x0004);
@@ -174,7 +161,7 @@ TEST(FbTpsns, ErrForTpOrPlOutOfRange) {
 // round afresh.
 TEST(FbTpsns, EnOff) {
     Rig rig;
-    rig.broken(0, true);
+    rig.sensor_broken(0, true);
     rig.set_m(1, true);
     rig.scan(201);
     EXPECT_TRUE(rig.m(121));

@@ -12,6 +12,7 @@
 #include "plcemu/plant/plant.hpp"
 #include "profiles/fb/control_loop.hpp"
 #include "profiles/fb/tstc.hpp"
+#include "support/plc_rig.hpp"
 #include "support/config_errors.hpp"
 
 namespace plcemu::profiles::fb {
@@ -53,23 +54,12 @@ std::string elsewhere(std::string text) {
 }
 
 // An FB PLC whose plant channels 0–7 sit at 200 °C (k 0: the heaters change nothing).
-struct Rig {
+struct Rig : testing::PlcRig {
     explicit Rig(const std::string& program = tstc())
-        : plc(config::parse_config("profile: fb\nscan_ms: 10\nplant:\n  defaults: {k: 0, "
-                                   "ambient: 200}\nprogram:\n" +
-                                       program,
-                                   "fb.yaml")) {}
-    void scan(std::uint64_t n = 1) { plc.engine().run_scans(n, {}); }
-    std::uint16_t r(std::uint32_t i) { return plc.image().word(Area::R, i); }
-    void set_r(std::uint32_t i, int v) {
-        plc.image().set_word(Area::R, i, static_cast<std::uint16_t>(v));
-    }
-    void set_block(std::uint32_t at, int v, int n = 4) {
-        for (int i = 0; i < n; ++i) set_r(at + static_cast<std::uint32_t>(i), v);
-    }
-    bool y(std::uint32_t i) { return plc.image().bit(Area::Y, i); }
-    bool m(std::uint32_t i) { return plc.image().bit(Area::M, i); }
-    void set_m(std::uint32_t i, bool v) { plc.image().set_bit(Area::M, i, v); }
+        : PlcRig("profile: fb\nscan_ms: 10\nplant:\n  defaults: {k: 0, ambient: 200}\nprogram:\n" +
+                     program,
+                 "fb.yaml") {}
+    void set_block(std::uint32_t at, int v, int n = 4) { PlcRig::set_block(at, v, n); }
     /// SP `sp`, offset 5, tuned gains Kc 60, Ti 17, Td 0; EN on and the four points read.
     void start(int sp) {
         set_block(100, sp);
@@ -80,13 +70,6 @@ struct Rig {
         set_m(0, true);
         scan(202);  // point 3's sample falls on scan 200 (the 201st), and PID starts there
     }
-    void fault(int channel, bool broken) {
-        plant::Faults f;
-        f.sensor_broken = broken;
-        plc.plant().set_faults(channel, f);
-    }
-
-    daemon::Plc plc;
 };
 
 // FB manual FUN73: "Sh or Zh out of range, or Sh < Sm": not executed, ERR ON, whatever EN.
@@ -267,7 +250,7 @@ TEST(FbTstc, BrokenPointOutputOffAndOverTemperature) {
     Rig rig;
     rig.start(250);
     EXPECT_EQ(rig.r(301), 4095);
-    rig.fault(1, true);
+    rig.sensor_broken(1, true);
     rig.scan(220);
     EXPECT_EQ(rig.r(1), 991);
     EXPECT_EQ(rig.r(200), 0x0002);

@@ -21,8 +21,8 @@ using Bytes = std::vector<std::uint8_t>;
 
 class FuzzFindings : public ::testing::Test {
 protected:
-    image::Image img_{test::fbs_layout()};
-    modbus::PlcUnit unit_{img_, test::fbs().map(), {}};
+    image::Image img_{testing::fbs_layout()};
+    modbus::PlcUnit unit_{img_, testing::fbs().map(), {}};
     std::uint8_t station_ = 1;
     modbus::Dispatcher disp_{modbus::Identity{"FATEK", "FBs-24MC", "9.9.9"}};
     testing::Wire wire_{disp_, unit_, station_};

@@ -63,8 +63,8 @@ const std::vector<ManualRow>& manual_rows() {
 
 class ModbusMap : public ::testing::Test {
 protected:
-    image::Image img_{test::fbs_layout()};
-    PlcUnit unit_{img_, test::fbs().map(), {}};
+    image::Image img_{testing::fbs_layout()};
+    PlcUnit unit_{img_, testing::fbs().map(), {}};
     std::uint8_t station_ = 1;
     Dispatcher disp_{Identity{"FATEK", "FBs-24MC", "9.9.9"}};
     wire::Wire wire_{disp_, unit_, station_};
@@ -739,7 +739,7 @@ TEST_F(ModbusMap, RtuUnitIdsAndBroadcast) {
 
 // The address map's own table is the manual's (what --print-map prints).
 TEST_F(ModbusMap, MapTableMatchesTheManual) {
-    const auto& rows = test::fbs().map().rows();
+    const auto& rows = testing::fbs().map().rows();
     ASSERT_EQ(rows.size(), manual_rows().size());
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const auto& s = manual_rows()[i];
@@ -811,7 +811,7 @@ namespace {
 // read-only, in none (docs/profile-vb.md, "Modbus map").
 class SpanningRows : public ::testing::Test {
 protected:
-    image::Image img_{test::fbs_layout()};
+    image::Image img_{testing::fbs_layout()};
     std::unique_ptr<AddressMap> map_ = make_table_map(
         {
             {Table::HoldingRegisters, 0, 10, {image::Area::D, 100, 10}, "", "D100-D109"},

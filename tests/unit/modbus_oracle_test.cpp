@@ -28,8 +28,8 @@ using image::Area;
 
 class Oracle : public ::testing::Test {
 protected:
-    image::Image img_{test::fbs_layout()};
-    modbus::PlcUnit unit_{img_, test::fbs().map(), {}};
+    image::Image img_{testing::fbs_layout()};
+    modbus::PlcUnit unit_{img_, testing::fbs().map(), {}};
     std::uint8_t station_ = 1;
     modbus::Dispatcher disp_{modbus::Identity{"FATEK", "FBs-24MC", "9.9.9"}};
     // The PLC on a listener of its own, as the daemon serves it.
@@ -120,8 +120,8 @@ TEST_F(Oracle, DeliberateDifferencesAreCountedByName) {
 // A PLC that answers other than libmodbus is reported: here the oracle reads another image than
 // the one the dispatcher serves.
 TEST_F(Oracle, ADifferenceIsReported) {
-    image::Image other{test::fbs_layout()};
-    modbus::PlcUnit other_unit{other, test::fbs().map(), {}};
+    image::Image other{testing::fbs_layout()};
+    modbus::PlcUnit other_unit{other, testing::fbs().map(), {}};
     img_.set_word(Area::R, 0, 1);
     const auto r = ModbusOracle::get().serve(plc_, other_unit, Framing::Tcp,
                                              Bytes{0, 1, 0, 0, 0, 6, 1, 0x03, 0, 0, 0, 1}, out_);

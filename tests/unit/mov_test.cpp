@@ -18,16 +18,17 @@ namespace {
 
 using image::Area;
 
-// A PLC running `program` (YAML list entries, one per line).
+// A PLC running `program` (YAML list entries, one per line). Kept here: a bare engine over
+// the image (no plant, no map), the program on its own.
 struct Rig {
     explicit Rig(const std::string& program)
         : config(config::parse_config("profile: fbs\nprogram:\n" + program, "p.yaml")),
-          engine(img, {}, daemon::build_program(config), test::fbs().specials(config)) {
+          engine(img, {}, daemon::build_program(config), testing::fbs().specials(config)) {
         engine.power_up();
     }
     void scan(int n = 1) { engine.run_scans(static_cast<std::uint64_t>(n)); }
 
-    image::Image img{test::fbs_layout()};
+    image::Image img{testing::fbs_layout()};
     config::Config config;
     engine::Engine engine;
 };

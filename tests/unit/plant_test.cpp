@@ -41,13 +41,14 @@ private:
     std::function<void(engine::ScanContext&)> f_;
 };
 
-// An engine with one plant channel driven by a register (u = R200/16383) or by Y30.
+// An engine with one plant channel driven by a register (u = R200/16383) or by Y30. Kept here:
+// the thermal model on its own, without a config.
 struct Rig {
     explicit Rig(ChannelParams ch,
                  Drive::Kind kind = Drive::Kind::Register,
                  int scan_ms = 10,
                  std::function<void(engine::ScanContext&)> program = {})
-        : image(test::fbs_layout()) {
+        : image(testing::fbs_layout()) {
         engine::EngineOptions o;
         o.scan_period = milliseconds(scan_ms);
         engine::Program p;
@@ -449,7 +450,7 @@ program:
     EXPECT_EQ(ta, tb);
     // The run did something: the noisy readings of R0-R11 are there.
     std::uint16_t r0 = 0;
-    std::memcpy(&r0, a.data() + image::Image::area_offset(test::fbs_layout(), Area::R), 2);
+    std::memcpy(&r0, a.data() + image::Image::area_offset(testing::fbs_layout(), Area::R), 2);
     EXPECT_GT(r0, 200);  // about 25.0 °C
 }
 

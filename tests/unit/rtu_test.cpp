@@ -277,8 +277,8 @@ TEST(RtuFramer, SizeLimits) {
 // broadcasts, and applies broadcast writes.
 class RtuStation : public ::testing::Test {
 protected:
-    image::Image img_{test::fbs_layout()};
-    PlcUnit unit_{img_, test::fbs().map(), {}};
+    image::Image img_{testing::fbs_layout()};
+    PlcUnit unit_{img_, testing::fbs().map(), {}};
     std::uint8_t station_ = 7;
     Dispatcher disp_{Identity{"FATEK", "FBs-24MC", "9.9.9"}};
     plcemu::testing::Wire wire_{disp_, unit_, station_};

@@ -79,7 +79,7 @@ protected:
         }
     }
 
-    image::Image img_{test::fbs_layout()};
+    image::Image img_{testing::fbs_layout()};
     std::vector<engine::Duration> seen_;
     std::unique_ptr<engine::Engine> engine_;
     asio::io_context io_{1};

@@ -39,9 +39,10 @@ public:
     }
 };
 
+// Unit 247 on its own (kept here: no PLC behind it, only the simulator unit and a fake time).
 struct Rig {
     explicit Rig(bool writable = true)
-        : image(test::fbs_layout()) {
+        : image(testing::fbs_layout()) {
         engine::EngineOptions o;
         o.scan_period = std::chrono::milliseconds(10);
         engine = std::make_unique<engine::Engine>(image, o, engine::Program{});

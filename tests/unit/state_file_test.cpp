@@ -59,7 +59,7 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
 
-    static image::Layout layout() { return test::fbs_layout(); }
+    static image::Layout layout() { return testing::fbs_layout(); }
     // Size of a state file for layout(): the header page and the image in whole pages.
     static std::size_t file_size() {
         return image::kDataOffset + (Image::storage_size(layout()) + 4095) / 4096 * 4096;

@@ -18,6 +18,8 @@
 #include <memory>
 #include <string>
 
+#include "support/socket_client.hpp"
+
 namespace plcemu::listener {
 namespace {
 
@@ -65,40 +67,12 @@ protected:
         s.connect({asio::ip::make_address("127.0.0.1"), listener_->port()});
         return s;
     }
-    // Runs the loop until `n` bytes came back on `s` (or 2 s passed); returns what came.
+    // What came back on `s`: `n` bytes, or fewer when it closed or 2 s passed.
     std::string read(asio::ip::tcp::socket& s, std::size_t n) {
-        std::string got(n, '\0');
-        std::size_t have = 0;
-        bool eof = false;
-        std::function<void()> next = [&] {
-            s.async_read_some(asio::buffer(got.data() + have, n - have),
-                              [&](const asio::error_code& ec, std::size_t k) {
-                                  have += k;
-                                  if (ec) eof = true;
-                                  if (!ec && have < n) next();
-                              });
-        };
-        next();
-        io_.restart();
-        const auto end = std::chrono::steady_clock::now() + 2s;
-        while ((have < n && !eof) && std::chrono::steady_clock::now() < end) io_.run_for(10ms);
-        got.resize(have);
-        return got;
+        return testing::read_bytes(io_, s, n);
     }
     // True when the listener closed `s` within 2 s.
-    bool closed(asio::ip::tcp::socket& s) {
-        std::array<char, 16> b{};
-        bool done = false;
-        bool eof = false;
-        s.async_read_some(asio::buffer(b), [&](const asio::error_code& ec, std::size_t) {
-            done = true;
-            eof = ec == asio::error::eof || ec == asio::error::connection_reset;
-        });
-        io_.restart();
-        const auto end = std::chrono::steady_clock::now() + 2s;
-        while (!done && std::chrono::steady_clock::now() < end) io_.run_for(10ms);
-        return eof;
-    }
+    bool closed(asio::ip::tcp::socket& s) { return testing::closed(io_, s); }
     void run_for(std::chrono::milliseconds d) {
         io_.restart();
         io_.run_for(d);

@@ -46,11 +46,12 @@ ModuleConfig installed(std::uint8_t name, std::uint8_t sensor) {
     return m;
 }
 
-// Table at R5000, readings at R0 (10000), working registers at D0 (20000), 10 ms scans.
+// Table at R5000, readings at R0 (10000), working registers at D0 (20000), 10 ms scans. Kept
+// here: the temperature-table subsystem on its own, with sensors this test sets.
 struct Rig {
     explicit Rig(std::vector<ModuleConfig> chain = {installed(kTC6, kK), installed(kRTD6, kPt100)},
                  bool fast = false)
-        : image(test::fbs_layout()) {
+        : image(testing::fbs_layout()) {
         engine::EngineOptions o;
         o.scan_period = milliseconds(10);
         engine =

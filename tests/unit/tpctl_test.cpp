@@ -44,7 +44,7 @@ class Rig {
 public:
     explicit Rig(const std::string& program = kExample, Duration dt = 10ms)
         : cfg_(config::parse_config(config_text(program), "tpctl_test.yaml")),
-          img_(test::fbs_layout()),
+          img_(testing::fbs_layout()),
           prog_(daemon::build_program(cfg_)),
           dt_(dt) {
         namespace sp = profiles::fbs::special;

@@ -33,8 +33,8 @@ constexpr std::uint16_t kD0 = 6000;  // fbs: holding 6000 is D0
 struct Station {
     explicit Station(std::uint8_t s)
         : station(s) {}
-    image::Image img{test::fbs_layout()};
-    PlcUnit unit{img, test::fbs().map(), {}};
+    image::Image img{testing::fbs_layout()};
+    PlcUnit unit{img, testing::fbs().map(), {}};
     std::uint8_t station;
     Dispatcher disp{Identity{"FATEK", "FBs-24MC", "9.9.9"}};
     Wire direct{disp, unit, station};
@@ -105,8 +105,8 @@ TEST_F(SharedLine, TcpRoutesByUnitAndRefusesTheRestWithGatewayTargetFailed) {
 
 TEST_F(SharedLine, ASimulatorUnitGoesToItsPlc) {
     // A second unit behind PLC 3 under ID 200 (the simulator unit's place): its own image.
-    image::Image other{test::fbs_layout()};
-    PlcUnit second{other, test::fbs().map(), {}};
+    image::Image other{testing::fbs_layout()};
+    PlcUnit second{other, testing::fbs().map(), {}};
     plcs_[2]->sim = &second;
     plcs_[2]->sim_unit = 200;
     Wire wire{seats()};
@@ -137,8 +137,8 @@ TEST(OwnListener, OnePlcGetsUnitsZeroAnd255AndTheUnknownUnitPolicy) {
 TEST(UnitTableFind, NamesTheSeatAndTheIdItAnswersAs) {
     Station a(4);
     Station b(9);
-    image::Image other{test::fbs_layout()};
-    PlcUnit sim{other, test::fbs().map(), {}};
+    image::Image other{testing::fbs_layout()};
+    PlcUnit sim{other, testing::fbs().map(), {}};
     b.sim = &sim;
     b.sim_unit = 200;
     listener::UnitTable t;

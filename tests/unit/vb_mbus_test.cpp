@@ -33,7 +33,8 @@ using W = std::vector<std::uint16_t>;
 const std::string kMbusSection = "mbus: {tcp: {host: 127.0.0.1, port: 5021}}\n";
 const std::string kProgram = "  - MBUS: {en: M0, s1: D1000, s2: D100}\n";
 
-// A VB running MBUS over a scripted link, with a table of sets of 7 words at D1000.
+// A VB running MBUS over a scripted link, with a table of sets of 7 words at D1000 (kept here:
+// the link is this test's own).
 struct Rig {
     explicit Rig(const std::string& program = kProgram, const std::string& head = "")
         : p(program, kMbusSection + head) {

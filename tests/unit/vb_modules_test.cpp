@@ -36,6 +36,7 @@ std::uint16_t word(TemperatureModules& m, int module, int w) {
     return v;
 }
 
+// The VB's temperature modules on their own (kept here: no PLC, one input pass per scan()).
 struct Rig {
     explicit Rig(const std::string& modules)
         : m(parse(modules), sensors) {}

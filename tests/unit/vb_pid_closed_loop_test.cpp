@@ -28,7 +28,7 @@ constexpr int kFullScale = 500;
 
 /// The VB manual's PID example on the plant: SV 150.0 °C, Ts 2 s, α = KD = 0, relay 500/0,
 /// MV limit 0–500.
-struct Plant : test::VbRig {
+struct Plant : testing::VbRig {
     explicit Plant(int control)
         : VbRig("  - PID: {en: M0, s1: D100, s2: D101, s3: D200, d: D102}\n") {
         close_loop(kPv, kMv, kFullScale, kDrive);

@@ -30,7 +30,7 @@ constexpr std::uint32_t kErrorCode = 9067, kErrorEntry = 9069, kErrorRelay = 906
 const std::string kEntry = "  - PID: {en: M0, s1: D100, s2: D101, s3: D200, d: D102}\n";
 
 /// One PID on D100 (SV), D101 (PV), D200… (S3), D102 (MV), enabled by M0.
-struct Loop : test::VbRig {
+struct Loop : testing::VbRig {
     explicit Loop(engine::Duration dt = 10ms)
         : VbRig(kEntry, dt) {
         set_m(0, true);

@@ -13,6 +13,7 @@
 #include "plcemu/daemon/plc.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "support/config_errors.hpp"
+#include "support/plc_rig.hpp"
 #include "support/profiles.hpp"
 #include "support/wire.hpp"
 
@@ -24,19 +25,13 @@ using image::Device;
 using image::Range;
 using modbus::Table;
 
-const Profile& vb() { return test::profile("vb"); }
+const Profile& vb() { return testing::profile("vb"); }
 const image::Naming& naming() { return vb().naming(); }
 
 // A VB PLC built from config text (the profile line is added).
-struct Rig {
+struct Rig : testing::WiredPlcRig {
     explicit Rig(const std::string& yaml = "")
-        : plc(config::parse_config("profile: vb\n" + yaml, "vb.yaml")) {}
-    void scan(std::uint64_t n = 1, const engine::Calendar& c = {}) { plc.engine().run_scans(n, c); }
-    bool m(std::uint32_t i) { return plc.image().bit(Area::M, i); }
-    std::uint16_t d(std::uint32_t i) { return plc.image().word(Area::D, i); }
-
-    daemon::Plc plc;
-    testing::Wire wire{plc};
+        : WiredPlcRig("profile: vb\n" + yaml, "vb.yaml") {}
 };
 
 // ---- identity
@@ -91,7 +86,7 @@ TEST(VbNaming, WhyNotNamesTheOctalAreas) {
     for (const char* other : {"X17", "M8", "D9", "Z9", ""}) {
         EXPECT_EQ(naming().why_not(other), "") << other;
     }
-    EXPECT_EQ(test::profile("fbs").naming().why_not("X8"), "");  // decimal there
+    EXPECT_EQ(testing::profile("fbs").naming().why_not("X8"), "");  // decimal there
 }
 
 TEST(VbNaming, TimerAndCounterSpelling) {
