@@ -26,13 +26,16 @@ struct Row {
 std::string fatek_names(const modbus::MapRow& r) {
     const image::Range& d = r.devices;
     const std::uint32_t step = r.packed ? 16 : 1;
-    const std::string first = fatek::device_name(d.area, d.start, r.packed);
-    if (first.empty() || r.count <= 1) return first;
+    std::string names = fatek::device_name(d.area, d.start, r.packed);
+    if (names.empty() || r.count <= 1) return names;
     for (std::uint32_t k = r.count; k-- > 1;) {
         const std::string last = fatek::device_name(d.area, d.start + step * k, r.packed);
-        if (!last.empty()) return last == first ? first : first + "-" + last;
+        if (last.empty()) continue;
+        names += '-';
+        names += last;
+        break;
     }
-    return first;
+    return names;
 }
 
 std::string padded(unsigned v, int width) {
