@@ -133,8 +133,7 @@ void simulator_rows(const config::Config& config, std::vector<TagRow>& rows) {
     for (const auto& r : simulator::register_tags()) {
         rows.push_back({"", "", r.name, "", config.simulator.unit, Table::HoldingRegisters, r.wire,
                         r.is_signed ? "int16" : "uint16",
-                        writable && simulator::SimulatorUnit::writable(r.wire), r.description,
-                        ""});
+                        writable && simulator::SimulatorUnit::writable(r.wire), r.description, ""});
     }
 }
 
