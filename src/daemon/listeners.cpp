@@ -81,9 +81,17 @@ std::vector<Group> group(const Plcs& plcs, std::initializer_list<Carrier> carrie
     for (std::size_t i = 0; i < plcs.size(); ++i) {
         for (const auto& l : config::listeners_of(config_of(plcs[i]))) {
             if (std::find(carriers.begin(), carriers.end(), l.carrier) == carriers.end()) continue;
-            const std::string k = l.net != nullptr && l.net->port == 0
-                                      ? "#" + std::to_string(i) + " " + std::string(l.section)
-                                      : config::listener_key(l);
+            // Appended piece by piece: GCC 12's -Wrestrict takes `"#" + std::string&&` at -O2
+            // for an overlapping copy (a false positive that -Werror would make fatal).
+            std::string k;
+            if (l.net != nullptr && l.net->port == 0) {
+                k = "#";
+                k += std::to_string(i);
+                k += ' ';
+                k += l.section;
+            } else {
+                k = config::listener_key(l);
+            }
             auto it =
                 std::find_if(out.begin(), out.end(), [&](const Group& g) { return g.key == k; });
             if (it == out.end()) {
