@@ -466,17 +466,11 @@ void section(const Reader& r,
     });
 }
 
-// True when `family` speaks the protocol of config section `protocol` ("fatek").
-bool speaks(const Family& family, std::string_view protocol) {
-    const auto p = family.protocols();
-    return std::find(p.begin(), p.end(), protocol) != p.end();
-}
-
 // "profiles fb and fbs do", "no profile does".
 std::string speakers(std::string_view protocol) {
     std::vector<std::string> names;
     for (const Family* f : families()) {
-        if (speaks(*f, protocol)) names.emplace_back(f->name());
+        if (f->speaks(protocol)) names.emplace_back(f->name());
     }
     if (names.empty()) return "no profile does";
     std::string s = names.size() == 1 ? "profile " : "profiles ";
@@ -590,7 +584,7 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     r.attempt([&] {
         const Node& f = root["fatek"];
         if (!f) return;
-        if (!speaks(*profile, "fatek")) {
+        if (!profile->speaks("fatek")) {
             // At the key: the section as a whole is refused.
             const Node* at = &f;
             for (const auto& [key, value] : root.entries) {

@@ -1,5 +1,6 @@
 #include "plcemu/config/family.hpp"
 
+#include <algorithm>
 #include <map>
 
 namespace plcemu::config {
@@ -35,6 +36,11 @@ std::string family_names() {
         s += name;
     }
     return s;
+}
+
+bool Family::speaks(std::string_view protocol) const {
+    const auto p = protocols();
+    return std::find(p.begin(), p.end(), protocol) != p.end();
 }
 
 }  // namespace plcemu::config

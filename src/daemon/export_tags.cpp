@@ -209,8 +209,7 @@ TagExport export_tags(const config::Config& config) {
 
     const std::unique_ptr<modbus::AddressMap> own = map_of(config);
     const modbus::AddressMap& map = own ? *own : profile.map();
-    const auto spoken = profile.protocols();
-    const bool fatek = std::find(spoken.begin(), spoken.end(), "fatek") != spoken.end();
+    const bool fatek = profile.speaks("fatek");
     TagExport out;
     for (const auto& [key, m] : meanings) {
         const auto [area, index] = key;
@@ -235,7 +234,7 @@ TagExport export_tags(const config::Config& config) {
         }
         out.rows.push_back({"", "", device, device, config.station, table, address, type,
                             served(plc, table, address, n, area, index, true), description,
-                            fatek ? fatek::device_name(area, index) : std::string()});
+                            fatek ? fatek::device_name(layout, area, index) : std::string()});
     }
     simulator_rows(config, out.rows);
     std::stable_sort(out.rows.begin(), out.rows.end(), [](const TagRow& a, const TagRow& b) {

@@ -1,6 +1,5 @@
 #include "print_map.hpp"
 
-#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -23,13 +22,13 @@ struct Row {
 
 // "R00000-R04167": the first and last device of a map row as a FATEK master names them (the
 // last one with a name: a 32-bit counter's high word has none); empty when the first has none.
-std::string fatek_names(const modbus::MapRow& r) {
+std::string fatek_names(const image::Layout& layout, const modbus::MapRow& r) {
     const image::Range& d = r.devices;
     const std::uint32_t step = r.packed ? 16 : 1;
-    std::string names = fatek::device_name(d.area, d.start, r.packed);
+    std::string names = fatek::device_name(layout, d.area, d.start, r.packed);
     if (names.empty() || r.count <= 1) return names;
     for (std::uint32_t k = r.count; k-- > 1;) {
-        const std::string last = fatek::device_name(d.area, d.start + step * k, r.packed);
+        const std::string last = fatek::device_name(layout, d.area, d.start + step * k, r.packed);
         if (last.empty()) continue;
         names += '-';
         names += last;
@@ -90,11 +89,11 @@ std::string access_of(const modbus::AddressMap& map,
     return access;
 }
 
-std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap& map) {
+// `fatek`: the rows name their devices as FATEK's protocol does too.
+std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap& map, bool fatek) {
     const profiles::Profile& profile = profiles::of(config);
     const image::Naming& naming = profile.naming();
-    const auto spoken = profile.protocols();
-    const bool fatek = std::find(spoken.begin(), spoken.end(), "fatek") != spoken.end();
+    const image::Layout layout = profile.layout();
     std::vector<Row> rows;
     for (const auto& r : map.rows()) {
         const unsigned first = r.wire_start;
@@ -106,7 +105,7 @@ std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap&
         rows.push_back({table_name(r.table), five,
                         manual_number(r.table, first, 6) + "-" + manual_number(r.table, last, 6),
                         std::to_string(first) + "-" + std::to_string(last), r.label, r.codes,
-                        access_of(map, r, naming), fatek ? fatek_names(r) : std::string()});
+                        access_of(map, r, naming), fatek ? fatek_names(layout, r) : std::string()});
     }
     if (config.simulator.unit != 0) {
         // The simulator-control unit (docs/simulator-and-plant.md): one row per register
@@ -165,10 +164,9 @@ void print_map(std::ostream& out, const config::Config& config, bool csv) {
     const profiles::Profile& profile = profiles::of(config);
     const std::unique_ptr<modbus::AddressMap> own = map_of(config);
     const modbus::AddressMap& map = own ? *own : profile.map();
-    const auto rows = rows_of(config, map);
     // A family that speaks FATEK's protocol gets a column of the names its frames use.
-    const auto spoken = profile.protocols();
-    const bool fatek = std::find(spoken.begin(), spoken.end(), "fatek") != spoken.end();
+    const bool fatek = profile.speaks("fatek");
+    const auto rows = rows_of(config, map, fatek);
     // The device column is named after the vendor whose names it holds ("fatek", "vigor").
     std::string vendor(profile.vendor());
     for (char& c : vendor) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);

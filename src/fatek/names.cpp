@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <string>
 #include <string_view>
 
 #include "hex.hpp"
+#include "plcemu/fatek/device_name.hpp"
 
 namespace plcemu::fatek {
 
@@ -108,6 +110,35 @@ Error resolve(const Name& name,
     }
     const image::Range devices{run.area, run.start, run.step * items};
     return layout.contains(devices) ? Error::None : Error::Address;
+}
+
+std::string device_name(const image::Layout& layout,
+                        Area area,
+                        std::uint32_t index,
+                        bool word_of_bits) {
+    Form form = image::is_bit_area(area) ? (word_of_bits ? Form::Packed16 : Form::Discrete)
+                                         : Form::Register;
+    std::uint32_t number = index;
+    if (form == Form::Packed16 && index % 8 != 0) return {};  // N1: W forms at multiples of 8
+    if (area == Area::CV) {
+        // N3: past the 16-bit counters each 32-bit one takes two words and is named at its low.
+        const Counters c = counters(layout);
+        if (index >= c.narrow) {
+            if ((index - c.narrow) % 2 != 0) return {};
+            form = Form::Counter32;
+            number = c.narrow + (index - c.narrow) / 2;
+        }
+    }
+    for (const Prefix& p : kPrefixes) {
+        if (p.form != form || p.area != area) continue;
+        if (number >= (p.digits == 4 ? 10000u : 100000u)) return {};
+        const std::string digits = std::to_string(number);
+        std::string out(p.letters);
+        out.append(p.digits - digits.size(), '0');  // zero-padded to the prefix's width
+        out += digits;
+        return out;
+    }
+    return {};
 }
 
 }  // namespace plcemu::fatek

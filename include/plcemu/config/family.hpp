@@ -48,6 +48,8 @@ public:
     /// The protocols the family speaks besides Modbus, by their config section ("fatek"); the
     /// loader refuses the sections of the others at their line.
     virtual std::vector<std::string_view> protocols() const { return {}; }
+    /// True when `protocol` ("fatek") is among protocols().
+    bool speaks(std::string_view protocol) const;
     /// Top-level config sections of subsystems the family has (e.g. "temperature"); the loader
     /// refuses the others at their line.
     virtual std::vector<std::string_view> sections() const { return {}; }
