@@ -106,6 +106,19 @@ std::shared_ptr<const S> settings_of(const config::Config& config,
     return read(config, config::Reader(of(config).naming()));
 }
 
+/// Reads the section `name` of a loaded config (Config::sections) into `into` with `read`, each
+/// error recorded by `r` (a family's Family::read, for each section it owns).
+template <class T>
+void read_section(const config::Config& config,
+                  const config::Reader& r,
+                  std::string_view name,
+                  void (*read)(const config::Reader&, const config::Node&, T&),
+                  T& into) {
+    for (const auto& section : config.sections) {
+        if (section.first == name) r.attempt([&] { read(r, section.second, into); });
+    }
+}
+
 /// Registers a profile at static initialisation: `const Registration reg{instance};` in the
 /// profile's own file. It joins the families the config loader knows (config::add_family).
 class Registration {

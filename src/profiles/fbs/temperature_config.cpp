@@ -90,10 +90,7 @@ void read(const config::Reader& r, const config::Node& n, TemperatureConfig& t) 
 std::shared_ptr<const Settings> read_settings(const config::Config& config,
                                               const config::Reader& r) {
     auto s = std::make_shared<Settings>();
-    for (const auto& section : config.sections) {
-        if (section.first == "temperature")
-            r.attempt([&] { read(r, section.second, s->temperature); });
-    }
+    read_section(config, r, "temperature", &read, s->temperature);
     return s;
 }
 
