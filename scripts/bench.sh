@@ -173,31 +173,22 @@ bench_plcemud() {
     bench_server plcemud "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port"
 }
 
-# ---- Hook: servers compared ------------------------------------------------------------------
-# plcemud, the do-nothing server and libmodbus in ROUNDS alternating rounds at 1 and 16
-# connections; each server is started afresh for each round. Prints each round's figure as a
-# note, then `<server>.c<N>.rps.median|min|max` and the ratios of the medians.
-bench_servers() {
-    local round name port c out rps servers=(noop libmodbus)
+# ---- Alternating rounds ---------------------------------------------------------------------
+# rounds STARTER CLIENT_ARGS SERVER...: ROUNDS rounds, each starting every SERVER afresh in turn
+# (`STARTER NAME PORT` starts one) and loading it at 1 and 16 connections with load_client and
+# CLIENT_ARGS (word-split). Prints each round's figure as a note, then
+# `<server>.c<N>.rps.median|min|max`.
+rounds() {
+    local starter=$1 client=$2 round name port c out rps
+    shift 2
     declare -A runs=()  # "<server>.c<N>" -> the rounds' req/s, one a line
-    if [[ $BUILD_OK == 1 && -x $BUILD/plcemud ]]; then
-        servers=(plcemud noop libmodbus)
-    else
-        note "servers: $BUILD/plcemud not built; comparing the yardsticks alone"
-    fi
-    note "servers: $ROUNDS rounds of ${servers[*]}, each ${WARMUP_SECONDS} s warm-up and ${RUN_SECONDS} s measured at 1 and 16 connections"
     for round in $(seq "$ROUNDS"); do
-        for name in "${servers[@]}"; do
+        for name in "$@"; do
             port=$(free_port)
-            case $name in
-                plcemud) start_server "$name" "$port" "$BUILD/plcemud" -c config/default.yaml \
-                    --port "$port" || continue ;;
-                noop) start_server "$name" "$port" "$BUILD/noop_server" --port "$port" || continue ;;
-                libmodbus) start_server "$name" "$port" "$BUILD/libmodbus_peer" --port "$port" ||
-                    continue ;;
-            esac
+            "$starter" "$name" "$port" || continue
             for c in 1 16; do
-                if out=$("$BUILD/load_client" --port "$port" --connections "$c" \
+                # shellcheck disable=SC2086 # the client's arguments are words
+                if out=$("$BUILD/load_client" $client --port "$port" --connections "$c" \
                     --seconds "$RUN_SECONDS" --warmup "$WARMUP_SECONDS" --label "$name.c$c"); then
                     rps=$(awk '$1 ~ /\.rps$/ { print $2 }' <<<"$out")
                     note "round $round: $name.c$c $rps req/s"
@@ -209,60 +200,60 @@ bench_servers() {
             stop_server
         done
     done
-    for name in "${servers[@]}"; do
+    for name in "$@"; do
         for c in 1 16; do
             emit < <(printf '%s' "${runs[$name.c$c]:-}" | median_of "$name.c$c.rps" req/s)
         done
     done
+}
+
+# ---- Hook: servers compared ------------------------------------------------------------------
+# plcemud, the do-nothing server and libmodbus, FC03 of 125 registers, and the ratios of the
+# medians.
+start_modbus_server() {
+    case $1 in
+        plcemud) start_server "$1" "$2" "$BUILD/plcemud" -c config/default.yaml --port "$2" ;;
+        noop) start_server "$1" "$2" "$BUILD/noop_server" --port "$2" ;;
+        libmodbus) start_server "$1" "$2" "$BUILD/libmodbus_peer" --port "$2" ;;
+    esac
+}
+
+bench_servers() {
+    local servers=(noop libmodbus)
+    if [[ $BUILD_OK == 1 && -x $BUILD/plcemud ]]; then
+        servers=(plcemud noop libmodbus)
+    else
+        note "servers: $BUILD/plcemud not built; comparing the yardsticks alone"
+    fi
+    note "servers: $ROUNDS rounds of ${servers[*]}, each ${WARMUP_SECONDS} s warm-up and ${RUN_SECONDS} s measured at 1 and 16 connections"
+    rounds start_modbus_server "" "${servers[@]}"
     ratio plcemud_vs_noop plcemud noop
     ratio plcemud_vs_libmodbus plcemud libmodbus
 }
 
 # ---- Hook: FATEK protocol compared -----------------------------------------------------------
 # plcemud serving FATEK's command 46 (64 registers from R0) on its fatek.tcp listener against the
-# do-nothing server answering the same frame (noop_server --fatek), in ROUNDS alternating rounds
-# at 1 and 16 connections. Prints `fatek_<server>.c<N>.rps.median|min|max` and the ratio.
+# do-nothing server answering the same frame (noop_server --fatek), and the ratio.
+start_fatek_server() {
+    case $1 in
+        fatek_plcemud)
+            # default.yaml's PLC with its Modbus listener on a port of its own.
+            { cat config/default.yaml
+              printf 'fatek: {tcp: {bind: 127.0.0.1, port: %s}}\n' "$2"; } >"$TMP/fatek.yaml"
+            start_server "$1" "$2" "$BUILD/plcemud" -c "$TMP/fatek.yaml" --port 0 ;;
+        fatek_noop) start_server "$1" "$2" "$BUILD/noop_server" --port "$2" --fatek ;;
+    esac
+}
+
 bench_fatek() {
-    local round name port c out rps cfg=$TMP/fatek.yaml servers=(fatek_noop)
-    declare -A runs=()
+    local servers=(fatek_noop)
     if [[ $BUILD_OK == 1 && -x $BUILD/plcemud ]]; then
         servers=(fatek_plcemud fatek_noop)
     else
         note "fatek: $BUILD/plcemud not built; measuring the yardstick alone"
     fi
     note "fatek: $ROUNDS rounds of ${servers[*]}, command 46 of 64 registers, at 1 and 16 connections"
-    for round in $(seq "$ROUNDS"); do
-        for name in "${servers[@]}"; do
-            port=$(free_port)
-            case $name in
-                fatek_plcemud)
-                    # default.yaml's PLC with its Modbus listener on a port of its own.
-                    { cat config/default.yaml
-                      printf 'fatek: {tcp: {bind: 127.0.0.1, port: %s}}\n' "$port"; } >"$cfg"
-                    start_server "$name" "$port" "$BUILD/plcemud" -c "$cfg" --port 0 || continue ;;
-                fatek_noop)
-                    start_server "$name" "$port" "$BUILD/noop_server" --port "$port" --fatek ||
-                        continue ;;
-            esac
-            for c in 1 16; do
-                if out=$("$BUILD/load_client" --protocol fatek --quantity 64 --port "$port" \
-                    --connections "$c" --seconds "$RUN_SECONDS" --warmup "$WARMUP_SECONDS" \
-                    --label "$name.c$c"); then
-                    rps=$(awk '$1 ~ /\.rps$/ { print $2 }' <<<"$out")
-                    note "round $round: $name.c$c $rps req/s"
-                    runs[$name.c$c]+="$rps"$'\n'
-                else
-                    note "round $round: $name.c$c: load_client could not connect"
-                fi
-            done
-            stop_server
-        done
-    done
-    for name in "${servers[@]}"; do
-        for c in 1 16; do
-            emit < <(printf '%s' "${runs[$name.c$c]:-}" | median_of "$name.c$c.rps" req/s)
-        done
-    done
+    rounds start_fatek_server "--protocol fatek --quantity 64" "${servers[@]}"
     ratio plcemud_vs_noop_fatek fatek_plcemud fatek_noop
 }
 
