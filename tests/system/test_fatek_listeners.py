@@ -6,8 +6,10 @@ configs that are refused."""
 import csv
 import io
 import re
+import signal
 import socket
 import time
+from pathlib import Path
 
 import pytest
 from conftest import free_port, run_plcemud
@@ -251,3 +253,32 @@ def test_print_map_names_each_range_as_fatek_frames_do(tmp_path, start_plcemud):
     vb.write_text("profile: vb\n")
     r = run_plcemud("--print-map", "--format", "csv", "-c", vb)
     assert r.returncode == 0 and "fatek_protocol" not in r.stdout.splitlines()[0]
+
+
+# --- RUN/STOP and disabled discretes are a master's, not the config's
+
+
+def test_stop_and_disabled_discretes_survive_a_reload(start_plcemud):
+    # A reload builds the PLC anew from its config; what a master did to it (STOP, a disabled
+    # output set by hand) stays, as on a PLC whose program is downloaded in STOP.
+    port = free_port()
+    text = tcp_config(port) + "program:\n  - MOV: {en: M1926, s: K7, d: R10}\n"
+    d = start_plcemud(text)
+    with Fatek.tcp(port) as fatek:
+        assert fatek.exchange(frame(1, 0x41, "0")) == frame(1, 0x41, "0")  # STOP
+        assert fatek.exchange(frame(1, 0x42, "1Y0005")) == frame(1, 0x42, "0")  # disable Y5
+        assert fatek.exchange(frame(1, 0x42, "3Y0005")) == frame(1, 0x42, "0")  # set it
+        assert fatek.exchange(frame(1, 0x47, "01R000100000")) == frame(1, 0x47, "0")
+    Path(d.config_path).write_text(text + "# reloaded\n")
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: done"), d.log_text()
+    with Fatek.tcp(port) as fatek:
+        assert fatek.exchange(GIST) == frame(1, 0x40, "0000000")  # still STOP
+        assert fatek.exchange(frame(1, 0x43, "01Y0005")) == frame(1, 0x43, "01")  # disabled
+        assert fatek.exchange(frame(1, 0x44, "01Y0005")) == frame(1, 0x44, "01")  # kept ON
+        time.sleep(0.3)  # scans go on; the program does not run in STOP
+        assert fatek.exchange(frame(1, 0x46, "01R00010")) == frame(1, 0x46, "00000")
+        assert fatek.exchange(frame(1, 0x41, "1")) == frame(1, 0x41, "0")  # RUN
+        time.sleep(0.3)
+        assert fatek.exchange(frame(1, 0x46, "01R00010")) == frame(1, 0x46, "00007")
+        assert fatek.exchange(GIST) == RUNNING
