@@ -28,10 +28,11 @@ modbus:       image
 config:       image
 profiles:     config instructions plant modbus engine image
 simulator:    profiles modbus plant engine image
-listener:     modbus engine image
+listener:     modbus plant engine image
 modbus_slave: listener modbus image
 fatek:        listener engine image
-daemon:       fatek modbus_slave listener simulator profiles config modbus instructions plant engine image
+http:         listener modbus plant engine image
+daemon:       http fatek modbus_slave listener simulator profiles config modbus instructions plant engine image
 '
 
 declare -A allowed=()  # module -> " m1 m2 ... " (spaces around each name)

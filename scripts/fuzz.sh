@@ -20,13 +20,14 @@
 # TCP byte stream into the dispatcher), fuzz_rtu_frame (RTU frames or serial chunks), fuzz_config
 # (YAML text into the config loader), fuzz_config_tree (the same loader fed trees without the
 # YAML library, then the PLC build and scans), fuzz_master_reply (replies a Modbus master gets),
-# fuzz_fatek_frame (a FATEK TCP byte stream into the FATEK protocol).
+# fuzz_fatek_frame (a FATEK TCP byte stream into the FATEK protocol), fuzz_http_request (an HTTP
+# byte stream into the console and REST API).
 set -euo pipefail
 TIMEFORMAT='%R %U %S'
 cd "$(dirname "$0")/.."
 
 readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config fuzz_config_tree fuzz_master_reply
-    fuzz_fatek_frame)
+    fuzz_fatek_frame fuzz_http_request)
 readonly BUILD=build-fuzz
 
 usage() {
@@ -106,6 +107,8 @@ for h in "${harnesses[@]}"; do
     [[ $h == fuzz_tcp_request || $h == fuzz_rtu_frame ]] && max_len=(-max_len=264)
     # The FATEK harness: room for two of its largest frames (508 bytes each).
     [[ $h == fuzz_fatek_frame ]] && max_len=(-max_len=1024)
+    # The HTTP harness: a few requests with small JSON bodies (the limits are tested elsewhere).
+    [[ $h == fuzz_http_request ]] && max_len=(-max_len=2048)
     rc=0
     read -r load _ </proc/loadavg
     # -verbosity=0: no status line per new input (unbuffered, each a few write calls); crash

@@ -4,8 +4,9 @@
 #        (default: run)
 set -euo pipefail
 
+# libboost-dev: Boost.Beast's HTTP parser (header-only); nlohmann-json3-dev: the API's JSON.
 want=(cmake g++ make pkg-config libmodbus-dev libasio-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
-      libsystemd-dev)
+      libsystemd-dev libboost-dev nlohmann-json3-dev)
 for what in "${@:-run}"; do
     case "$what" in
         run) ;;
@@ -21,12 +22,14 @@ for what in "${@:-run}"; do
         # is scripts/trace.py's and python3-matplotlib scripts/plot_trace.py's
         # (tests/system/test_trace.py).
         # python3-venv, -setuptools and -wheel: tests/system/test_newcomer.py installs python/
-        # in a venv.
+        # in a venv. chromium, chromium-driver and python3-selenium: the console's browser
+        # tests (tests/system/test_console_browser.py).
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
                      python3-serial python3-yaml python3-matplotlib mbpoll socat clang-14
                      python3-venv python3-setuptools python3-wheel
                      libclang-rt-14-dev systemd
-                     iproute2 util-linux man-db groff-base ccache) ;;
+                     iproute2 util-linux man-db groff-base ccache
+                     chromium chromium-driver python3-selenium) ;;
         # CPack's DEB generator needs dpkg-shlibdeps (dpkg-dev) and file; lintian checks the result.
         package) want+=(dpkg-dev file lintian) ;;
         # scripts/style.sh: the versions CI checks style with.

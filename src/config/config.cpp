@@ -28,9 +28,9 @@ namespace plcemu::config {
 namespace {
 
 // The sections every profile has; a profile adds its own (Family::sections).
-constexpr std::array<std::string_view, 13> kCommonSections{
-    "profile", "model",   "station", "scan_ms",   "time_scale",  "modbus", "fatek",
-    "init",    "program", "plant",   "simulator", "persistence", "log"};
+constexpr std::array<std::string_view, 14> kCommonSections{
+    "profile", "model", "station", "scan_ms", "time_scale", "modbus",      "fatek",
+    "http",    "init",  "program", "plant",   "simulator",  "persistence", "log"};
 
 // "duplicate device 'D07' (first at line 3 as 'D7')" for a key naming what an earlier key
 // (`first`: its text and line) already named.
@@ -595,6 +595,7 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
         }
         read_fatek(r, f, c.fatek);
     });
+    r.attempt([&] { read_http(r, root["http"], c.http); });
     section(r, root, "init", read_init, c.init);
     section(r, root, "program", read_program, c.program);
     section(r, root, "plant", read_plant, c.plant);
@@ -764,6 +765,8 @@ void check_net_agrees(
                       : a.idle_timeout_s != b.idle_timeout_s     ? "idle_timeout_s"
                       : a.frame_timeout_ms != b.frame_timeout_ms ? "frame_timeout_ms"
                       : a.read_only != b.read_only               ? "read_only"
+                      : a.token != b.token                       ? "token"
+                      : a.hosts != b.hosts                       ? "hosts"
                                                                  : nullptr;
     if (key == nullptr) return;
     const std::string what = section + "." + key;
@@ -845,7 +848,11 @@ void check_shared(const Reader& r,
                 } else {
                     check_net_agrees(r, entry, m, h, o);
                 }
-                check_units(r, entry, c, o, listener_words(m), m.protocol.rfind("modbus", 0) == 0);
+                // The console names PLCs, not unit IDs: its PLCs may have any stations.
+                if (m.protocol != "http") {
+                    check_units(r, entry, c, o, listener_words(m),
+                                m.protocol.rfind("modbus", 0) == 0);
+                }
             }
         }
         if (!mine.state_file.empty() && mine.state_file == t.state_file) {
@@ -875,7 +882,7 @@ auto collecting(Read read) {
 
 // The per-PLC keys of a single-PLC file, refused beside `plcs:`.
 bool per_plc_key(const std::string& key) {
-    if (key == "log") return false;
+    if (key == "log" || key == "http") return false;
     if (std::find(kCommonSections.begin(), kCommonSections.end(), key) != kCommonSections.end())
         return true;
     for (const Family* p : families()) {
@@ -886,14 +893,16 @@ bool per_plc_key(const std::string& key) {
 }
 
 // `plcs:` — a list of entries, each a single-PLC config with an optional `name:`; only `log:`
-// may stand beside it.
+// and `http:` may stand beside it.
 std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors& errors) {
     Reader top(errors);
     for (const auto& [key, value] : root.entries) {
         if (key.is_scalar() && per_plc_key(key.text)) {
-            top.report(key, key.text +
-                                ": belongs to one PLC; beside 'plcs:' only 'log:' may stand, so "
-                                "move it into each entry of plcs:");
+            top.report(
+                key,
+                key.text +
+                    ": belongs to one PLC; beside 'plcs:' only 'log:' and 'http:' may stand, so "
+                    "move it into each entry of plcs:");
         }
     }
     // The other keys, checked by name only (a key refused above is refused once).
@@ -903,13 +912,16 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors&
     for (const auto& [key, value] : root.entries) {
         if (!key.is_scalar() || !per_plc_key(key.text)) rest.entries.push_back({key, Node{}});
     }
-    top.check_keys(rest, "config", {"plcs", "log"});
+    top.check_keys(rest, "config", {"plcs", "log", "http"});
     const Node& list = root["plcs"];
     if (!list.is_sequence() || list.items.empty()) {
         top.fail(list, "plcs: expected a list of PLC configs, each with at least 'profile:'");
     }
     LogConfig log;
     section(top, root, "log", read_log, log);
+    // `http:` beside `plcs:` is one console for every PLC that has no `http:` of its own.
+    std::optional<TcpConfig> http;
+    top.attempt([&] { read_http(top, root["http"], http); });
     std::vector<Config> out;
     std::vector<Taken> taken;
     out.reserve(list.items.size());
@@ -941,6 +953,7 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors&
             c.label = label;
             c.index = static_cast<int>(i);
             c.log = log;
+            if (!e["http"]) c.http = http;
             Taken mine(c, e);
             check_shared(r, e, c, mine, out, taken);
             taken.push_back(std::move(mine));

@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "plcemu/config/listener_key.hpp"
@@ -42,6 +43,7 @@ void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp, const std::string&
                                   "max_clients", "idle_timeout_s", "frame_timeout_ms"};
     // A unit-ID policy is Modbus's, `read_only` the other protocols' (Modbus has
     // modbus.read_only), and a UDP listener has no connections to limit.
+    if (what == "http") keys.insert(keys.end(), {"token", "hosts"});
     std::erase_if(keys, [&](const std::string& k) {
         if (k == "unknown_unit") return !modbus;
         if (k == "read_only") return modbus;
@@ -98,6 +100,38 @@ void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp, const std::string&
             }
         }
     });
+    r.attempt([&] {
+        if (what == "http" && n["token"]) {
+            tcp.token = r.scalar(n["token"], what + ".token");
+            // Sent in a header: printable ASCII without spaces (RFC 6750's token68 and more).
+            const bool printable = std::all_of(tcp.token.begin(), tcp.token.end(),
+                                               [](char ch) { return ch > ' ' && ch < 127; });
+            if (tcp.token.empty() || tcp.token.size() > 256 || !printable) {
+                r.fail(n["token"], what +
+                                       ".token: expected 1 to 256 printable ASCII characters "
+                                       "without spaces");
+            }
+        }
+    });
+    r.attempt([&] {
+        const Node& h = n["hosts"];
+        if (what != "http" || !h) return;
+        if (!h.is_sequence()) r.fail(h, what + ".hosts: expected a list of host names");
+        for (const auto& e : h.items) {
+            r.attempt([&] {
+                std::string name = r.scalar(e, what + ".hosts entry");
+                const bool ok = !name.empty() && name.size() <= 253 &&
+                                name.find_first_not_of(
+                                    "abcdefghijklmnopqrstuvwxyz"
+                                    "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-") == std::string::npos;
+                if (!ok) {
+                    r.fail(e, what + ".hosts: expected a host name such as gateway.example, got '" +
+                                  excerpt(name) + "'");
+                }
+                tcp.hosts.push_back(std::move(name));
+            });
+        }
+    });
     if (udp) return;
     r.attempt([&] {
         if (n["max_clients"]) {
@@ -145,6 +179,17 @@ void read_fatek(const Reader& r, const Node& n, FatekConfig& fatek) {
     });
 }
 
+void read_http(const Reader& r, const Node& n, std::optional<TcpConfig>& http) {
+    if (!n || n.is_null()) return;
+    // The console can write: it listens on the loopback address unless told otherwise.
+    constexpr std::uint16_t kHttpPort = 8020;
+    TcpConfig t;
+    t.bind = "127.0.0.1";
+    t.port = kHttpPort;
+    read_tcp(r, n, t, "http");
+    if (t.enabled) http = t;
+}
+
 std::vector<ListenerConfig> listeners_of(const Config& c) {
     std::vector<ListenerConfig> v;
     if (c.modbus.tcp.enabled)
@@ -157,6 +202,7 @@ std::vector<ListenerConfig> listeners_of(const Config& c) {
     if (c.fatek.serial) {
         v.push_back({"fatek", Carrier::Serial, "fatek.serial", nullptr, &*c.fatek.serial});
     }
+    if (c.http) v.push_back({"http", Carrier::Tcp, "http", &*c.http});
     return v;
 }
 

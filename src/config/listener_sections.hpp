@@ -18,6 +18,8 @@ void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp, const std::string&
 void read_line(
     const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what, bool with_read_only);
 
+/// Reads `http:` (the console and REST API; docs/console.md).
+void read_http(const Reader& r, const Node& n, std::optional<TcpConfig>& http);
 /// Reads `fatek:`.
 void read_fatek(const Reader& r, const Node& n, FatekConfig& fatek);
 

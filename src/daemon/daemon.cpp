@@ -29,6 +29,14 @@ namespace plcemu::daemon {
 
 void apply_overrides(config::Config& config, const Overrides& o) {
     if (o.port) config.modbus.tcp.port = *o.port;
+    if (o.http_port) {
+        // A config without `http:` gets the console with its defaults (127.0.0.1).
+        if (!config.http) {
+            config.http.emplace();
+            config.http->bind = "127.0.0.1";
+        }
+        config.http->port = *o.http_port;
+    }
     if (o.time_scale) config.time_scale = *o.time_scale;
 }
 
@@ -79,14 +87,25 @@ public:
     // What the listeners' protocols reach of the PLC: its station (live), its Modbus side and
     // its simulator unit.
     listener::Seat seat() const {
-        return {cfg_->label,
-                &plc_->engine().station(),
-                &plc_->dispatcher(),
-                &plc_->unit(),
-                static_cast<std::uint8_t>(cfg_->simulator.unit),
-                cfg_->simulator.unit != 0 ? sim_.get() : nullptr,
-                &plc_->engine(),
-                &plc_->unit().protected_ranges()};
+        listener::Seat s;
+        s.label = cfg_->label;
+        s.station = &plc_->engine().station();
+        s.dispatcher = &plc_->dispatcher();
+        s.unit = &plc_->unit();
+        s.simulator_unit = static_cast<std::uint8_t>(cfg_->simulator.unit);
+        s.simulator = cfg_->simulator.unit != 0 ? sim_.get() : nullptr;
+        s.engine = &plc_->engine();
+        s.protected_ranges = &plc_->unit().protected_ranges();
+        s.position = cfg_->index < 0 ? 0 : static_cast<std::size_t>(cfg_->index);
+        s.id = cfg_->name.empty() ? std::to_string(s.position) : cfg_->name;
+        s.profile = cfg_->profile;
+        s.model = cfg_->model;
+        s.scan_ms = cfg_->scan_ms;
+        s.naming = &profiles::of(*cfg_).naming();
+        s.time = driver_.get();
+        s.plant = &plc_->plant();
+        s.traffic = &traffic_;
+        return s;
     }
 
     // Opens the state file, builds the Plc and its master port and starts scanning; throws when
@@ -295,6 +314,8 @@ private:
     SyncThread::Id sync_id_ = 0;   // 0 = persistence disabled
     std::vector<std::byte> heap_;  // the image when persistence is disabled
     std::unique_ptr<Plc> plc_;
+    // What its clients asked, kept across reloads; the protocols write it through the seat.
+    mutable listener::Traffic traffic_;
     std::unique_ptr<MasterLink> master_;
     std::unique_ptr<ScanDriver> driver_;
     std::unique_ptr<simulator::SimulatorUnit> sim_;

@@ -12,8 +12,9 @@ namespace plcemu::daemon {
 
 /// Command-line overrides of config values.
 struct Overrides {
-    std::optional<std::uint16_t> port;  ///< --port
-    std::optional<double> time_scale;   ///< --time-scale
+    std::optional<std::uint16_t> port;       ///< --port
+    std::optional<std::uint16_t> http_port;  ///< --http-port
+    std::optional<double> time_scale;        ///< --time-scale
 };
 
 /// Applies the overrides to a loaded config.

@@ -30,6 +30,9 @@ listener::TcpOptions net_options(const config::Config& c, const config::Listener
     o.max_clients = t.max_clients;
     o.idle_timeout_s = t.idle_timeout_s;
     o.frame_timeout_ms = t.frame_timeout_ms;
+    o.section = std::string(l.section);
+    if (l.protocol == "http") o.log_name = "http";
+    o.protocol = l.protocol;
     for (const auto& a : t.allow) {
         listener::Cidr cidr;
         if (!listener::Cidr::parse(a, cidr)) {
@@ -56,11 +59,15 @@ std::optional<config::ListenerConfig> listener_in(const config::Config& c,
 std::string kind_words(std::string_view protocol, Carrier carrier) {
     if (protocol == "modbus-tcp") return "tcp";
     if (protocol == "modbus-rtu") return "rtu";
+    if (protocol == "http") return "http";
     const char* c = carrier == Carrier::Tcp ? "tcp" : carrier == Carrier::Udp ? "udp" : "serial";
     return std::string(protocol) + " " + c;
 }
 
 bool is_modbus(std::string_view protocol) { return protocol.rfind("modbus", 0) == 0; }
+
+// The console and API name PLCs, not unit IDs: their listeners hold no station.
+bool by_unit(std::string_view protocol) { return protocol != "http"; }
 
 // One listener a set of PLCs asks for. PLCs with one key share it (the loader made sure they
 // agree on its settings and its protocol).
@@ -242,6 +249,7 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
         tcp_.push_back(std::move(t));
     }
     route(plcs);
+    describe_seats();
     raise_fd_limit(plcs.size());
     for (const auto& t : tcp_) log_listening(t->what(), t->where(), t->members, plcs_);
 }
@@ -293,6 +301,21 @@ void Listeners::route(const std::vector<ListenerMember>& plcs) {
         t->units().set_unknown_unit(policy(c, t->section));
         const auto l = listener_in(c, t->section);
         t->units().set_read_only(l && l->net->read_only);
+        t->units().set_token(l ? l->net->token : std::string());
+        t->units().set_hosts(l ? l->net->hosts : std::vector<std::string>());
+    }
+}
+
+void Listeners::describe_seats() {
+    // What the console shows of each PLC: its listeners, once every one is open.
+    for (auto& t : tcp_) {
+        if (by_unit(t->protocol)) continue;
+        std::vector<listener::Seat> seated = t->units().seats();
+        for (std::size_t k = 0; k < seated.size(); ++k) {
+            const std::string d = describe(t->members[k]);
+            seated[k].listeners = d.size() > 2 ? d.substr(2) : d;
+        }
+        t->units().assign(std::move(seated));
     }
 }
 
@@ -431,6 +454,7 @@ void Listeners::apply(const std::vector<ListenerMember>& plcs) {
     for (auto& r : reopened_) r->stop();
     reopened_.clear();
     open_reopened(plcs, false);
+    describe_seats();
 }
 
 void Listeners::stop() {
@@ -446,7 +470,7 @@ void Listeners::stop() {
 std::string Listeners::holder(std::size_t index, std::uint8_t unit) const {
     for (const auto* list : {&tcp_, &reopened_}) {
         for (const auto& l : *list) {
-            if (!l->has(index)) continue;
+            if (!l->has(index) || !by_unit(l->protocol)) continue;
             // A PLC on port 0 has a key of its own ("#3 modbus.tcp"): the port it got says more.
             const std::string where = l->carrier == Carrier::Serial
                                           ? (is_modbus(l->protocol) ? "" : l->what() + " ") +
@@ -488,6 +512,7 @@ std::string Listeners::unit_clash(const std::vector<config::Config>& next,
         }
     }
     for (const auto& g : group(next, kAll)) {
+        if (!by_unit(g.protocol)) continue;
         const std::string what = (is_modbus(g.protocol) ? "" : std::string(g.protocol) + " ") +
                                  (g.carrier == Carrier::Serial ? "serial line "
                                   : g.carrier == Carrier::Udp  ? "udp listener "

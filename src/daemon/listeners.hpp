@@ -74,6 +74,7 @@ public:
 private:
     void open_reopened(const std::vector<ListenerMember>& plcs, bool at_start);
     void route(const std::vector<ListenerMember>& plcs);
+    void describe_seats();
     void raise_fd_limit(std::size_t plcs) const;
 
     asio::io_context& io_;

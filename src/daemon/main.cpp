@@ -32,6 +32,8 @@ const char* kUsage =
     "      --export-tags FMT  write one tag per device the configuration gives meaning to, as\n"
     "                       csv, json, kepware, ignition or weintek, and exit (needs -c)\n"
     "      --port N         override modbus.tcp.port\n"
+    "      --http-port N    serve the console and REST API on port N (every PLC's http:, or\n"
+    "                       127.0.0.1:N where a config has none)\n"
     "      --time-scale X   override time_scale (simulated seconds per real second)\n"
     "      --version        print the version and exit\n"
     "  -h, --help           print this help and exit\n";
@@ -113,6 +115,12 @@ int main(int argc, char** argv) {
             const long p = std::strtol(v.c_str(), &end, 10);
             if (*end != '\0' || p < 0 || p > 65535) return usage_error("--port: 0..65535");
             overrides.port = static_cast<std::uint16_t>(p);
+        } else if (a == "--http-port") {
+            char* end = nullptr;
+            if (!value(v)) return usage_error("--http-port needs a number");
+            const long p = std::strtol(v.c_str(), &end, 10);
+            if (*end != '\0' || p < 1 || p > 65535) return usage_error("--http-port: 1..65535");
+            overrides.http_port = static_cast<std::uint16_t>(p);
         } else if (a == "--time-scale") {
             char* end = nullptr;
             if (!value(v)) return usage_error("--time-scale needs a number");

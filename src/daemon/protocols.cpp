@@ -5,13 +5,14 @@
 #include <string>
 
 #include "fatek/protocols.hpp"
+#include "http/protocols.hpp"
 #include "modbus_slave/protocols.hpp"
 
 namespace plcemu::daemon {
 
 std::span<const listener::ProtocolKind> protocols() {
-    static const std::array kinds{modbus_slave::kModbusTcp, modbus_slave::kModbusRtu,
-                                  fatek::kFatek};
+    static const std::array kinds{modbus_slave::kModbusTcp, modbus_slave::kModbusRtu, fatek::kFatek,
+                                  http::kHttp};
     return kinds;
 }
 

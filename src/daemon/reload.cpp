@@ -129,6 +129,19 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     if (rtu_changed(a, b)) {
         out.push_back("modbus.rtu: " + text(a.modbus.rtu) + " -> " + text(b.modbus.rtu));
     }
+    cmp("http", std::string(a.http ? "on" : "off"), std::string(b.http ? "on" : "off"));
+    if (a.http && b.http) {
+        cmp("http.bind", a.http->bind, b.http->bind);
+        cmp("http.port", a.http->port, b.http->port);
+        cmp("http.allow", a.http->allow, b.http->allow);
+        cmp("http.hosts", a.http->hosts, b.http->hosts);
+        cmp("http.read_only", a.http->read_only, b.http->read_only);
+        cmp("http.max_clients", a.http->max_clients, b.http->max_clients);
+        cmp("http.idle_timeout_s", a.http->idle_timeout_s, b.http->idle_timeout_s);
+        cmp("http.frame_timeout_ms", a.http->frame_timeout_ms, b.http->frame_timeout_ms);
+        // A secret: said to have changed, never shown.
+        if (a.http->token != b.http->token) out.emplace_back("http.token: changed");
+    }
     cmp("modbus.read_only", a.modbus.read_only, b.modbus.read_only);
     if (a.modbus.write_protect != b.modbus.write_protect) {
         const image::Naming& naming = profiles::of(b).naming();

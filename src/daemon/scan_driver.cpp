@@ -57,6 +57,7 @@ ScanDriver::~ScanDriver() {
 
 void ScanDriver::start_at(Clock::time_point first) {
     running_ = true;
+    last_scan_ = first;
     schedule_.start(
         engine_.scans() == 0 ? engine::Duration{0} : engine_.now() + engine_.scan_period(), first);
     arm();
@@ -77,6 +78,7 @@ void ScanDriver::set_frozen(bool frozen) noexcept {
     if (frozen) {
         timer_.cancel(slot_);
     } else {
+        last_scan_ = Clock::now();  // the schedule starts again from now
         arm();
     }
 }
@@ -132,6 +134,7 @@ void ScanDriver::tick() {
         run_one(schedule_.next_sim());
         schedule_.ran();
         now = Clock::now();
+        last_scan_ = now;
         if (now - start > kBudget) break;
     }
     if (schedule_.skip_ahead(now)) {
@@ -141,6 +144,15 @@ void ScanDriver::tick() {
             schedule_.time_scale());
     }
     arm();
+}
+
+bool ScanDriver::on_schedule() const noexcept {
+    if (!running_) return false;
+    if (schedule_.frozen()) return true;
+    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
+        std::chrono::duration<double>(engine_.scan_period()).count() / schedule_.time_scale()));
+    return Clock::now() - last_scan_ <
+           std::max<Clock::duration>(2 * period, std::chrono::seconds(2));
 }
 
 }  // namespace plcemu::daemon

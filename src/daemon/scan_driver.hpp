@@ -76,6 +76,15 @@ public:
     void cancel_steps() noexcept override;
     /// Simulated time of the last scan.
     engine::Duration simulated_time() const noexcept override { return engine_.now(); }
+    /// True while frozen, or the last scan ran in time (engine::TimeControl::on_schedule).
+    bool on_schedule() const noexcept override;
+    std::uint64_t lateness_p99_us() const noexcept override {
+        return static_cast<std::uint64_t>(lateness_.percentile(0.99).count());
+    }
+    std::uint64_t lateness_max_us() const noexcept override {
+        return static_cast<std::uint64_t>(
+            std::chrono::duration_cast<std::chrono::microseconds>(lateness_.max).count());
+    }
     /// Called after every scan (e.g. the systemd watchdog).
     void on_scan(std::function<void()> f) { on_scan_ = std::move(f); }
     /// Asked, after a scan in which a master asked for another station (R4055), whether the PLC
@@ -103,6 +112,7 @@ private:
     std::function<void()> on_scan_;
     std::function<bool(std::uint8_t)> grant_;
     LatenessStats lateness_;
+    Clock::time_point last_scan_{};  // real time of the last scan tick() ran (or the start)
 };
 
 }  // namespace plcemu::daemon

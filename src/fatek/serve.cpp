@@ -1,5 +1,8 @@
 #include "serve.hpp"
 
+#include <chrono>
+#include <new>
+
 #include "command.hpp"
 #include "frame.hpp"
 #include "request.hpp"
@@ -55,7 +58,24 @@ std::size_t serve(listener::UnitTable& units,
     }
     const listener::Hit hit = units.find(req->station);
     if (hit.seat == nullptr || hit.simulator || hit.seat->engine == nullptr) return 0;
-    return execute(*hit.seat, hit.answer_as, read_only, *req, out.data());
+    const std::size_t n = execute(*hit.seat, hit.answer_as, read_only, *req, out.data());
+    if (hit.seat->traffic != nullptr && units.serving() != nullptr) {
+        // The PLC's traffic: the command and the error code of the reply (its sixth character;
+        // 4E has none).
+        listener::Exchange e;
+        e.at = std::chrono::system_clock::now();
+        e.client = units.serving()->id;
+        e.protocol = units.serving()->protocol;
+        e.unit = req->station;
+        e.function = req->code.value_or(0);
+        if (req->code != 0x4E && n > 6 && out[5] != '0') e.error = out[5];
+        try {
+            hit.seat->traffic->record(*units.serving(), e);
+        } catch (const std::bad_alloc&) {
+            // Answered all the same; only its line in the traffic is lost.
+        }
+    }
+    return n;
 }
 
 }  // namespace plcemu::fatek

@@ -1,6 +1,7 @@
 #include "tcp_listener.hpp"
 
 #include "modbus/log_limiter.hpp"
+#include "plcemu/listener/traffic.hpp"
 
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -27,8 +28,12 @@ namespace {
 using asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
-// Room for many pipelined requests; a protocol's frames are at most a quarter of it.
+// Room for many pipelined requests; a protocol's frames are at most a quarter of it (a protocol
+// with sessions: its largest request fills at most half of a buffer sized for it).
 constexpr std::size_t kBufferSize = 4096;
+// What a session may have queued for a client that does not take it (live updates): beyond it
+// the client is too far behind and is closed.
+constexpr std::size_t kMaxQueued = 4 << 20;
 // Frames served per turn before the other connections get theirs (round-robin).
 constexpr std::size_t kFramesPerTurn = 16;
 // At max_clients, a connection stuck this long, or silent this long, gives way to a new one.
@@ -104,22 +109,51 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
 
 // One client: reads its protocol's frames into its own buffer, serves a few complete ones per turn
 // and writes their replies. While replies are waiting for the client to take them, it is not read.
-class Connection : public std::enable_shared_from_this<Connection> {
+class Connection : public std::enable_shared_from_this<Connection>, public Outlet {
 public:
     Connection(tcp::socket s,
                std::weak_ptr<TcpListener::State> server,
                std::string peer,
-               std::size_t max_frame)
+               std::size_t max_frame,
+               std::string_view protocol)
         : max_frame_(max_frame),
           socket_(std::move(s)),
           server_(std::move(server)),
           peer_(std::move(peer)),
-          reply_(max_frame_),
-          last_request_(Clock::now()) {
-        out_.reserve(kFramesPerTurn * max_frame_);
-    }
+          client_(make_client(peer_, protocol)),
+          buf_(std::max(kBufferSize, 2 * max_frame)),
+          last_request_(Clock::now()),
+          ticks_(socket_.get_executor()) {}
 
-    void start() {
+    // Outlet: what a session says outside its answers.
+    bool send(std::span<const std::uint8_t> bytes) override {
+        if (closed_) return false;
+        // While a write is under way its buffer must not move: later bytes wait beside it.
+        std::vector<std::uint8_t>& to = writing_ ? pending_ : out_;
+        if (out_.size() + pending_.size() + bytes.size() > kMaxQueued) {
+            close("not taking what it is sent");
+            return false;
+        }
+        to.insert(to.end(), bytes.begin(), bytes.end());
+        // Pushed bytes are traffic: the client is not idle while it takes them.
+        last_request_ = Clock::now();
+        if (!writing_ && !serving_) write();
+        return !closed_;
+    }
+    void tick_every(std::chrono::milliseconds period) override {
+        tick_period_ = period;
+        ticks_.cancel();
+        if (period.count() > 0) arm_tick();
+    }
+    const std::string& peer() const override { return peer_; }
+
+    void start(StreamProtocol& protocol) {
+        session_ = protocol.open(*this);
+        // A protocol that answers in place writes one frame at a time into reply_.
+        if (!session_) {
+            reply_.resize(max_frame_);
+            out_.reserve(kFramesPerTurn * max_frame_);
+        }
         // Non-blocking for good: a reply that does not fit is left to an asynchronous write.
         asio::error_code ec;
         socket_.non_blocking(true, ec);
@@ -134,12 +168,16 @@ public:
     void close(const char* why) {
         if (closed_) return;
         closed_ = true;
+        // The session goes first: it may hold a place in its protocol (a subscription).
+        session_.reset();
+        ticks_.cancel();
         asio::error_code ec;
         socket_.shutdown(tcp::socket::shutdown_both, ec);
         socket_.close(ec);
         if (auto s = server_.lock()) {
-            s->log(spdlog::level::info, LogCause::Disconnected, "tcp: {} disconnected ({})", peer_,
-                   why);
+            if (!s->stopped) s->protocol->units().client_gone(client_.id);
+            s->log(spdlog::level::info, LogCause::Disconnected, "{}: {} disconnected ({})",
+                   s->options.log_name, peer_, why);
             s->connections.erase(shared_from_this());
         }
     }
@@ -167,9 +205,12 @@ private:
         // After a short read, Asio (1.22) marks the socket exhausted and queues the next read
         // without trying it first: one recv per request, issued when epoll says data is there.
         // (A wait-then-recv costs an epoll_ctl per request instead; measured with perf.)
+        if (reading_ || close_after_write_) return;
+        reading_ = true;
         socket_.async_read_some(
             asio::buffer(buf_.data() + used_, buf_.size() - used_),
             [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
+                self->reading_ = false;
                 if (ec) {
                     self->close(ec == asio::error::eof ? "closed by peer" : "read error");
                     return;
@@ -187,7 +228,8 @@ private:
         std::size_t served = 0;
         while (served < kFramesPerTurn) {
             const std::uint8_t* f = buf_.data() + off;
-            const Split frame = server->protocol->split({f, used_ - off});
+            const Split frame = session_ ? session_->split({f, used_ - off})
+                                         : server->protocol->split({f, used_ - off});
             if (frame.cut == Cut::Incomplete) break;
             // No frame boundary can be trusted after a bad header: the connection (and only this
             // one) is closed.
@@ -199,7 +241,21 @@ private:
                 close(frame.why);
                 return;
             }
+            if (session_) {
+                serving_ = true;
+                const bool keep = session_->answer({f, frame.size}, writing_ ? pending_ : out_);
+                serving_ = false;
+                off += frame.size;
+                ++served;
+                if (!keep) {
+                    close_after_write_ = true;
+                    break;
+                }
+                continue;
+            }
+            server->protocol->units().set_serving(&client_);
             const std::size_t n = server->protocol->answer({f, frame.size}, reply_);
+            server->protocol->units().set_serving(nullptr);
             out_.insert(out_.end(), reply_.begin(), reply_.begin() + static_cast<long>(n));
             off += frame.size;
             ++served;
@@ -221,6 +277,8 @@ private:
 
     void write() {
         if (closed_) return;
+        // A write already under way takes what was queued behind it when it ends.
+        if (writing_) return;
         if (!out_.empty()) {
             asio::error_code ec;
             const std::size_t n = socket_.write_some(asio::buffer(out_), ec);
@@ -234,8 +292,10 @@ private:
             // The client is not taking its replies: stop reading it until it has. The wait
             // costs nothing (the reactor waits for room) and a reset ends it at once.
             write_started_ = Clock::now();
+            writing_ = true;
             asio::async_write(socket_, asio::buffer(out_),
                               [self = shared_from_this()](const asio::error_code& ec, std::size_t) {
+                                  self->writing_ = false;
                                   if (ec) {
                                       self->close(ec == asio::error::operation_aborted
                                                       ? "closed"
@@ -243,7 +303,16 @@ private:
                                       return;
                                   }
                                   self->out_.clear();
+                                  self->out_.swap(self->pending_);
                                   self->write_started_ = {};
+                                  if (!self->out_.empty()) {
+                                      self->write();
+                                      return;
+                                  }
+                                  if (self->close_after_write_) {
+                                      self->close("closed after its answer");
+                                      return;
+                                  }
                                   // The client was not read while it did not read: its frame clock
                                   // restarts.
                                   if (self->frame_started_ != Clock::time_point{}) {
@@ -253,14 +322,29 @@ private:
                               });
             return;
         }
+        if (close_after_write_) {
+            close("closed after its answer");
+            return;
+        }
         next();
+    }
+
+    void arm_tick() {
+        ticks_.expires_after(tick_period_);
+        ticks_.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+            if (ec || self->closed_ || !self->session_) return;
+            self->session_->tick();
+            if (!self->closed_ && self->tick_period_.count() > 0) self->arm_tick();
+        });
     }
 
     // More whole frames buffered: the others get their turn first. Otherwise: read.
     void next() {
         auto server = server_.lock();
         if (!server || closed_) return;
-        if (server->protocol->split({buf_.data(), used_}).cut != Cut::Incomplete) {
+        const std::span<const std::uint8_t> buffered{buf_.data(), used_};
+        if ((session_ ? session_->split(buffered) : server->protocol->split(buffered)).cut !=
+            Cut::Incomplete) {
             asio::post(socket_.get_executor(), [self = shared_from_this()] { self->serve(); });
             return;
         }
@@ -271,14 +355,23 @@ private:
     tcp::socket socket_;
     std::weak_ptr<TcpListener::State> server_;
     std::string peer_;
-    std::array<std::uint8_t, kBufferSize> buf_{};
+    Client client_;  // as the PLCs' traffic lists it
+    std::vector<std::uint8_t> buf_;
     std::size_t used_ = 0;
-    std::vector<std::uint8_t> reply_;  // where the protocol answers one frame
-    std::vector<std::uint8_t> out_;    // replies not yet taken by the client
+    std::vector<std::uint8_t> reply_;    // where the protocol answers one frame
+    std::vector<std::uint8_t> out_;      // replies not yet taken by the client
+    std::vector<std::uint8_t> pending_;  // sent while out_ is being written
     Clock::time_point last_request_;
     Clock::time_point frame_started_{};
     Clock::time_point write_started_{};
+    std::unique_ptr<Session> session_;  // the protocol's, when it answers through sessions
+    asio::steady_timer ticks_;
+    std::chrono::milliseconds tick_period_{0};
     bool closed_ = false;
+    bool reading_ = false;            // a read is under way
+    bool writing_ = false;            // an asynchronous write is under way
+    bool serving_ = false;            // inside serve(): it writes when done
+    bool close_after_write_ = false;  // the session asked to close once its answer is sent
 };
 
 void TcpListener::State::accept() {
@@ -305,22 +398,25 @@ void TcpListener::State::accept() {
             allowed = allowed || (!pec && c.contains(ep.address()));
         if (!allowed) {
             self->log(spdlog::level::warn, LogCause::RefusedNotAllowed,
-                      "tcp: {} refused: not in modbus.tcp.allow", peer);
+                      "{}: {} refused: not in {}.allow", self->options.log_name, peer,
+                      self->options.section);
             s.close(pec);
         } else if (static_cast<int>(self->connections.size()) >= self->options.max_clients &&
                    !self->evict_one(now)) {
             self->log(spdlog::level::warn, LogCause::RefusedFull,
-                      "tcp: {} refused: {} clients already connected (modbus.tcp.max_clients)",
-                      peer, self->connections.size());
+                      "{}: {} refused: {} clients already connected ({}.max_clients)",
+                      self->options.log_name, peer, self->connections.size(),
+                      self->options.section);
             s.close(pec);
         } else {
             s.set_option(tcp::no_delay(true), pec);
             set_keepalive(s);
-            self->log(spdlog::level::info, LogCause::Connected, "tcp: {} connected", peer);
-            auto c =
-                std::make_shared<Connection>(std::move(s), self, peer, self->protocol->max_frame());
+            self->log(spdlog::level::info, LogCause::Connected, "{}: {} connected",
+                      self->options.log_name, peer);
+            auto c = std::make_shared<Connection>(
+                std::move(s), self, peer, self->protocol->max_frame(), self->options.protocol);
             self->connections.insert(c);
-            c->start();
+            c->start(*self->protocol);
         }
         self->accept();
     });
@@ -343,8 +439,8 @@ void TcpListener::State::accept_failed(const asio::error_code& ec) {
         accept_backoff = kAcceptBackoffFirst;
         spdlog::warn(
             "tcp: accept failed: {}; pausing accepts until a descriptor is free (raise the "
-            "descriptor limit, LimitNOFILE=, or lower modbus.tcp.max_clients)",
-            ec.message());
+            "descriptor limit, LimitNOFILE=, or lower {}.max_clients)",
+            ec.message(), options.section);
     } else {
         accept_backoff = std::min<Clock::duration>(accept_backoff * 2, kAcceptBackoffMax);
     }
@@ -386,20 +482,22 @@ bool TcpListener::State::evict_one(Clock::time_point now) {
 void TcpListener::State::check_connections() {
     const auto now = Clock::now();
     const auto frame_limit = std::chrono::milliseconds(options.frame_timeout_ms);
-    std::vector<std::pair<std::shared_ptr<Connection>, const char*>> doomed;
+    std::vector<std::pair<std::shared_ptr<Connection>, std::string>> doomed;
     for (const auto& c : connections) {
         // While its replies wait, a client is not read: a partial request then is not its fault.
         if (c->unsent_for(now) > frame_limit) {
-            doomed.emplace_back(c, "replies not taken within modbus.tcp.frame_timeout_ms");
+            doomed.emplace_back(
+                c, "replies not taken within " + options.section + ".frame_timeout_ms");
         } else if (c->unsent_for(now) == Clock::duration{0} && c->partial_for(now) > frame_limit) {
-            doomed.emplace_back(c, "request not completed within modbus.tcp.frame_timeout_ms");
+            doomed.emplace_back(
+                c, "request not completed within " + options.section + ".frame_timeout_ms");
         } else if (options.idle_timeout_s > 0 &&
                    now - c->last_request() > std::chrono::seconds(options.idle_timeout_s)) {
             doomed.emplace_back(c, "idle timeout");
         }
     }
-    for (const auto& [c, why] : doomed) c->close(why);
-    limiter.flush_to_log(now, "tcp: ");
+    for (const auto& [c, why] : doomed) c->close(why.c_str());
+    limiter.flush_to_log(now, options.log_name + ": ");
 }
 
 void TcpListener::State::arm_sweep() {
@@ -461,7 +559,8 @@ void TcpListener::set_limits(const TcpOptions& o) {
         for (const auto& net : state_->options.allow) ok = ok || net.contains(c->address());
         if (!ok) refused.push_back(c);
     }
-    for (const auto& c : refused) c->close("no longer in modbus.tcp.allow");
+    const std::string why = "no longer in " + state_->options.section + ".allow";
+    for (const auto& c : refused) c->close(why.c_str());
 }
 
 void TcpListener::stop() {

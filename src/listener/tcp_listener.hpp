@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cidr.hpp"
@@ -23,6 +24,9 @@ struct TcpOptions {
     int idle_timeout_s = 0;        ///< close a connection without a request this long (0 = never)
     int frame_timeout_ms = 5000;   ///< a begun request must be whole, and replies taken, by then
     std::vector<Cidr> allow;       ///< peers allowed (empty = all)
+    std::string section = "modbus.tcp";  ///< the config section, as log lines name its keys
+    std::string log_name = "tcp";        ///< what starts its log lines: "tcp", "http"
+    std::string_view protocol = "";      ///< the protocol's name, as its clients are listed
 };
 
 /// The TCP listener and its connections.

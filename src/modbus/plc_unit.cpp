@@ -35,4 +35,12 @@ Window PlcUnit::resolve(Table table, std::uint16_t addr, std::uint16_t qty, bool
     return w;
 }
 
+std::optional<image::Range> PlcUnit::devices(Table table,
+                                             std::uint16_t addr,
+                                             std::uint16_t qty) const noexcept {
+    const Resolution r = map_.resolve(image_, table, addr, qty == 0 ? 1 : qty);
+    if (r.status != Status::Ok) return std::nullopt;
+    return r.devices;
+}
+
 }  // namespace plcemu::modbus

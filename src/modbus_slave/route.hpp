@@ -25,4 +25,13 @@ std::size_t route(listener::UnitTable& units,
                   std::span<const std::uint8_t> pdu,
                   modbus::PduBuffer out) noexcept;
 
+/// Records in `traffic` that `client` asked `pdu` of a PLC's `unit` (or its simulator unit) and
+/// got `reply`: the function, the address and quantity it names, the exception code.
+void record(listener::Traffic& traffic,
+            const listener::Client& client,
+            std::uint8_t unit,
+            bool simulator,
+            std::span<const std::uint8_t> pdu,
+            std::span<const std::uint8_t> reply);
+
 }  // namespace plcemu::modbus_slave

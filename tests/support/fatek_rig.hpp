@@ -12,22 +12,29 @@
 #include "fatek/stream.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
+#include "plcemu/profiles/profile.hpp"
 
 namespace plcemu::testing {
 
 /// The frame STX + `text` + ETX.
 inline std::string stx_etx(const std::string& text) { return "\x02" + text + "\x03"; }
 
-/// The listener seat of a built PLC, as the daemon makes it.
+/// The listener seat of a built PLC, as the daemon makes it (without a simulator unit or time
+/// control: a test adds those it needs).
 inline listener::Seat seat_of(daemon::Plc& plc) {
-    return {"",
-            &plc.engine().station(),
-            &plc.dispatcher(),
-            &plc.unit(),
-            0,
-            nullptr,
-            &plc.engine(),
-            &plc.unit().protected_ranges()};
+    listener::Seat s;
+    s.station = &plc.engine().station();
+    s.dispatcher = &plc.dispatcher();
+    s.unit = &plc.unit();
+    s.engine = &plc.engine();
+    s.protected_ranges = &plc.unit().protected_ranges();
+    s.id = "0";
+    s.profile = plc.config().profile;
+    s.model = plc.config().model;
+    s.scan_ms = plc.config().scan_ms;
+    s.naming = &profiles::of(plc.config()).naming();
+    s.plant = &plc.plant();
+    return s;
 }
 
 /// The setup of a listener with one PLC.

@@ -169,9 +169,10 @@ TEST(ConfigErrors, APlcsEntryInErrorIsNotComparedWithTheOthers) {
     expect_config_errors(plcs(text), "t.yaml",
                          {{5, 14, "plcs[1]: station: expected an integer, got 'many'"}});
     // Keys beside `plcs:` are refused once each, as belonging to one PLC or as unknown.
-    expect_config_errors(plcs("station: 2\nplcs:\n  - profile: fbs\nfoo: 1\n"), "t.yaml",
-                         {{1, 1, "station: belongs to one PLC"},
-                          {4, 1, "unknown key 'foo' in config (expected one of: plcs, log)"}});
+    expect_config_errors(
+        plcs("station: 2\nplcs:\n  - profile: fbs\nfoo: 1\n"), "t.yaml",
+        {{1, 1, "station: belongs to one PLC"},
+         {4, 1, "unknown key 'foo' in config (expected one of: plcs, log, http)"}});
 }
 
 // The programs of several PLCs are bound one after the other, and the errors of each reported.

@@ -34,14 +34,16 @@ struct Member {
           sim(plc.plant(), time) {}
 
     listener::Seat seat() {
-        return {config.label,
-                &plc.engine().station(),
-                &plc.dispatcher(),
-                &plc.unit(),
-                static_cast<std::uint8_t>(config.simulator.unit),
-                config.simulator.unit != 0 ? &sim : nullptr,
-                &plc.engine(),
-                &plc.unit().protected_ranges()};
+        listener::Seat s;
+        s.label = config.label;
+        s.station = &plc.engine().station();
+        s.dispatcher = &plc.dispatcher();
+        s.unit = &plc.unit();
+        s.simulator_unit = static_cast<std::uint8_t>(config.simulator.unit);
+        s.simulator = config.simulator.unit != 0 ? &sim : nullptr;
+        s.engine = &plc.engine();
+        s.protected_ranges = &plc.unit().protected_ranges();
+        return s;
     }
 
     config::Config config;

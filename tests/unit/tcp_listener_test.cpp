@@ -124,5 +124,92 @@ TEST_F(TcpListenerTest, NewLimitsClosePeersTheAllowListNoLongerNames) {
     EXPECT_EQ(listener_->connections(), 0u);
 }
 
+// A protocol with sessions (as HTTP is): each line is answered with its length in as many dots
+// (an answer larger than the frame), "tick" starts pushes of "*\n" every 20 ms, "bye" is
+// answered and then the connection is closed.
+class Dots final : public StreamProtocol {
+public:
+    class Talk final : public Session {
+    public:
+        Talk(Outlet& o, Dots& p)
+            : outlet_(o),
+              protocol_(p) {
+            ++protocol_.open_sessions;
+        }
+        ~Talk() override { --protocol_.open_sessions; }
+        Split split(std::span<const std::uint8_t> buffered) const noexcept override {
+            const auto end = std::find(buffered.begin(), buffered.end(), std::uint8_t{'\n'});
+            if (end == buffered.end()) return {};
+            return {Cut::Frame, static_cast<std::size_t>(end - buffered.begin()) + 1};
+        }
+        bool answer(std::span<const std::uint8_t> frame, std::vector<std::uint8_t>& out) override {
+            const std::string line(frame.begin(), frame.end() - 1);
+            if (line == "tick") {
+                outlet_.tick_every(20ms);
+                return true;
+            }
+            out.insert(out.end(), 1000 * line.size(), '.');
+            out.push_back('\n');
+            return line != "bye";
+        }
+        void tick() override {
+            const std::uint8_t push[] = {'*', '\n'};
+            outlet_.send(push);
+        }
+
+    private:
+        Outlet& outlet_;
+        Dots& protocol_;
+    };
+
+    std::size_t max_frame() const noexcept override { return 64; }
+    Split split(std::span<const std::uint8_t>) const noexcept override { return {Cut::Bad, 0, ""}; }
+    std::size_t answer(std::span<const std::uint8_t>, std::span<std::uint8_t>) noexcept override {
+        return 0;
+    }
+    std::unique_ptr<Session> open(Outlet& outlet) override {
+        return std::make_unique<Talk>(outlet, *this);
+    }
+    UnitTable& units() noexcept override { return units_; }
+
+    int open_sessions = 0;
+
+private:
+    UnitTable units_;
+};
+
+class SessionTest : public ::testing::Test {
+protected:
+    SessionTest() {
+        TcpOptions o;
+        o.bind = "127.0.0.1";
+        o.port = 0;
+        listener_ = std::make_unique<TcpListener>(io_, dots_, o);
+    }
+    ~SessionTest() override { listener_->stop(); }
+
+    asio::io_context io_;
+    Dots dots_;
+    std::unique_ptr<TcpListener> listener_;
+};
+
+TEST_F(SessionTest, AnswersLargerThanAFramePushesAndACloseTheSessionAskedFor) {
+    asio::ip::tcp::socket s(io_);
+    s.connect({asio::ip::make_address("127.0.0.1"), listener_->port()});
+    asio::write(s, asio::buffer(std::string("abc\nde\n")));
+    EXPECT_EQ(testing::read_bytes(io_, s, 5002),
+              std::string(3000, '.') + "\n" + std::string(2000, '.') + "\n");
+    EXPECT_EQ(dots_.open_sessions, 1);
+    asio::write(s, asio::buffer(std::string("tick\n")));
+    EXPECT_EQ(testing::read_bytes(io_, s, 6), "*\n*\n*\n");  // pushed at the session's pace
+    asio::write(s, asio::buffer(std::string("bye\n")));
+    const std::string rest = testing::read_bytes(io_, s, 1 << 16);
+    EXPECT_NE(rest.find(std::string(3000, '.') + "\n"), std::string::npos);
+    EXPECT_LT(rest.size(), std::size_t{1} << 16);  // it ended: the connection was closed
+    // The session ended with its connection.
+    EXPECT_EQ(dots_.open_sessions, 0);
+    EXPECT_EQ(listener_->connections(), 0u);
+}
+
 }  // namespace
 }  // namespace plcemu::listener

@@ -58,6 +58,11 @@ struct TcpConfig {
     /// Nothing may be changed through this listener (FATEK listeners; Modbus has
     /// modbus.read_only for all of its listeners).
     bool read_only = false;
+    /// `http.token`: the bearer token every write through the console and API must carry
+    /// (empty: none).
+    std::string token;
+    /// `http.hosts`: host names the console answers to besides IP addresses and `localhost`.
+    std::vector<std::string> hosts;
 };
 
 /// `modbus.rtu` (absent = no serial port)
@@ -184,6 +189,7 @@ struct Config {
     double time_scale = 1.0;                 ///< simulated seconds per real second
     ModbusConfig modbus;                     ///< transports and access
     FatekConfig fatek;                       ///< FATEK's protocol (families that speak it)
+    std::optional<TcpConfig> http;           ///< `http:`, the console and REST API (off: absent)
     std::vector<InitEntry> init;             ///< presets
     std::vector<InstructionConfig> program;  ///< ordered instruction list
     /// The sections the profile reads itself (Family::sections), as written.

@@ -13,6 +13,7 @@
 #include "plcemu/engine/modules.hpp"
 #include "plcemu/engine/outbound.hpp"
 #include "plcemu/engine/specials.hpp"
+#include "plcemu/engine/loops.hpp"
 #include "plcemu/engine/tags.hpp"
 #include "plcemu/image/image.hpp"
 
@@ -58,6 +59,8 @@ public:
     /// working blocks, a timer's value) as `image` holds them, for the tag export; the operands
     /// themselves are described as they bind (instructions::BindContext::operands).
     virtual void describe(const image::Image& /*image*/, Tags& /*out*/) const {}
+    /// Adds the control loops it runs, as `image` holds them now (plcemu/engine/loops.hpp).
+    virtual void loops(const image::Image& /*image*/, Loops& /*out*/) const {}
 };
 
 /// Something that runs around the program each scan: the plant and the temperature modules.

@@ -28,6 +28,13 @@ public:
     virtual void cancel_steps() noexcept {}
     /// Simulated time of the last scan.
     virtual Duration simulated_time() const noexcept = 0;
+    /// True while the scans keep their schedule: frozen on purpose, or the last scan ran less
+    /// than two scan periods (and at least two seconds) ago (a health check asks it).
+    virtual bool on_schedule() const noexcept { return true; }
+    /// How late scans started against their real-time deadlines: the 99th percentile and the
+    /// worst, µs (0 without a real-time driver).
+    virtual std::uint64_t lateness_p99_us() const noexcept { return 0; }
+    virtual std::uint64_t lateness_max_us() const noexcept { return 0; }
 };
 
 }  // namespace plcemu::engine

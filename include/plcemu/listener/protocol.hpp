@@ -33,12 +33,49 @@ struct Split {
     const char* why = "";       ///< Bad only: "bad MBAP header", for the log
 };
 
+/// What a connection offers the session of its client (Session below): bytes sent when the
+/// session has something to say outside an answer (a live update), and a period at which it is
+/// asked whether it has.
+class Outlet {
+public:
+    virtual ~Outlet() = default;
+    /// Queues bytes for the client. False when the client is too far behind in taking what it
+    /// was sent: the connection is then closed.
+    virtual bool send(std::span<const std::uint8_t> bytes) = 0;
+    /// From now on, Session::tick() is called every `period` (zero: no more).
+    virtual void tick_every(std::chrono::milliseconds period) = 0;
+    /// The client's address, "192.0.2.7:50312".
+    virtual const std::string& peer() const = 0;
+};
+
+/// One client's conversation, for protocols whose answers may be larger than a frame or come
+/// later (HTTP: pages, and live updates over one response). The connection owns it and ends it
+/// before its outlet goes away.
+class Session {
+public:
+    virtual ~Session() = default;
+    /// Where the next frame of the bytes received and not yet served ends.
+    virtual Split split(std::span<const std::uint8_t> buffered) const noexcept = 0;
+    /// Answers one whole frame by appending to `out`. False: close the connection once `out`
+    /// is sent (the protocol said so, e.g. `Connection: close`).
+    virtual bool answer(std::span<const std::uint8_t> frame, std::vector<std::uint8_t>& out) = 0;
+    /// Called at the period asked for with Outlet::tick_every.
+    virtual void tick() {}
+};
+
 /// A protocol carried on a byte stream (one per TCP listener; its connections share it).
 class StreamProtocol {
 public:
     virtual ~StreamProtocol() = default;
-    /// Largest frame, in either direction (at most 1 KiB): a connection's buffers are sized
-    /// from it, and split() says Bad rather than Incomplete once that many bytes hold no frame.
+    /// A session for a new client on `outlet`, for a protocol that answers through sessions;
+    /// null (the default) for one that answers each frame in place with answer().
+    virtual std::unique_ptr<Session> open(Outlet& outlet) {
+        (void)outlet;
+        return nullptr;
+    }
+    /// Largest frame, in either direction (at most 1 KiB; a protocol with sessions: the largest
+    /// request, at most 64 KiB): a connection's buffers are sized from it, and split() says Bad
+    /// rather than Incomplete once that many bytes hold no frame.
     virtual std::size_t max_frame() const noexcept = 0;
     /// Where the next frame of the bytes received and not yet served ends.
     virtual Split split(std::span<const std::uint8_t> buffered) const noexcept = 0;

@@ -8,7 +8,11 @@
 #include <vector>
 
 #include "plcemu/engine/engine.hpp"
+#include "plcemu/engine/time_control.hpp"
 #include "plcemu/image/area.hpp"
+#include "plcemu/image/naming.hpp"
+#include "plcemu/listener/traffic.hpp"
+#include "plcemu/plant/plant.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 #include "plcemu/modbus/unit.hpp"
 
@@ -28,6 +32,19 @@ struct Seat {
     /// Devices no master may write whatever the protocol: the profile's read-only devices,
     /// program data and the config's `write_protect`.
     const std::vector<image::Range>* protected_ranges = nullptr;
+
+    // What views other than the wire protocols (the HTTP console and API) show and change.
+
+    std::string id{};          ///< how the API names it: its `name:`, or its position "0", "1"
+    std::size_t position = 0;  ///< its place in `plcs:` (0 for a file holding one PLC)
+    std::string profile{};     ///< "fbs"
+    std::string model{};       ///< "FBs-24MC"
+    int scan_ms = 0;           ///< scan period, simulated ms
+    std::string listeners{};   ///< "tcp 0.0.0.0:502, fatek tcp 0.0.0.0:500"
+    const image::Naming* naming = nullptr;  ///< the family's device names
+    engine::TimeControl* time = nullptr;    ///< its scan's time control
+    plant::Plant* plant = nullptr;          ///< its simulated process
+    Traffic* traffic = nullptr;             ///< what its clients asked of it (null: not kept)
 };
 
 /// What a listener does with a unit ID no PLC on it has: answer it with the protocol's refusal
@@ -65,12 +82,33 @@ public:
     void set_read_only(bool read_only) { read_only_ = read_only; }
     /// True when nothing may be changed through the listener.
     bool read_only() const { return read_only_; }
+    /// Sets the bearer token every write through the listener must carry (HTTP's `token`);
+    /// empty: none. Like read_only, asked for every request.
+    void set_token(std::string token) { token_ = std::move(token); }
+    /// The bearer token writes need; empty: none.
+    const std::string& token() const { return token_; }
+    /// Host names the listener answers to besides its addresses and `localhost` (HTTP's
+    /// `hosts`: a page from any other name may be a DNS-rebinding attack).
+    void set_hosts(std::vector<std::string> hosts) { hosts_ = std::move(hosts); }
+    /// Those names.
+    const std::vector<std::string>& hosts() const { return hosts_; }
 
     /// The PLC that has `unit` as its station or simulator unit. `device_itself` says whether the
     /// ID also names "the device itself" (Modbus TCP's 0 and 255, implementation guide
     /// §4.4.1.2): that is the PLC when the listener has only one, and nobody when it is shared.
     /// A miss is counted.
     Hit find(std::uint8_t unit, bool device_itself = false) noexcept;
+    /// The client whose request is being answered (the listener sets it around each frame;
+    /// null between them): a protocol records the exchange in the PLC's Traffic for it.
+    void set_serving(const Client* client) noexcept { serving_ = client; }
+    /// The client being served, or null.
+    const Client* serving() const noexcept { return serving_; }
+    /// A client left: no PLC of the listener lists it any more.
+    void client_gone(std::uint64_t client) noexcept {
+        for (const Seat& s : seats_) {
+            if (s.traffic != nullptr) s.traffic->gone(client);
+        }
+    }
     /// Counts a broadcast handed to every PLC.
     void count_broadcast() noexcept { ++stats_.broadcasts; }
 
@@ -81,6 +119,9 @@ private:
     std::vector<Seat> seats_;
     UnknownUnit unknown_ = UnknownUnit::Refuse;
     bool read_only_ = false;
+    std::string token_;
+    std::vector<std::string> hosts_;
+    const Client* serving_ = nullptr;
     UnitTableStats stats_;
 };
 

@@ -26,6 +26,9 @@ public:
                    std::uint16_t addr,
                    std::uint16_t qty,
                    bool write) noexcept override;
+    std::optional<image::Range> devices(Table table,
+                                        std::uint16_t addr,
+                                        std::uint16_t qty) const noexcept override;
 
     /// Replaces the write policy (config reload).
     void set_policy(WritePolicy policy);

@@ -4,6 +4,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
+
+#include "plcemu/image/area.hpp"
 
 namespace plcemu::modbus {
 
@@ -65,6 +68,14 @@ public:
                            bool write) noexcept = 0;
     /// Called after a write landed in a window this unit returned.
     virtual void written(Table /*table*/, std::uint16_t /*addr*/, std::uint16_t /*qty*/) noexcept {}
+    /// The devices `qty` elements of `table` from `addr` reach, as far as one range goes (the
+    /// console's traffic page names them); nothing for a unit without devices or an address
+    /// its map lacks.
+    virtual std::optional<image::Range> devices(Table /*table*/,
+                                                std::uint16_t /*addr*/,
+                                                std::uint16_t /*qty*/) const noexcept {
+        return std::nullopt;
+    }
 };
 
 }  // namespace plcemu::modbus

@@ -212,6 +212,46 @@ public:
         }
     }
 
+    void loops(const image::Image& image, engine::Loops& out) const override {
+        const std::optional<Device> pv_start = pv_source(image);
+        for (int i = 0; i < b_.points; ++i) {
+            const auto k = static_cast<std::uint32_t>(i);
+            auto at = [&](const Device& block) {
+                Device d = block;
+                d.index += k;
+                return d;
+            };
+            engine::Loop l;
+            l.name =
+                "TPCTL point " + std::to_string(i) + " (channel " + std::to_string(b_.sn + i) + ")";
+            l.channel = static_cast<int>(b_.sn + i);
+            if (pv_start)
+                l.pv = at(Device{pv_start->area,
+                                 pv_start->index + static_cast<std::uint32_t>(b_.sn), false});
+            l.sv = at(b_.l.sv);
+            l.output = at(b_.l.out);
+            l.scale = 0.1;
+            l.unit = "°C";
+            l.output_full = 16383;
+            l.parameters = {{"Kc", at(b_.l.pr), "1-9999"},
+                            {"Ki", at(b_.l.ir), "0.01 repeats/min"},
+                            {"Td", at(b_.l.dr), "0.01 min"},
+                            {"in-zone offset", at(b_.l.os), "0.1 °C"}};
+            // WR+0/1 in zone, +2/3 warning, +5/6 over-temperature, +7/8 heater open: bit i%16 of
+            // the word of points 0-15 or 16-31.
+            const auto half = static_cast<std::uint32_t>(i / 16);
+            const auto bit = static_cast<std::uint8_t>(i % 16);
+            auto flag = [&](const char* name, std::uint32_t word) {
+                Device w = b_.wr;
+                w.index += word + half;
+                return engine::LoopFlag{name, w, bit};
+            };
+            l.alarms = {flag("in zone", 0), flag("warning", 2), flag("over temperature", 5),
+                        flag("heater open", 7)};
+            out.push_back(std::move(l));
+        }
+    }
+
     void execute(engine::ScanContext& ctx) noexcept override {
         // The first scan after a power-up runs the program as loaded (docs/profile-fbs.md,
         // "FUN86 TPCTL": first execution), whatever an earlier run of the engine left here.

@@ -120,6 +120,26 @@ public:
     }
 
     // S3's words as docs/profile-vb.md, "FNC88 PID", lists them.
+    void loops(const image::Image& /*image*/, engine::Loops& out) const override {
+        auto d = [](std::uint32_t i) { return image::Device{Area::D, i, false}; };
+        engine::Loop l;
+        l.name = "PID D" + std::to_string(b_.pv) + " (entry " + std::to_string(b_.entry) + ")";
+        l.pv = d(b_.pv);
+        l.sv = d(b_.sv);
+        l.output = d(b_.mv);
+        l.output_full = 0;  // MV in the program's own units: shown as it is
+        l.parameters = {{"Ts", d(b_.s3 + kSampling), "ms"},
+                        {"Kp", d(b_.s3 + kGain), "%"},
+                        {"TI", d(b_.s3 + kIntegral), "100 ms"},
+                        {"TD", d(b_.s3 + kDerivative), "10 ms"}};
+        l.alarms = {{"PV rose", d(b_.s3 + kAlarms), 0},
+                    {"PV fell", d(b_.s3 + kAlarms), 1},
+                    {"MV rose", d(b_.s3 + kAlarms), 2},
+                    {"MV fell", d(b_.s3 + kAlarms), 3}};
+        l.tuning = engine::LoopFlag{"auto-tuning", d(b_.s3 + kControl), 4};
+        out.push_back(std::move(l));
+    }
+
     void describe(const image::Image& /*image*/, engine::Tags& out) const override {
         struct Word {
             std::uint32_t offset;

@@ -180,6 +180,34 @@ public:
         }
     }
 
+    void loops(const image::Image& /*image*/, engine::Loops& out) const override {
+        auto d = [](std::uint32_t i) { return image::Device{Area::D, i, false}; };
+        for (int m = 0; m < b_.blocks_n; ++m) {
+            const auto mw = static_cast<std::uint32_t>(m);
+            const auto bit = static_cast<std::uint8_t>(m);
+            engine::Loop l;
+            l.name = "TPID channel " + std::to_string(m) + " (D" + std::to_string(b_.s2 + mw) + ")";
+            l.pv = d(b_.s2 + mw);
+            l.sv = d(b_.s1 + mw);
+            l.output = d(b_.s3 + kS3Words * (mw + 1));  // analog output, 0.1 %
+            l.scale = 0.1;                              // the VB temperature modules' 0.1 °C
+            l.unit = "°C";
+            l.output_full = kFullScale;
+            const std::uint32_t g = b_.s4 + kS4Words * mw;
+            l.parameters = {{"Kp", d(g + kKp), "0.01"},
+                            {"TI", d(g + kTi), "100 ms"},
+                            {"TD", d(g + kTd), "10 ms"},
+                            {"overshoot repression R", d(g + kRepression), ""},
+                            {"limitation alarm L", d(g + kLimit), ""},
+                            {"deviation alarm Dv", d(g + kDeviation), ""}};
+            l.alarms = {{"limitation alarm", d(b_.s3 + kLimitAlarms), bit},
+                        {"deviation alarm", d(b_.s3 + kDeviationAlarms), bit}};
+            l.manual = engine::LoopFlag{"manual", d(b_.s3 + kManual), bit};
+            l.tuning = engine::LoopFlag{"auto-tuning", d(b_.s3 + kTune), bit};
+            out.push_back(std::move(l));
+        }
+    }
+
     void execute(engine::ScanContext& ctx) noexcept override {
         // A power-up runs the program as loaded, whatever an earlier run of the engine left.
         if (ctx.first_scan) s_ = State{};

@@ -1,0 +1,77 @@
+#pragma once
+// What the clients of one PLC asked of it, for the console's overview and traffic pages: per
+// client its requests, refusals and last request, and the last requests themselves. Protocols
+// record into it as they answer (the client being served is the unit table's); views read it.
+// It belongs to the PLC's host, so a reload keeps it.
+
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "plcemu/image/area.hpp"
+
+namespace plcemu::listener {
+
+/// A client of a listener: a TCP connection, a UDP peer, a serial line.
+struct Client {
+    std::uint64_t id = 0;         ///< unique in the process
+    std::string peer;             ///< "192.0.2.7:50312", "/dev/ttyUSB0"
+    std::string_view protocol{};  ///< "modbus-tcp", "fatek"
+};
+
+/// A client numbered for this process (one loop thread makes them).
+Client make_client(std::string peer, std::string_view protocol);
+
+/// One request a protocol answered.
+struct Exchange {
+    std::chrono::system_clock::time_point at{};  ///< when it was answered
+    std::uint64_t client = 0;                    ///< Client::id
+    std::string_view protocol{};                 ///< "modbus-tcp"
+    std::uint8_t unit = 0;                       ///< the unit ID or station it named
+    std::uint8_t function = 0;                   ///< Modbus function code, FATEK command code
+    std::uint8_t error = 0;     ///< the exception code (Modbus) or error code (FATEK); 0: none
+    bool simulator = false;     ///< addressed to the simulator-control unit
+    std::uint16_t address = 0;  ///< Modbus: the first address (table as the function says)
+    std::uint16_t count = 0;    ///< Modbus: the quantity; 0 when the function has none
+};
+
+/// One client as the overview shows it.
+struct ClientFigures {
+    std::uint64_t id = 0;
+    std::string peer;
+    std::string_view protocol{};
+    std::uint64_t requests = 0;  ///< requests it made of this PLC
+    std::uint64_t refusals = 0;  ///< of which refused (an exception or error reply)
+    std::chrono::system_clock::time_point last{};  ///< its last request
+};
+
+/// The traffic of one PLC.
+class Traffic {
+public:
+    /// Exchanges kept, the last ones.
+    static constexpr std::size_t kKept = 256;
+
+    /// Records an exchange of `client` (a client seen for the first time is added).
+    void record(const Client& client, const Exchange& e);
+    /// The client left (its connection closed): it is no longer listed.
+    void gone(std::uint64_t client) noexcept;
+    /// The clients connected, in the order they first asked.
+    const std::vector<ClientFigures>& clients() const { return clients_; }
+    /// The exchanges kept, oldest first.
+    std::vector<Exchange> exchanges() const;
+    /// The peer of a client still listed, or "".
+    std::string_view peer(std::uint64_t client) const;
+
+private:
+    std::vector<ClientFigures> clients_;
+    std::size_t last_hit_ = 0;  // the client recorded last: the next request is likely its
+    std::array<Exchange, kKept> ring_{};
+    std::size_t next_ = 0;
+    std::size_t size_ = 0;
+};
+
+}  // namespace plcemu::listener

@@ -1,0 +1,90 @@
+#include "http/api.hpp"
+
+#include <algorithm>
+
+namespace plcemu::http {
+
+Response json(unsigned status, const Json& body) {
+    Response r;
+    r.status = status;
+    // Names and descriptions come from configs: invalid UTF-8 in them is replaced, not fatal.
+    r.body = body.dump(-1, ' ', false, Json::error_handler_t::replace);
+    r.body += '\n';
+    return r;
+}
+
+Response error(unsigned status, std::string why) { return json(status, Json{{"error", why}}); }
+
+const listener::Seat* find_plc(listener::UnitTable& units, std::string_view id) {
+    const auto& seats = units.seats();
+    for (const auto& s : seats) {
+        if (s.id == id) return &s;
+    }
+    // By its position in `plcs:`, for a PLC with a name too.
+    if (!id.empty() && id.size() <= 5 &&
+        std::all_of(id.begin(), id.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        const std::size_t i = std::stoul(std::string(id));
+        for (const auto& s : seats) {
+            if (s.position == i) return &s;
+        }
+    }
+    return nullptr;
+}
+
+Response no_such_plc(listener::UnitTable& units, std::string_view id) {
+    std::string known;
+    for (const auto& s : units.seats()) known += (known.empty() ? "" : ", ") + s.id;
+    return error(404, "no PLC '" + std::string(id) + "' here (there are: " + known + ")");
+}
+
+std::optional<Response> write_refusal(const Call& call) {
+    if (call.units.read_only()) {
+        return error(403, "this console is read-only (http.read_only)");
+    }
+    const std::string& token = call.units.token();
+    if (!token.empty()) {
+        const std::string& a = call.request.authorization;
+        constexpr std::string_view kBearer = "bearer ";
+        // The scheme's name is case-insensitive (RFC 9110 §11.1): "Bearer", "bearer".
+        const bool bearer =
+            a.size() > kBearer.size() &&
+            std::equal(kBearer.begin(), kBearer.end(), a.begin(), [](char k, char c) {
+                return k == (c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c);
+            });
+        if (!bearer) {
+            Response r = error(401, "writes need the token: Authorization: Bearer <http.token>");
+            r.headers.emplace_back("WWW-Authenticate", "Bearer");
+            return r;
+        }
+        // Compared in time independent of where they differ.
+        const std::string_view given = std::string_view(a).substr(kBearer.size());
+        unsigned diff = given.size() == token.size() ? 0U : 1U;
+        for (std::size_t i = 0; i < token.size(); ++i) {
+            diff |=
+                static_cast<unsigned>(static_cast<unsigned char>(i < given.size() ? given[i] : 0) ^
+                                      static_cast<unsigned char>(token[i]));
+        }
+        if (diff != 0) {
+            Response r = error(401, "wrong token");
+            r.headers.emplace_back("WWW-Authenticate", "Bearer error=\"invalid_token\"");
+            return r;
+        }
+    }
+    // Only JSON bodies: a cross-origin page can send a form without asking, never JSON.
+    const std::string& ct = call.request.content_type;
+    if (ct.rfind("application/json", 0) != 0) {
+        return error(415, "the body must be JSON (Content-Type: application/json)");
+    }
+    return std::nullopt;
+}
+
+Json body_object(const Call& call, std::optional<Response>& refused) {
+    Json j = Json::parse(call.request.body, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) {
+        refused = error(400, "the body is not a JSON object");
+        return {};
+    }
+    return j;
+}
+
+}  // namespace plcemu::http

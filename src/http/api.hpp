@@ -1,0 +1,43 @@
+#pragma once
+// What every handler of the HTTP side takes and gives: the request, the PLCs of the listener
+// (its unit table, which also holds its `read_only` and `token`), and JSON answers. The handlers
+// are views of the PLCs' operations (DESIGN principle 16): none keeps state of its own.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "http/message.hpp"
+#include "plcemu/listener/unit_table.hpp"
+
+namespace plcemu::http {
+
+using Json = nlohmann::json;
+
+/// A request with what it reaches.
+struct Call {
+    const Request& request;
+    listener::UnitTable& units;
+    std::vector<std::string_view> parts;  ///< the path's segments: {"api", "v1", "plcs", "0"}
+};
+
+/// A JSON answer.
+Response json(unsigned status, const Json& body);
+/// `{"error": why}` with a 4xx status.
+Response error(unsigned status, std::string why);
+
+/// The PLC `id` names: its `name:`, or its position ("0", "1", ...); null when none.
+const listener::Seat* find_plc(listener::UnitTable& units, std::string_view id);
+/// The answer for an unknown PLC: 404 naming the PLCs there are.
+Response no_such_plc(listener::UnitTable& units, std::string_view id);
+
+/// Why a write may not be made through this listener (read_only, a missing or wrong bearer
+/// token, a body that is not JSON), as the answer to give; nothing when it may.
+std::optional<Response> write_refusal(const Call& call);
+
+/// The body of a write, parsed; sets `refused` when it is not a JSON object.
+Json body_object(const Call& call, std::optional<Response>& refused);
+
+}  // namespace plcemu::http

@@ -1,0 +1,900 @@
+// plcemu console: one script for every page, chosen by <body data-page="...">.
+// Everything the server sends (names, values, errors) goes into the page as text
+// (textContent, input values, attributes), never as HTML.
+'use strict';
+
+(() => {
+  const page = document.body.dataset.page || '';
+  const TOKEN_KEY = 'plcemu.token';
+  const VIEWS = [
+    ['devices', 'Devices'],
+    ['loops', 'Loops'],
+    ['plant', 'Plant'],
+    ['traffic', 'Traffic'],
+  ];
+  const FAULTS = [
+    ['sensor_broken', 'sensor broken'],
+    ['heater_open', 'heater open'],
+    ['heater_shorted', 'heater shorted'],
+    ['reading_frozen', 'reading frozen'],
+  ];
+
+  // ---- Small helpers ------------------------------------------------------------------------
+
+  const byId = (id) => document.getElementById(id);
+
+  // el('td', {className: 'num', text: '12', dataset: {device: 'R100'}, attrs: {scope: 'row'}}, child...)
+  function el(tag, opts = {}, ...children) {
+    const e = document.createElement(tag);
+    if (opts.className) e.className = opts.className;
+    if (opts.text !== undefined) e.textContent = String(opts.text);
+    for (const [k, v] of Object.entries(opts.dataset || {})) e.dataset[k] = String(v);
+    for (const [k, v] of Object.entries(opts.attrs || {})) e.setAttribute(k, String(v));
+    for (const c of children) e.append(c);
+    return e;
+  }
+
+  // Sets an element's text only when it changed (keeps selections and screen readers calm).
+  function setText(e, text) {
+    const s = String(text);
+    if (e.textContent !== s) e.textContent = s;
+  }
+
+  // Keeps a tbody's rows in step with a list: rows are made once per key, updated in place,
+  // put in the list's order, and dropped with their item. `empty` is the row shown for none.
+  function syncRows(tbody, rows, items, keyOf, make, update, empty) {
+    const seen = new Set();
+    const wanted = items.map((item) => {
+      const key = keyOf(item);
+      seen.add(key);
+      let r = rows.get(key);
+      if (!r) {
+        r = make(item);
+        rows.set(key, r);
+      }
+      update(r, item);
+      return r.tr;
+    });
+    for (const key of [...rows.keys()]) {
+      if (!seen.has(key)) rows.delete(key);
+    }
+    const shown = wanted.length ? wanted : [empty];
+    const now = [...tbody.children];
+    if (now.length !== shown.length || now.some((tr, i) => tr !== shown[i])) tbody.replaceChildren(...shown);
+  }
+
+  const emptyRow = (text, columns) => el('tr', {className: 'empty'}, el('td', {className: 'hint', text, attrs: {colspan: columns}}));
+
+  // A client of a PLC as a clients table shows it (the overview's and the traffic page's):
+  // r = {tr, cells: {peer, protocol, requests, refusals, last}}.
+  const CLIENT_FIELDS = ['peer', 'protocol', 'requests', 'refusals', 'last'];
+
+  function clientCells() {
+    const cells = {};
+    for (const f of CLIENT_FIELDS) {
+      cells[f] = el('td', {className: f === 'requests' || f === 'refusals' ? 'num' : f === 'peer' ? 'mono' : '', dataset: {field: f}});
+    }
+    return cells;
+  }
+
+  function showClient(cells, c) {
+    setText(cells.peer, c.peer || '—');
+    setText(cells.protocol, c.protocol || '—');
+    setText(cells.requests, c.requests);
+    setText(cells.refusals, c.refusals);
+    cells.refusals.classList.toggle('bad', Number(c.refusals) > 0);
+    setText(cells.last, fmtClock(c.last));
+    cells.last.title = c.last || '';
+  }
+
+  // The PLC of a PLC page: /plcs/{plc}/{view}.
+  function plcFromPath() {
+    const m = /^\/plcs\/([^/]+)\/[^/]+\/?$/.exec(location.pathname);
+    if (!m) return null;
+    try {
+      return decodeURIComponent(m[1]);
+    } catch (e) {
+      return m[1];
+    }
+  }
+
+  const plc = plcFromPath();
+  const plcUrl = (p) => '/plcs/' + encodeURIComponent(p);
+  const apiPlc = (p) => '/api/v1/plcs/' + encodeURIComponent(p);
+
+  // ---- Messages and status ------------------------------------------------------------------
+
+  const messageBox = byId('message');
+
+  // kind: 'error' (a refusal: the server's own words), 'ok', or '' to clear.
+  function say(text, kind) {
+    if (!messageBox) return;
+    messageBox.textContent = text || '';
+    messageBox.className = 'message' + (kind ? ' ' + kind : '');
+    messageBox.setAttribute('role', kind === 'error' ? 'alert' : 'status');
+    messageBox.hidden = !text;
+  }
+
+  function setStatus(text, kind) {
+    const s = byId('status');
+    if (!s) return;
+    setText(s, text);
+    s.className = 'status' + (kind ? ' ' + kind : '');
+  }
+
+  // ---- Talking to the API -------------------------------------------------------------------
+
+  class ApiError extends Error {
+    constructor(message, status) {
+      super(message);
+      this.status = status;
+    }
+  }
+
+  function token() {
+    try {
+      return sessionStorage.getItem(TOKEN_KEY) || '';
+    } catch (e) {
+      return '';
+    }
+  }
+
+  // The token field: entered once, kept for this tab (sessionStorage), sent with every write.
+  function initToken() {
+    const input = byId('token');
+    if (!input) return;
+    const form = byId('token-form');
+    if (form) form.addEventListener('submit', (ev) => ev.preventDefault());
+    input.value = token();
+    input.addEventListener('input', () => {
+      const v = input.value.trim();
+      try {
+        if (v) {
+          sessionStorage.setItem(TOKEN_KEY, v);
+        } else {
+          sessionStorage.removeItem(TOKEN_KEY);
+        }
+      } catch (e) {
+        // Storage refused (private mode): the field still works for this page.
+      }
+    });
+  }
+
+  // GET when body is undefined; otherwise a write: JSON body, and the token when there is one.
+  async function request(method, path, body) {
+    const headers = {Accept: 'application/json'};
+    const init = {method, headers, cache: 'no-store', credentials: 'same-origin'};
+    if (body !== undefined) {
+      headers['Content-Type'] = 'application/json';
+      const field = byId('token');
+      const t = field ? field.value.trim() : token();
+      if (t) headers.Authorization = 'Bearer ' + t;
+      init.body = JSON.stringify(body);
+    }
+    let res;
+    try {
+      res = await fetch(path, init);
+    } catch (e) {
+      throw new ApiError('plcemud does not answer (' + e.message + ')', 0);
+    }
+    const text = await res.text();
+    let data = null;
+    try {
+      data = JSON.parse(text);
+    } catch (e) {
+      data = null;
+    }
+    if (!res.ok) {
+      let why = data && typeof data.error === 'string' ? data.error : 'HTTP ' + res.status;
+      if (res.status === 401) why += ' (enter the console\'s token in "Write token")';
+      throw new ApiError(why, res.status);
+    }
+    if (data === null || typeof data !== 'object') {
+      throw new ApiError('the answer to ' + method + ' ' + path + ' is not JSON', res.status);
+    }
+    return data;
+  }
+
+  // An EventSource with its status line; handlers get the parsed JSON of each named event.
+  function live(url, handlers) {
+    const es = new EventSource(url);
+    es.addEventListener('open', () => setStatus('Live', 'live'));
+    es.addEventListener('error', () => {
+      if (es.readyState === EventSource.CLOSED) {
+        setStatus('Live updates stopped: reload the page', 'down');
+      } else {
+        setStatus('Connection to plcemud lost: reconnecting…', 'down');
+      }
+    });
+    for (const [name, fn] of Object.entries(handlers)) {
+      es.addEventListener(name, (ev) => {
+        let data;
+        try {
+          data = JSON.parse(ev.data);
+        } catch (e) {
+          return;
+        }
+        fn(data);
+      });
+    }
+    es.addEventListener('gone', (ev) => {
+      let why = 'this stream ended';
+      try {
+        why = JSON.parse(ev.data).error || why;
+      } catch (e) {
+        // keep the generic text
+      }
+      es.close();
+      say(why, 'error');
+      setStatus('Live updates stopped', 'down');
+    });
+    window.addEventListener('pagehide', () => es.close());
+    return es;
+  }
+
+  // ---- Formatting ---------------------------------------------------------------------------
+
+  function fmtNumber(x, digits) {
+    return typeof x === 'number' && Number.isFinite(x) ? x.toFixed(digits) : '—';
+  }
+
+  function fmtScale(x) {
+    if (typeof x !== 'number') return '—';
+    return '×' + (Number.isInteger(x) ? String(x) : String(Number(x.toFixed(3))));
+  }
+
+  function fmtTime(t) {
+    if (!t) return '—';
+    return [fmtScale(t.scale), t.frozen ? 'frozen' : 'running', fmtNumber(t.simulated_s, 1) + ' s'].join(' · ');
+  }
+
+  // "2026-11-28T13:05:00.123Z" -> "13:05:00.123" (the browser's time zone); the text as it is
+  // when it is not a time.
+  function fmtClock(iso) {
+    if (!iso) return '—';
+    const d = new Date(iso);
+    if (Number.isNaN(d.getTime())) return String(iso);
+    const two = (n) => String(n).padStart(2, '0');
+    return two(d.getHours()) + ':' + two(d.getMinutes()) + ':' + two(d.getSeconds()) + '.' +
+      String(d.getMilliseconds()).padStart(3, '0');
+  }
+
+  // Scan lateness: "120 / 850 µs" (99th percentile / worst).
+  function fmtLateness(p) {
+    const us = (x) => (typeof x === 'number' && Number.isFinite(x) ? String(Math.round(x)) : '—');
+    return us(p.lateness_p99_us) + ' / ' + us(p.lateness_max_us) + ' µs';
+  }
+
+  const signed16 = (v) => (v >= 0x8000 ? v - 0x10000 : v);
+  const hex16 = (v) => '0x' + v.toString(16).toUpperCase().padStart(4, '0');
+  const bits16 = (v) => v.toString(2).padStart(16, '0').replace(/(\d{4})(?=\d)/g, '$1 ');
+
+  // "1234", "-5", "+7", "0x1F", "-0x10" -> a number; anything else -> null.
+  function parseValue(text) {
+    const s = text.trim();
+    let m = /^([+-]?)(\d+)$/.exec(s);
+    let v = null;
+    if (m) v = parseInt(m[2], 10);
+    m = /^([+-]?)0x([0-9a-f]+)$/i.exec(s);
+    if (m) v = parseInt(m[2], 16);
+    if (v === null || !Number.isSafeInteger(v)) return null;
+    return s.startsWith('-') ? -v : v;
+  }
+
+  // ---- Nav bar and title --------------------------------------------------------------------
+
+  function initNav() {
+    const nav = byId('nav');
+    if (!nav) return;
+    const home = nav.querySelector('a[href="/"]');
+    if (home && page === 'overview') home.setAttribute('aria-current', 'page');
+    if (plc === null) return;
+    nav.append(el('span', {className: 'plc', text: 'PLC ' + plc, attrs: {title: 'This PLC\'s pages'}}));
+    for (const [view, label] of VIEWS) {
+      const a = el('a', {text: label, attrs: {href: plcUrl(plc) + '/' + view}});
+      if (view === page) a.setAttribute('aria-current', 'page');
+      nav.append(a);
+    }
+    const name = VIEWS.find(([view]) => view === page);
+    document.title = (name ? name[1] : page) + ' · PLC ' + plc + ' · plcemu';
+  }
+
+  // "PLC kiln · fbs FBs-24MC · station 1 · RUN" beside a PLC page's heading.
+  function describePlc(p) {
+    const span = byId('plc-name');
+    if (!span || !p) return;
+    const parts = ['PLC ' + p.id, [p.profile, p.model].filter(Boolean).join(' '), 'station ' + p.station];
+    parts.push(p.running ? 'RUN' : 'STOP');
+    setText(span, parts.join(' · '));
+  }
+
+  async function loadPlcHeading() {
+    try {
+      describePlc(await request('GET', apiPlc(plc)));
+    } catch (e) {
+      say(e.message, 'error');
+    }
+  }
+
+  // ---- Overview -----------------------------------------------------------------------------
+
+  function overview() {
+    const tbody = document.querySelector('#plcs tbody');
+    const rows = new Map();
+    let order = null;
+
+    function makeRow(p) {
+      const link = el('a', {text: p.id, attrs: {href: plcUrl(p.id) + '/devices'}});
+      const head = el('th', {attrs: {scope: 'row'}}, link);
+      const label = el('div', {className: 'hint'});
+      head.append(label);
+      const cell = (field, className) => el('td', {className: className || '', dataset: {field}});
+      const cells = {
+        profile: cell('profile'),
+        model: cell('model'),
+        station: cell('station', 'num'),
+        listeners: cell('listeners'),
+        scan_ms: cell('scan_ms', 'num'),
+        running: cell('running'),
+        scans: cell('scans', 'num'),
+        lateness: cell('lateness', 'num'),
+        time: cell('time'),
+      };
+      const badge = el('span', {className: 'badge'});
+      cells.running.append(badge);
+      const links = el('div', {className: 'links'});
+      for (const [view, text] of VIEWS) {
+        links.append(el('a', {text, attrs: {href: plcUrl(p.id) + '/' + view}}));
+      }
+      const tr = el('tr', {dataset: {plc: p.id}}, head, ...Object.values(cells), el('td', {}, links));
+      return {tr, label, cells, badge};
+    }
+
+    function update(r, p) {
+      setText(r.label, p.label || '');
+      r.label.hidden = !p.label;
+      setText(r.cells.profile, p.profile);
+      setText(r.cells.model, p.model);
+      setText(r.cells.station, p.station);
+      const listeners = String(p.listeners || '—');
+      if (r.cells.listeners.dataset.text !== listeners) {
+        // "http 127.0.0.1:8020, tcp 127.0.0.1:5020": one a line.
+        r.cells.listeners.dataset.text = listeners;
+        r.cells.listeners.replaceChildren(...listeners.split(', ').map((l) => el('div', {text: l})));
+      }
+      setText(r.cells.scan_ms, p.scan_ms + ' ms');
+      setText(r.badge, p.running ? 'RUN' : 'STOP');
+      r.badge.className = 'badge ' + (p.running ? 'run' : 'stop');
+      setText(r.cells.scans, p.scans);
+      setText(r.cells.lateness, fmtLateness(p));
+      setText(r.cells.time, fmtTime(p.time));
+    }
+
+    // Every PLC's clients, in one table: a row per (PLC, peer).
+    const clientsBody = document.querySelector('#clients tbody');
+    const clientRows = new Map();
+    const noClients = emptyRow('No client connected.', 6);
+
+    function renderClients(list) {
+      const items = [];
+      for (const p of list) {
+        for (const c of Array.isArray(p.clients) ? p.clients : []) items.push({plc: p.id, c});
+      }
+      syncRows(clientsBody, clientRows, items, (it) => it.plc + '\n' + it.c.peer + '\n' + it.c.protocol,
+        (it) => {
+          const cells = clientCells();
+          const link = el('a', {text: it.plc, attrs: {href: plcUrl(it.plc) + '/traffic'}});
+          const tr = el('tr', {dataset: {plc: it.plc, peer: it.c.peer}}, el('th', {attrs: {scope: 'row'}}, link),
+            ...CLIENT_FIELDS.map((f) => cells[f]));
+          return {tr, cells};
+        },
+        (r, it) => showClient(r.cells, it.c), noClients);
+    }
+
+    function render(data) {
+      const list = Array.isArray(data.plcs) ? data.plcs : [];
+      const key = list.map((p) => p.id).join('\n');
+      if (key !== order) {
+        order = key;
+        rows.clear();
+        tbody.replaceChildren();
+        for (const p of list) {
+          const r = makeRow(p);
+          rows.set(p.id, r);
+          tbody.append(r.tr);
+        }
+        if (!list.length) {
+          tbody.append(el('tr', {}, el('td', {text: 'No PLCs.', attrs: {colspan: 11}})));
+        }
+      }
+      for (const p of list) update(rows.get(p.id), p);
+      if (clientsBody) renderClients(list);
+    }
+
+    request('GET', '/api/v1/plcs')
+      .then((data) => {
+        render(data);
+        live('/api/v1/events', {plcs: render});
+      })
+      .catch((e) => {
+        setStatus('', '');
+        say(e.message, 'error');
+      });
+  }
+
+  // ---- Devices ------------------------------------------------------------------------------
+
+  function devices() {
+    const params = new URLSearchParams(location.search);
+    const from = (params.get('from') || '').trim() || 'R0';
+    const count = (params.get('count') || '').trim() || '20';
+    const fromInput = byId('from');
+    const countInput = byId('count');
+    const table = byId('devices');
+    const thead = table.querySelector('thead tr');
+    const tbody = table.querySelector('tbody');
+    fromInput.value = from;
+    countInput.value = count;
+
+    byId('range').addEventListener('submit', (ev) => {
+      ev.preventDefault();
+      const f = fromInput.value.trim();
+      const n = countInput.value.trim();
+      if (!f) {
+        say('From device: give a device name such as R100, WM800, X17, D0 or M10', 'error');
+        return;
+      }
+      if (!/^\d+$/.test(n) || Number(n) < 1 || Number(n) > 1000) {
+        say('Count: expected 1 to 1000, got \'' + n + '\'', 'error');
+        return;
+      }
+      location.assign(location.pathname + '?' + new URLSearchParams({from: f, count: n}).toString());
+    });
+
+    const devicePath = (name) => apiPlc(plc) + '/devices/' + encodeURIComponent(name);
+    let bits = false;
+    let names = [];
+    const rows = new Map(); // name -> {input, valueCell, signed, hex, bits, current}
+
+    function header() {
+      const cols = bits ? ['Device', 'Value'] : ['Device', 'Decimal', 'Signed', 'Hex', 'Bits (15 … 0)'];
+      thead.replaceChildren(
+        ...cols.map((c, i) => el('th', {text: c, className: i === 0 ? '' : i < 4 ? 'num' : '', attrs: {scope: 'col'}}))
+      );
+    }
+
+    function render(data) {
+      bits = data.bits === true;
+      names = data.names.map(String);
+      rows.clear();
+      header();
+      const trs = names.map((name) => {
+        const input = el('input', {
+          className: 'value',
+          dataset: {device: name},
+          attrs: {type: 'text', inputmode: bits ? 'numeric' : 'text', autocomplete: 'off', spellcheck: 'false', 'aria-label': name + ' value'},
+        });
+        const valueCell = el('td', {className: 'num', dataset: {device: name}}, input);
+        const r = {input, valueCell, current: null};
+        const tr = el('tr', {}, el('th', {className: 'device', text: name, attrs: {scope: 'row'}}), valueCell);
+        if (!bits) {
+          r.signed = el('td', {className: 'num mono'});
+          r.hex = el('td', {className: 'num mono'});
+          r.bits = el('td', {className: 'bits'});
+          tr.append(r.signed, r.hex, r.bits);
+        }
+        rows.set(name, r);
+        return tr;
+      });
+      tbody.replaceChildren(...trs);
+      byId('devices-wrap').hidden = false;
+      show(data);
+    }
+
+    function showOne(r, v) {
+      r.current = v;
+      r.valueCell.dataset.value = String(v);
+      if (document.activeElement !== r.input) {
+        r.input.value = String(v);
+        r.input.classList.remove('edited');
+      }
+      if (!bits) {
+        setText(r.signed, signed16(v));
+        setText(r.hex, hex16(v));
+        setText(r.bits, bits16(v));
+      }
+    }
+
+    function show(data) {
+      const ns = data.names || [];
+      const vs = data.values || [];
+      for (let i = 0; i < ns.length && i < vs.length; ++i) {
+        const r = rows.get(String(ns[i]));
+        if (r && typeof vs[i] === 'number') showOne(r, vs[i]);
+      }
+    }
+
+    function onValues(data) {
+      if (!Array.isArray(data.names) || data.names.join('\n') !== names.join('\n')) {
+        // Other devices than the table's (a reload changed the PLC): rebuild it.
+        if (Array.isArray(data.names) && Array.isArray(data.values)) render({...data, bits});
+        return;
+      }
+      show(data);
+    }
+
+    async function write(input) {
+      const name = input.dataset.device;
+      const text = input.value.trim();
+      const v = parseValue(text);
+      if (v === null) {
+        say(name + ': \'' + text + '\' is not a whole number (write 1234, -5 or 0x1F)', 'error');
+        return;
+      }
+      input.setAttribute('aria-busy', 'true');
+      try {
+        const res = await request('PUT', devicePath(name), {values: [v]});
+        const r = rows.get(name);
+        const back = Array.isArray(res.values) ? res.values[0] : v;
+        input.value = String(back);
+        input.classList.remove('edited');
+        if (r) showOne(r, back);
+        say(name + ' = ' + back + (bits ? '' : ' (' + hex16(back) + ')') + ': written', 'ok');
+      } catch (e) {
+        say(e.message, 'error');
+      } finally {
+        input.removeAttribute('aria-busy');
+      }
+    }
+
+    function restore(input) {
+      const r = rows.get(input.dataset.device);
+      if (r && r.current !== null) input.value = String(r.current);
+      input.classList.remove('edited');
+    }
+
+    tbody.addEventListener('keydown', (ev) => {
+      const input = ev.target;
+      if (!(input instanceof HTMLInputElement) || !input.dataset.device) return;
+      if (ev.key === 'Enter') {
+        ev.preventDefault();
+        write(input);
+      } else if (ev.key === 'Escape') {
+        ev.preventDefault();
+        restore(input);
+        input.select();
+      }
+    });
+    tbody.addEventListener('input', (ev) => {
+      if (ev.target instanceof HTMLInputElement) ev.target.classList.add('edited');
+    });
+    tbody.addEventListener('focusin', (ev) => {
+      if (ev.target instanceof HTMLInputElement) ev.target.select();
+    });
+    // Leaving a value without Enter drops the edit: the cell shows the live value again.
+    tbody.addEventListener('focusout', (ev) => {
+      const input = ev.target;
+      if (input instanceof HTMLInputElement && input.dataset.device && !input.hasAttribute('aria-busy')) {
+        restore(input);
+      }
+    });
+
+    request('GET', devicePath(from) + '?count=' + encodeURIComponent(count))
+      .then((data) => {
+        render(data);
+        const query = new URLSearchParams({device: from, count}).toString();
+        live(apiPlc(plc) + '/events?' + query, {
+          values: onValues,
+          plcs: (d) => {
+            const p = Array.isArray(d.plcs) ? d.plcs[0] : null;
+            describePlc(p);
+            if (p) setStatus('Live · ' + (p.running ? 'RUN' : 'STOP') + ' · scan ' + p.scans + ' · ' + fmtTime(p.time), 'live');
+          },
+        });
+      })
+      .catch((e) => {
+        setStatus('', '');
+        byId('devices-wrap').hidden = true;
+        say(e.message, 'error');
+      });
+    loadPlcHeading();
+  }
+
+  // ---- Plant --------------------------------------------------------------------------------
+
+  function plant() {
+    const path = apiPlc(plc) + '/simulator';
+    const tbody = document.querySelector('#channels tbody');
+    const frozenButton = byId('frozen');
+    const scaleInput = byId('time-scale');
+    const stepInput = byId('step-count');
+    const stepButton = byId('step');
+    const showAll = byId('show-all');
+    const simTime = byId('sim-time');
+    const SHOWN = 8;
+    const rows = [];
+    let state = null;
+    let writes = 0; // a poll begun before a write may not show the state from before it
+
+    for (let c = 0; c < 32; ++c) {
+      const temp = el('td', {className: 'num', dataset: {field: 'temperature'}});
+      const progress = el('progress', {attrs: {max: 100, value: 0, 'aria-label': 'Channel ' + c + ' heater power'}});
+      const powerText = el('span', {dataset: {field: 'power'}});
+      const ambient = el('td', {className: 'num'});
+      const buttons = {};
+      const faults = el('div', {className: 'faults'});
+      for (const [key, label] of FAULTS) {
+        buttons[key] = el('button', {
+          text: label,
+          dataset: {channel: c, fault: key},
+          attrs: {type: 'button', 'aria-pressed': 'false', title: 'Channel ' + c + ': ' + label},
+        });
+        faults.append(buttons[key]);
+      }
+      const tr = el('tr', {dataset: {channel: c}}, el('th', {className: 'num', text: c, attrs: {scope: 'row'}}), temp,
+        el('td', {}, progress, powerText), ambient, el('td', {}, faults));
+      tr.hidden = c >= SHOWN;
+      rows.push({tr, temp, progress, powerText, ambient, buttons});
+      tbody.append(tr);
+    }
+
+    function apply(s) {
+      state = s;
+      frozenButton.setAttribute('aria-pressed', s.frozen ? 'true' : 'false');
+      if (document.activeElement !== scaleInput) scaleInput.value = String(s.time_scale);
+      const pending = s.pending_steps ? ' · ' + s.pending_steps + ' scans queued' : '';
+      setText(simTime, 'Simulated time ' + fmtNumber(s.simulated_s, 1) + ' s · time scale ' + fmtScale(s.time_scale) + ' · ' +
+        (s.frozen ? 'frozen' : 'running') + pending);
+      for (const ch of Array.isArray(s.channels) ? s.channels : []) {
+        const r = rows[ch.channel];
+        if (!r) continue;
+        setText(r.temp, fmtNumber(ch.true_temperature_c, 1) + ' °C');
+        const pct = typeof ch.heater_power === 'number' ? ch.heater_power * 100 : 0;
+        r.progress.value = pct;
+        setText(r.powerText, fmtNumber(pct, 0) + ' %');
+        setText(r.ambient, fmtNumber(ch.ambient_c, 1) + ' °C');
+        for (const [key] of FAULTS) {
+          const on = !!(ch.faults && ch.faults[key]);
+          r.buttons[key].setAttribute('aria-pressed', on ? 'true' : 'false');
+        }
+      }
+    }
+
+    let polling = false;
+    async function poll() {
+      if (polling) return;
+      polling = true;
+      const seen = writes;
+      try {
+        const s = await request('GET', path);
+        if (seen === writes) apply(s);
+        setStatus('Updated every second', 'live');
+      } catch (e) {
+        setStatus(e.message, 'down');
+      } finally {
+        polling = false;
+      }
+    }
+
+    async function change(body, done) {
+      ++writes;
+      try {
+        const s = await request('PUT', path, body);
+        ++writes;
+        apply(s);
+        say(done, 'ok');
+      } catch (e) {
+        say(e.message, 'error');
+      }
+    }
+
+    frozenButton.addEventListener('click', () => {
+      const freeze = !(state && state.frozen);
+      change({frozen: freeze}, freeze ? 'Frozen: no scans run until resumed or stepped' : 'Running');
+    });
+    byId('scale-form').addEventListener('submit', (ev) => {
+      ev.preventDefault();
+      const x = Number(scaleInput.value);
+      if (!scaleInput.value.trim() || !Number.isFinite(x)) {
+        say('Time scale: expected a number from 1 to 10000', 'error');
+        return;
+      }
+      change({time_scale: x}, 'Time scale ' + fmtScale(x));
+    });
+    const stepLabel = () => {
+      const n = Number(stepInput.value);
+      setText(stepButton, 'Step ' + (Number.isInteger(n) && n > 0 ? n : 'N') + (n === 1 ? ' scan' : ' scans'));
+    };
+    stepInput.addEventListener('input', stepLabel);
+    stepLabel();
+    byId('step-form').addEventListener('submit', (ev) => {
+      ev.preventDefault();
+      const n = Number(stepInput.value);
+      if (!/^\d+$/.test(stepInput.value.trim()) || n < 1 || n > 65535) {
+        say('Step: expected a number of scans from 1 to 65535', 'error');
+        return;
+      }
+      change({step: n}, 'Queued ' + n + (n === 1 ? ' scan' : ' scans'));
+    });
+    tbody.addEventListener('click', (ev) => {
+      const b = ev.target instanceof Element ? ev.target.closest('button[data-fault]') : null;
+      if (!b) return;
+      const c = Number(b.dataset.channel);
+      const key = b.dataset.fault;
+      const on = b.getAttribute('aria-pressed') !== 'true';
+      const label = (FAULTS.find(([k]) => k === key) || [key, key])[1];
+      change({channels: [{channel: c, faults: {[key]: on}}]}, 'Channel ' + c + ': ' + label + (on ? ' on' : ' off'));
+    });
+    showAll.addEventListener('click', () => {
+      const all = showAll.getAttribute('aria-pressed') !== 'true';
+      showAll.setAttribute('aria-pressed', all ? 'true' : 'false');
+      rows.forEach((r, c) => {
+        r.tr.hidden = !all && c >= SHOWN;
+      });
+    });
+
+    request('GET', path)
+      .then((s) => {
+        apply(s);
+        setStatus('Updated every second', 'live');
+        setInterval(poll, 1000);
+      })
+      .catch((e) => {
+        setStatus('', '');
+        say(e.message, 'error');
+      });
+    loadPlcHeading();
+  }
+
+  // ---- Traffic ------------------------------------------------------------------------------
+
+  // Names of the function codes and exception codes, as a master's manual calls them.
+  const MODBUS_FUNCTIONS = {
+    0x01: 'read coils', 0x02: 'read discrete inputs', 0x03: 'read holding registers',
+    0x04: 'read input registers', 0x05: 'write single coil', 0x06: 'write single register',
+    0x07: 'read exception status', 0x08: 'diagnostics', 0x0B: 'get comm event counter',
+    0x0C: 'get comm event log', 0x0F: 'write multiple coils', 0x10: 'write multiple registers',
+    0x11: 'report server ID', 0x14: 'read file record', 0x15: 'write file record',
+    0x16: 'mask write register', 0x17: 'read/write multiple registers', 0x18: 'read FIFO queue',
+    0x2B: 'read device identification',
+  };
+  const MODBUS_EXCEPTIONS = {
+    0x01: 'illegal function', 0x02: 'illegal data address', 0x03: 'illegal data value',
+    0x04: 'server device failure', 0x05: 'acknowledge', 0x06: 'server device busy',
+    0x08: 'memory parity error', 0x0A: 'gateway path unavailable', 0x0B: 'gateway target failed to respond',
+  };
+  const FATEK_COMMANDS = {
+    0x40: 'read system status', 0x41: 'RUN/STOP', 0x42: 'single discrete control',
+    0x43: 'read enable/disable flags', 0x44: 'read discretes', 0x45: 'write discretes',
+    0x46: 'read registers', 0x47: 'write registers', 0x48: 'mixed read', 0x49: 'mixed write',
+    0x4E: 'loop-back test', 0x53: 'read detailed system status',
+  };
+  // FATEK error codes are characters: '2' (32h), '4' (34h), 'A' (41h).
+  const FATEK_ERRORS = {0x32: 'illegal value', 0x34: 'illegal format', 0x41: 'illegal address'};
+
+  // "03h" -> its name in `names`, or ''.
+  function codeName(code, names) {
+    const m = /^([0-9A-F]{2})h$/i.exec(code || '');
+    return m ? names[parseInt(m[1], 16)] || '' : '';
+  }
+
+  function traffic() {
+    const path = apiPlc(plc) + '/traffic';
+    const clientsBody = document.querySelector('#clients tbody');
+    const exchangesBody = document.querySelector('#exchanges tbody');
+    const pauseButton = byId('pause');
+    const clientRows = new Map();
+    const noClients = emptyRow('No client connected.', 5);
+    let paused = false;
+    let pauses = 0; // an answer asked for before a pause or a resume is not shown in the list
+    let shownKey = null;
+
+    function showClients(list) {
+      syncRows(clientsBody, clientRows, list, (c) => c.peer + '\n' + c.protocol,
+        (c) => {
+          const cells = clientCells();
+          return {tr: el('tr', {dataset: {peer: c.peer}}, ...CLIENT_FIELDS.map((f) => cells[f])), cells};
+        },
+        (r, c) => showClient(r.cells, c), noClients);
+    }
+
+    function exchangeRow(x) {
+      const protocol = String(x.protocol || '');
+      const modbus = protocol.startsWith('modbus');
+      const fatek = protocol.startsWith('fatek');
+      const fn = String(x.function || '');
+      const err = String(x.error || '');
+      const unit = x.unit === undefined || x.unit === null ? '' : String(x.unit);
+      const fnName = codeName(fn, modbus ? MODBUS_FUNCTIONS : fatek ? FATEK_COMMANDS : {});
+      const tr = el('tr', {
+        className: err ? 'refused' : '',
+        dataset: {at: x.at || '', client: x.client || '', protocol, unit, function: fn, error: err},
+      });
+      const at = el('td', {className: 'mono', text: fmtClock(x.at), dataset: {field: 'at'}, attrs: {title: x.at || ''}});
+      const fnCell = el('td', {dataset: {field: 'function'}}, el('span', {className: 'code', text: fn || '—'}));
+      if (fnName) fnCell.append(' ', el('span', {className: 'hint', text: fnName}));
+      const devices = el('td', {className: x.devices ? 'mono' : 'hint', text: x.devices || '—', dataset: {field: 'devices'}});
+      const errCell = el('td', {dataset: {field: 'error'}});
+      if (err) {
+        const errName = codeName(err, modbus ? MODBUS_EXCEPTIONS : fatek ? FATEK_ERRORS : {});
+        errCell.append(el('span', {className: 'badge refused', text: err, attrs: {title: 'Refused: ' + (modbus ? 'exception ' : 'error ') + err}}));
+        if (errName) errCell.append(' ', el('span', {className: 'hint', text: errName}));
+      }
+      tr.append(at, el('td', {className: 'mono', text: x.client || '—', dataset: {field: 'client'}}),
+        el('td', {text: protocol || '—', dataset: {field: 'protocol'}}),
+        el('td', {className: 'num', text: unit || '—', dataset: {field: 'unit'}}), fnCell, devices, errCell);
+      return tr;
+    }
+
+    // The server lists them oldest first; the page, newest first.
+    function showExchanges(list) {
+      const key = JSON.stringify(list);
+      if (key === shownKey) return;
+      shownKey = key;
+      const trs = list.slice().reverse().map(exchangeRow);
+      exchangesBody.replaceChildren(...(trs.length ? trs : [emptyRow('No request yet.', 7)]));
+    }
+
+    function showStatus() {
+      if (paused) {
+        setStatus('Paused: the list of requests is kept as it is (Resume to follow it again)', 'paused');
+      } else {
+        setStatus('Updated every second', 'live');
+      }
+    }
+
+    let polling = false;
+    let again = false; // resumed while a poll was out: poll once more when it is back
+    async function poll() {
+      if (polling) return;
+      polling = true;
+      again = false;
+      const asked = pauses;
+      const list = !paused;
+      try {
+        // Paused, only the clients are wanted: one request, not a hundred.
+        const data = await request('GET', path + (list ? '?count=100' : '?count=1'));
+        showClients(Array.isArray(data.clients) ? data.clients : []);
+        if (list && asked === pauses) showExchanges(Array.isArray(data.exchanges) ? data.exchanges : []);
+        showStatus();
+      } catch (e) {
+        setStatus(e.message, 'down');
+      } finally {
+        polling = false;
+        if (again) poll();
+      }
+    }
+
+    pauseButton.addEventListener('click', () => {
+      paused = !paused;
+      ++pauses;
+      pauseButton.setAttribute('aria-pressed', paused ? 'true' : 'false');
+      setText(pauseButton, paused ? 'Resume' : 'Pause');
+      showStatus();
+      if (!paused) {
+        // The list follows again at once (an answer still out was asked for while paused).
+        again = polling;
+        poll();
+      }
+    });
+
+    poll().then(() => setInterval(poll, 1000));
+    loadPlcHeading();
+  }
+
+  // ---- Start --------------------------------------------------------------------------------
+
+  initNav();
+  initToken();
+  if (page === 'overview') {
+    overview();
+  } else if (page === 'devices') {
+    devices();
+  } else if (page === 'plant') {
+    plant();
+  } else if (page === 'traffic') {
+    traffic();
+  } else if (plc !== null) {
+    loadPlcHeading();
+  }
+})();

@@ -1,0 +1,188 @@
+#include "http/message.hpp"
+
+#include <boost/beast/core/error.hpp>
+#include <boost/beast/http.hpp>
+#include <algorithm>
+#include <sstream>
+
+namespace plcemu::http {
+
+namespace beast = boost::beast;
+namespace bhttp = boost::beast::http;
+
+namespace {
+
+using Parser = bhttp::request_parser<bhttp::string_body>;
+
+// Feeds `bytes` to a fresh parser until one message is whole; returns the bytes it took (0 while
+// more are needed) and leaves the parser's error in `ec`.
+std::size_t feed(Parser& p, std::span<const std::uint8_t> bytes, beast::error_code& ec) {
+    p.header_limit(kMaxHead);
+    p.body_limit(kMaxBody);
+    p.eager(true);
+    std::size_t used = 0;
+    while (!p.is_done()) {
+        const std::size_t n =
+            p.put(boost::asio::const_buffer(bytes.data() + used, bytes.size() - used), ec);
+        used += n;
+        if (ec) return 0;
+        if (n == 0 && !p.is_done()) {
+            ec = bhttp::error::need_more;
+            return 0;
+        }
+    }
+    return used;
+}
+
+int hex_digit(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+// Percent-decoding of a target's pieces (RFC 3986 §2.1; `+` as a space in a query). Beast reads
+// the request but not its target, and the Boost here has no URL library: it is small enough.
+bool decode(std::string_view in, std::string& out, bool query) {
+    out.clear();
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        const char c = in[i];
+        if (c == '%') {
+            if (i + 2 >= in.size()) return false;
+            const int hi = hex_digit(in[i + 1]);
+            const int lo = hex_digit(in[i + 2]);
+            if (hi < 0 || lo < 0) return false;
+            out.push_back(static_cast<char>(hi * 16 + lo));
+            i += 2;
+        } else if (query && c == '+') {
+            out.push_back(' ');
+        } else {
+            out.push_back(c);
+        }
+    }
+    return true;
+}
+
+std::string field(const bhttp::request<bhttp::string_body>& m, bhttp::field f) {
+    const auto it = m.find(f);
+    return it == m.end() ? std::string() : std::string(it->value());
+}
+
+}  // namespace
+
+const std::string* Request::param(std::string_view name) const {
+    for (const auto& [k, v] : query) {
+        if (k == name) return &v;
+    }
+    return nullptr;
+}
+
+listener::Split split_request(std::span<const std::uint8_t> buffered) noexcept {
+    try {
+        Parser p;
+        beast::error_code ec;
+        const std::size_t n = feed(p, buffered, ec);
+        if (ec == bhttp::error::need_more) return {listener::Cut::Incomplete, 0, ""};
+        if (ec) return {listener::Cut::Frame, buffered.size(), ""};
+        return {listener::Cut::Frame, n, ""};
+    } catch (...) {
+        return {listener::Cut::Bad, 0, "http: out of memory"};
+    }
+}
+
+bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& refusal) {
+    Parser p;
+    beast::error_code ec;
+    feed(p, frame, ec);
+    if (ec == bhttp::error::header_limit) {
+        refusal = {431, "the request's head is larger than " + std::to_string(kMaxHead) + " bytes"};
+        return false;
+    }
+    if (ec == bhttp::error::body_limit) {
+        refusal = {413, "the request's body is larger than " + std::to_string(kMaxBody) + " bytes"};
+        return false;
+    }
+    if (ec) {
+        refusal = {400, "not an HTTP/1.1 request: " + ec.message()};
+        return false;
+    }
+    const auto& m = p.get();
+    out.method = std::string(m.method_string());
+    out.target = std::string(m.target());
+    out.keep_alive = m.keep_alive();
+    out.authorization = field(m, bhttp::field::authorization);
+    out.content_type = field(m, bhttp::field::content_type);
+    out.origin = field(m, bhttp::field::origin);
+    out.host = field(m, bhttp::field::host);
+    out.body = m.body();
+    const std::string_view target = out.target;
+    if (target.empty() || target.front() != '/') {
+        refusal = {400, "the request target must be a path starting with '/'"};
+        return false;
+    }
+    const auto q = target.find('?');
+    const std::string_view raw_path = target.substr(0, q);
+    if (!decode(raw_path, out.path, false)) {
+        refusal = {400, "bad percent-encoding in the path"};
+        return false;
+    }
+    out.segments.clear();
+    for (std::size_t i = 0; i < raw_path.size();) {
+        const std::size_t j = std::min(raw_path.find('/', i), raw_path.size());
+        if (j > i) {
+            std::string seg;
+            decode(raw_path.substr(i, j - i), seg, false);  // checked whole above
+            out.segments.push_back(std::move(seg));
+        }
+        i = j + 1;
+    }
+    out.query.clear();
+    if (q != std::string_view::npos) {
+        std::string_view rest = target.substr(q + 1);
+        while (!rest.empty()) {
+            const auto amp = rest.find('&');
+            const std::string_view pair = rest.substr(0, amp);
+            rest = amp == std::string_view::npos ? std::string_view() : rest.substr(amp + 1);
+            if (pair.empty()) continue;
+            const auto eq = pair.find('=');
+            std::string k;
+            std::string v;
+            if (!decode(pair.substr(0, eq), k, true) ||
+                (eq != std::string_view::npos && !decode(pair.substr(eq + 1), v, true))) {
+                refusal = {400, "bad percent-encoding in the query"};
+                return false;
+            }
+            out.query.emplace_back(std::move(k), std::move(v));
+        }
+    }
+    return true;
+}
+
+std::string serialize(const Response& r, bool keep_alive, bool head_only) {
+    bhttp::response<bhttp::string_body> m;
+    m.version(11);
+    m.result(r.status);
+    m.set(bhttp::field::server, "plcemud");
+    m.set(bhttp::field::content_type, r.content_type);
+    // Pages and values change with every scan; nothing is to be cached.
+    m.set(bhttp::field::cache_control, "no-store");
+    m.set("X-Content-Type-Options", "nosniff");
+    for (const auto& [k, v] : r.headers) m.set(k, v);
+    m.body() = r.body;
+    m.keep_alive(keep_alive);
+    m.prepare_payload();
+    std::ostringstream o;
+    if (head_only) {
+        o << m.base();
+    } else {
+        o << m;
+    }
+    return o.str();
+}
+
+std::string event_stream_head() {
+    return "HTTP/1.1 200 OK\r\nServer: plcemud\r\nContent-Type: text/event-stream\r\n"
+           "Cache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\n\r\n";
+}
+
+}  // namespace plcemu::http

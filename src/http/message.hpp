@@ -1,0 +1,71 @@
+#pragma once
+// HTTP/1.1 messages on a byte stream: where a request ends, what it says, and a response's bytes.
+// Boost.Beast's parser and serializer do the work (docs/architecture.md, "HTTP"); they are used
+// as codecs over bytes, because the connections are the listener seat's, on the daemon's loop.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "plcemu/listener/protocol.hpp"
+
+namespace plcemu::http {
+
+/// Largest request head (request line and headers).
+inline constexpr std::size_t kMaxHead = std::size_t{8} * 1024;
+/// Largest request body.
+inline constexpr std::size_t kMaxBody = std::size_t{24} * 1024;
+
+/// A request as the handlers see it.
+struct Request {
+    std::string method;  ///< "GET"
+    std::string target;  ///< as sent: "/api/v1/plcs/0/devices/R100?count=4"
+    std::string path;    ///< the target's path, percent-decoded: "/api/v1/plcs/0/devices/R100"
+    /// The path's segments, each decoded after the path was split at its slashes: an encoded
+    /// slash (%2F) stays inside its segment. Empty segments are dropped.
+    std::vector<std::string> segments;
+    std::vector<std::pair<std::string, std::string>> query;  ///< decoded, in order
+    std::string authorization;                               ///< the Authorization header
+    std::string content_type;                                ///< the Content-Type header
+    std::string origin;                                      ///< the Origin header
+    std::string host;                                        ///< the Host header
+    std::string body;                                        ///< the body, whole
+    bool keep_alive = true;  ///< the connection may carry the next request
+
+    /// The query parameter `name`, or null.
+    const std::string* param(std::string_view name) const;
+};
+
+/// A response.
+struct Response {
+    unsigned status = 200;
+    std::string content_type = "application/json";
+    std::string body;
+    std::vector<std::pair<std::string, std::string>> headers;  ///< besides the usual ones
+};
+
+/// A request that could not be read: the status that says why, and a message.
+struct Refusal {
+    unsigned status = 400;  ///< 400, 413 (body too large) or 431 (head too large)
+    std::string why;
+};
+
+/// Where the first request of `buffered` ends. A request that cannot be read is a frame of every
+/// byte buffered, so that parse() says why and the connection is closed after the answer.
+listener::Split split_request(std::span<const std::uint8_t> buffered) noexcept;
+
+/// Reads one whole request (a frame split_request() cut); false with `refusal` set when it is
+/// not one.
+bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& refusal);
+
+/// The bytes of `response`; `keep_alive` false adds `Connection: close`. `head_only`: the
+/// headers of a GET without its body (HEAD).
+std::string serialize(const Response& response, bool keep_alive, bool head_only = false);
+
+/// The head of a response whose body follows as a stream of Server-Sent Events.
+std::string event_stream_head();
+
+}  // namespace plcemu::http

@@ -1,0 +1,141 @@
+#include "http/router.hpp"
+
+#include <algorithm>
+#include <cctype>
+
+#include "http/console.hpp"
+#include "http/devices.hpp"
+#include "http/health.hpp"
+#include "http/loops.hpp"
+#include "http/plcs.hpp"
+#include "http/simulator.hpp"
+#include "http/traffic.hpp"
+
+namespace plcemu::http {
+
+namespace {
+
+Response not_allowed(const char* allow) {
+    Response r = error(405, std::string("method not allowed here (allowed: ") + allow + ")");
+    r.headers.emplace_back("Allow", allow);
+    return r;
+}
+
+Response not_found(const Request& rq) { return error(404, "nothing at " + rq.path.substr(0, 200)); }
+
+// The console's pages: one HTML file each, which fetches what it shows from the API.
+Response page(const Call& call, std::string_view name) {
+    const Asset* a = find_asset(name);
+    if (a == nullptr) return not_found(call.request);
+    return asset_response(*a);
+}
+
+Routed api(const Call& call) {
+    const auto& p = call.parts;  // "api", "v1", ...
+    const std::string& m = call.request.method;
+    const bool get = m == "GET" || m == "HEAD";
+    if (p.size() == 3 && p[2] == "openapi.json") {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        const Asset* a = find_asset("openapi.json");
+        Response r = asset_response(*a);
+        return {std::move(r), {}};
+    }
+    if (p.size() == 3 && p[2] == "events") {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        std::optional<Response> refused;
+        auto sub = subscribe(call, "", refused);
+        return {refused ? *refused : Response{}, std::move(sub)};
+    }
+    if (p.size() < 3 || p[2] != "plcs") return {not_found(call.request), {}};
+    if (p.size() == 3) {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        return {plcs(call), {}};
+    }
+    const listener::Seat* plc = find_plc(call.units, p[3]);
+    if (plc == nullptr) return {no_such_plc(call.units, p[3]), {}};
+    if (p.size() == 4) {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        return {json(200, describe(*plc)), {}};
+    }
+    if (p.size() == 6 && p[4] == "devices") {
+        if (!get && m != "PUT") return {not_allowed("GET, HEAD, PUT"), {}};
+        return {devices(call, *plc, p[5]), {}};
+    }
+    if (p.size() == 5 && p[4] == "simulator") {
+        if (!get && m != "PUT") return {not_allowed("GET, HEAD, PUT"), {}};
+        return {simulator(call, *plc), {}};
+    }
+    if (p.size() == 5 && p[4] == "loops") {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        return {loops(call, *plc), {}};
+    }
+    if (p.size() == 5 && p[4] == "traffic") {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        return {traffic(call, *plc), {}};
+    }
+    if (p.size() == 5 && p[4] == "events") {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        std::optional<Response> refused;
+        auto sub = subscribe(call, p[3], refused);
+        return {refused ? *refused : Response{}, std::move(sub)};
+    }
+    return {not_found(call.request), {}};
+}
+
+// Why the Host a request names is not one this console answers to, or "". A page served from
+// another name that resolves to this address (DNS rebinding) would be of the same origin as the
+// console in the browser: its scripts could read and write. IP addresses, `localhost` and the
+// names of `http.hosts` are answered.
+std::string foreign_host(const Request& rq, const listener::UnitTable& units) {
+    std::string_view h = rq.host;
+    if (h.empty()) return "";         // HTTP/1.0: no browser sends a request without one
+    if (h.front() == '[') return "";  // an IPv6 address: "[::1]:8020"
+    if (const auto colon = h.rfind(':'); colon != std::string_view::npos) h = h.substr(0, colon);
+    const bool ipv4 = !h.empty() && h.find_first_not_of("0123456789.") == std::string_view::npos;
+    auto same = [](std::string_view a, std::string_view b) {
+        return a.size() == b.size() &&
+               std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+                   return std::tolower(static_cast<unsigned char>(x)) ==
+                          std::tolower(static_cast<unsigned char>(y));
+               });
+    };
+    if (ipv4 || same(h, "localhost")) return "";
+    for (const auto& name : units.hosts()) {
+        if (same(h, name)) return "";
+    }
+    return "Host '" + std::string(h.substr(0, 100)) +
+           "' is not one this console answers to (its IP address, localhost, or a name in "
+           "http.hosts)";
+}
+
+}  // namespace
+
+Routed route(const Request& rq, listener::UnitTable& units) {
+    if (const std::string why = foreign_host(rq, units); !why.empty()) {
+        return {error(421, why), {}};
+    }
+    const Call call{rq, units, {rq.segments.begin(), rq.segments.end()}};
+    const auto& p = call.parts;
+    const bool get = rq.method == "GET" || rq.method == "HEAD";
+    if (p.size() >= 2 && p[0] == "api" && p[1] == "v1") return api(call);
+    if (p.size() == 1 && p[0] == "healthz") {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        return {health(call), {}};
+    }
+    if (p.size() == 1 && p[0] == "metrics") {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        return {metrics(call), {}};
+    }
+    if (!get) return {not_allowed("GET, HEAD"), {}};
+    if (p.empty()) return {page(call, "overview.html"), {}};
+    if (p.size() == 2 && p[0] == "static") return {page(call, p[1]), {}};
+    if (p.size() == 3 && p[0] == "plcs") {
+        if (find_plc(units, p[1]) == nullptr) return {no_such_plc(units, p[1]), {}};
+        for (std::string_view view : {"devices", "loops", "plant", "traffic"}) {
+            if (p[2] == view) return {page(call, std::string(view) + ".html"), {}};
+        }
+    }
+    return {not_found(rq), {}};
+}
+
+}  // namespace plcemu::http

@@ -1,0 +1,120 @@
+#include "http/stream.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <optional>
+
+#include "http/message.hpp"
+#include "http/router.hpp"
+
+namespace plcemu::http {
+
+namespace {
+
+class HttpSession final : public listener::Session {
+public:
+    HttpSession(listener::Outlet& outlet, listener::UnitTable& units)
+        : outlet_(outlet),
+          units_(units) {}
+
+    listener::Split split(std::span<const std::uint8_t> buffered) const noexcept override {
+        // A stream's client says nothing more; what it sends is not read as requests.
+        if (stream_) return {listener::Cut::Incomplete, 0, ""};
+        return split_request(buffered);
+    }
+
+    bool answer(std::span<const std::uint8_t> frame, std::vector<std::uint8_t>& out) override {
+        if (stream_) return true;
+        Request rq;
+        Refusal refusal;
+        std::string bytes;
+        bool keep = true;
+        try {
+            if (!parse_request(frame, rq, refusal)) {
+                // What follows a request that could not be read cannot be trusted.
+                bytes = serialize(error(refusal.status, refusal.why), false);
+                keep = false;
+            } else {
+                Routed routed = route(rq, units_);
+                if (routed.stream && rq.method == "HEAD") {
+                    // The stream's head alone: a HEAD has no body, and no events follow it.
+                    keep = rq.keep_alive;
+                    bytes = event_stream_head();
+                } else if (routed.stream) {
+                    stream_ = std::move(routed.stream);
+                    bytes = event_stream_head();
+                    bool ended = false;
+                    bytes += stream_->poll(units_, ended);
+                    if (ended) {
+                        keep = false;
+                    } else {
+                        outlet_.tick_every(kEventPeriod);
+                    }
+                } else {
+                    keep = rq.keep_alive;
+                    bytes = serialize(routed.response, keep, rq.method == "HEAD");
+                }
+            }
+        } catch (const std::exception& e) {
+            // Out of memory and the like: this request fails, the daemon does not.
+            spdlog::warn("http: {} {} {}: {}", outlet_.peer(), rq.method, rq.target.substr(0, 100),
+                         e.what());
+            bytes = serialize(error(500, "internal error"), false);
+            keep = false;
+        }
+        out.insert(out.end(), bytes.begin(), bytes.end());
+        return keep;
+    }
+
+    void tick() override {
+        if (!stream_) return;
+        bool ended = false;
+        std::string events;
+        try {
+            events = stream_->poll(units_, ended);
+        } catch (const std::exception& e) {
+            spdlog::warn("http: {} event stream: {}", outlet_.peer(), e.what());
+            ended = true;
+        }
+        if (!events.empty() &&
+            !outlet_.send({reinterpret_cast<const std::uint8_t*>(events.data()), events.size()})) {
+            return;  // closed: this session is gone
+        }
+        if (ended) outlet_.tick_every(std::chrono::milliseconds(0));
+    }
+
+private:
+    listener::Outlet& outlet_;
+    listener::UnitTable& units_;
+    std::optional<Subscription> stream_;
+};
+
+class HttpProtocol final : public listener::StreamProtocol {
+public:
+    explicit HttpProtocol(listener::ProtocolSetup setup) {
+        units_.assign(std::move(setup.seats));
+        units_.set_read_only(setup.read_only);
+    }
+    std::size_t max_frame() const noexcept override { return kMaxHead + kMaxBody; }
+    listener::Split split(std::span<const std::uint8_t>) const noexcept override {
+        return {listener::Cut::Bad, 0, "http: no session"};
+    }
+    std::size_t answer(std::span<const std::uint8_t>, std::span<std::uint8_t>) noexcept override {
+        return 0;
+    }
+    std::unique_ptr<listener::Session> open(listener::Outlet& outlet) override {
+        return std::make_unique<HttpSession>(outlet, units_);
+    }
+    listener::UnitTable& units() noexcept override { return units_; }
+
+private:
+    listener::UnitTable units_;
+};
+
+}  // namespace
+
+std::unique_ptr<listener::StreamProtocol> make_stream(listener::ProtocolSetup setup) {
+    return std::make_unique<HttpProtocol>(std::move(setup));
+}
+
+}  // namespace plcemu::http

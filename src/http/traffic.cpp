@@ -1,0 +1,92 @@
+#include "http/traffic.hpp"
+
+#include <charconv>
+#include <optional>
+
+#include "http/plcs.hpp"
+#include "plcemu/modbus/unit.hpp"
+
+namespace plcemu::http {
+
+namespace {
+
+// The table a Modbus function reaches.
+std::optional<modbus::Table> table_of(std::uint8_t fc) {
+    switch (fc) {
+        case 0x01:
+        case 0x05:
+        case 0x0F:
+            return modbus::Table::Coils;
+        case 0x02:
+            return modbus::Table::DiscreteInputs;
+        case 0x03:
+        case 0x06:
+        case 0x10:
+        case 0x16:
+        case 0x17:
+            return modbus::Table::HoldingRegisters;
+        case 0x04:
+            return modbus::Table::InputRegisters;
+        default:
+            return std::nullopt;
+    }
+}
+
+std::string hex2(unsigned v) {
+    static constexpr char kDigits[] = "0123456789ABCDEF";
+    return {kDigits[(v >> 4) & 0xF], kDigits[v & 0xF]};
+}
+
+Json exchange_json(const listener::Seat& plc, const listener::Exchange& e) {
+    const std::string_view peer = plc.traffic->peer(e.client);
+    Json j{
+        {"at", wall_time(e.at)},
+        {"client", peer.empty() ? "#" + std::to_string(e.client) + " (gone)" : std::string(peer)},
+        {"protocol", std::string(e.protocol)},
+        {"unit", e.unit},
+        {"function", hex2(e.function) + "h"},
+        {"error", e.error == 0 ? std::string() : hex2(e.error) + "h"}};
+    std::string devices;
+    const bool modbus = e.protocol.rfind("modbus", 0) == 0;
+    if (modbus && e.simulator) {
+        devices = "simulator unit, register " + std::to_string(e.address);
+        if (e.count > 1) devices += "+" + std::to_string(e.count - 1);
+    } else if (modbus && e.count > 0 && plc.unit != nullptr) {
+        if (const auto t = table_of(e.function)) {
+            if (const auto r = plc.unit->devices(*t, e.address, e.count)) {
+                devices = plc.naming->format_range(*r);
+            } else {
+                devices = "address " + std::to_string(e.address) + " (not mapped)";
+            }
+        }
+    }
+    j["devices"] = devices;
+    return j;
+}
+
+}  // namespace
+
+Response traffic(const Call& call, const listener::Seat& plc) {
+    std::size_t count = 100;
+    if (const std::string* c = call.request.param("count")) {
+        unsigned long n = 0;
+        const auto [end, ec] = std::from_chars(c->data(), c->data() + c->size(), n);
+        if (ec != std::errc() || end != c->data() + c->size() || n == 0 ||
+            n > listener::Traffic::kKept) {
+            return error(400, "count: expected 1 to " + std::to_string(listener::Traffic::kKept));
+        }
+        count = n;
+    }
+    Json clients = Json::array();
+    Json exchanges = Json::array();
+    if (plc.traffic != nullptr) {
+        for (const auto& c : plc.traffic->clients()) clients.push_back(client_json(c));
+        const auto all = plc.traffic->exchanges();
+        const std::size_t from = all.size() > count ? all.size() - count : 0;
+        for (std::size_t i = from; i < all.size(); ++i)
+            exchanges.push_back(exchange_json(plc, all[i]));
+    }
+    return json(200, Json{{"clients", std::move(clients)}, {"exchanges", std::move(exchanges)}});
+}
+
+}  // namespace plcemu::http

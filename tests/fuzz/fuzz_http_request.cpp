@@ -1,0 +1,115 @@
+// libFuzzer harness: an HTTP connection's byte stream into the console and REST API
+// (docs/console.md).
+//
+// Input: the bytes a client sends. The stream is cut as the HTTP session cuts it, every request
+// is read and answered by the router on an FBs PLC (with time control), and an events request's
+// subscription is polled once.
+//
+// Invariants: the splitter never gives up on the stream and cuts only what was received; a
+// request that cannot be read is refused with 400, 413 or 431; every answer is a 2xx, 4xx or an
+// event stream — never a 5xx — and its JSON body parses.
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "http/message.hpp"
+#include "http/router.hpp"
+#include "plcemu/daemon/plc.hpp"
+#include "support/fake_time.hpp"
+#include "support/fatek_rig.hpp"
+
+using namespace plcemu;
+
+namespace {
+
+void check(bool ok, const char* what, std::span<const std::uint8_t> req, const std::string& rep) {
+    if (ok) return;
+    std::fprintf(stderr, "invariant broken: %s\n  request: %.*s\n  answer: %s\n", what,
+                 static_cast<int>(req.size()), reinterpret_cast<const char*>(req.data()),
+                 rep.c_str());
+    std::abort();
+}
+
+// One FBs PLC seated on an HTTP listener's unit table; reset() puts it back as built.
+struct Rig {
+    Rig()
+        : plc(config::parse_config("profile: fbs\nmodbus: {write_protect: [R200-R209]}\n",
+                                   "fuzz.yaml")),
+          time(plc.engine()) {
+        time.max_step = 2;  // a step request runs at most two scans here
+        listener::Seat s = testing::seat_of(plc);
+        s.id = "kiln";
+        s.time = &time;
+        units.assign({s});
+        const auto st = plc.image().storage();
+        image.assign(st.begin(), st.end());
+        for (int c = 0; c < plant::kChannels; ++c) params.push_back(plc.plant().params(c));
+    }
+    void reset() {
+        const auto st = plc.image().storage();
+        std::copy(image.begin(), image.end(), st.begin());
+        for (int c = 0; c < plant::kChannels; ++c) {
+            plc.plant().set_params(c, params[static_cast<std::size_t>(c)]);
+            plc.plant().set_faults(c, {});
+        }
+        time.set_frozen(false);
+        time.set_time_scale(1);
+    }
+    daemon::Plc plc;
+    testing::FakeTime time;
+    listener::UnitTable units;
+    std::vector<std::byte> image;
+    std::vector<plant::ChannelParams> params;
+};
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    static Rig rig;
+    rig.reset();
+    // The first byte chooses the listener's settings: a token, read-only.
+    if (size > 0) {
+        rig.units.set_token((data[0] & 1) != 0 ? "s3cret" : "");
+        rig.units.set_read_only((data[0] & 2) != 0);
+        ++data;
+        --size;
+    }
+    std::span<const std::uint8_t> stream(data, size);
+    for (int served = 0; !stream.empty() && served < 8; ++served) {
+        const listener::Split s = http::split_request(stream);
+        check(s.cut != listener::Cut::Bad, "the splitter gave up on the stream", stream, "");
+        if (s.cut == listener::Cut::Incomplete) break;
+        check(s.size >= 1 && s.size <= stream.size(), "impossible frame size", stream, "");
+        const auto frame = stream.first(s.size);
+        stream = stream.subspan(s.size);
+        http::Request rq;
+        http::Refusal refusal;
+        if (!http::parse_request(frame, rq, refusal)) {
+            check(refusal.status == 400 || refusal.status == 413 || refusal.status == 431,
+                  "a refusal that is not 400, 413 or 431", frame, refusal.why);
+            break;  // the connection is closed after it
+        }
+        http::Routed routed = http::route(rq, rig.units);
+        if (routed.stream) {
+            bool ended = false;
+            const std::string events = routed.stream->poll(rig.units, ended);
+            check(events.rfind("event: ", 0) == 0, "an event stream without an event", frame,
+                  events);
+            continue;
+        }
+        const http::Response& r = routed.response;
+        check(r.status >= 200 && r.status < 500, "an answer that is not 2xx or 4xx", frame, r.body);
+        if (r.content_type == "application/json") {
+            check(!nlohmann::json::parse(r.body, nullptr, false).is_discarded(),
+                  "a JSON answer that does not parse", frame, r.body);
+        }
+        check(!http::serialize(r, rq.keep_alive).empty(), "an empty response", frame, r.body);
+    }
+    return 0;
+}

@@ -1,0 +1,62 @@
+// What the clients of a PLC asked of it (the console's overview and traffic pages): per client
+// its requests and refusals, the last exchanges in order, a client that left no longer listed.
+
+#include "plcemu/listener/traffic.hpp"
+
+#include <gtest/gtest.h>
+
+namespace plcemu::listener {
+namespace {
+
+Exchange ask(const Client& c, std::uint8_t fc, std::uint8_t error = 0) {
+    Exchange e;
+    e.client = c.id;
+    e.protocol = c.protocol;
+    e.function = fc;
+    e.error = error;
+    e.at = std::chrono::system_clock::time_point(std::chrono::seconds(fc));
+    return e;
+}
+
+TEST(Traffic, CountsEachClientsRequestsAndRefusals) {
+    Traffic t;
+    const Client a = make_client("10.0.0.1:5000", "modbus-tcp");
+    const Client b = make_client("10.0.0.2:5000", "fatek");
+    EXPECT_NE(a.id, b.id);
+    t.record(a, ask(a, 3));
+    t.record(b, ask(b, 0x46));
+    t.record(a, ask(a, 6, 2));
+    ASSERT_EQ(t.clients().size(), 2u);
+    EXPECT_EQ(t.clients()[0].peer, "10.0.0.1:5000");
+    EXPECT_EQ(t.clients()[0].requests, 2u);
+    EXPECT_EQ(t.clients()[0].refusals, 1u);
+    EXPECT_EQ(t.clients()[0].last, std::chrono::system_clock::time_point(std::chrono::seconds(6)));
+    EXPECT_EQ(t.clients()[1].protocol, "fatek");
+    EXPECT_EQ(t.peer(b.id), "10.0.0.2:5000");
+    t.gone(a.id);
+    ASSERT_EQ(t.clients().size(), 1u);
+    EXPECT_EQ(t.peer(a.id), "");
+    // Its exchanges stay, in order.
+    const auto x = t.exchanges();
+    ASSERT_EQ(x.size(), 3u);
+    EXPECT_EQ(x[0].function, 3);
+    EXPECT_EQ(x[2].error, 2);
+}
+
+TEST(Traffic, KeepsTheLastExchangesOnly) {
+    Traffic t;
+    const Client a = make_client("x", "modbus-tcp");
+    for (std::size_t i = 0; i < Traffic::kKept + 10; ++i) {
+        Exchange e = ask(a, 3);
+        e.address = static_cast<std::uint16_t>(i);
+        t.record(a, e);
+    }
+    const auto x = t.exchanges();
+    ASSERT_EQ(x.size(), Traffic::kKept);
+    EXPECT_EQ(x.front().address, 10);
+    EXPECT_EQ(x.back().address, Traffic::kKept + 9);
+    EXPECT_EQ(t.clients()[0].requests, Traffic::kKept + 10);
+}
+
+}  // namespace
+}  // namespace plcemu::listener
