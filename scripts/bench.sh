@@ -15,7 +15,8 @@
 #   BENCH_ROUNDS=6 scripts/bench.sh      # rounds of the alternating comparison (4 by default)
 #   BENCH_PLCS=100 scripts/bench.sh      # the many-PLC run with 100 PLCs instead of 500
 #   BENCH_ONLY=many_plcs scripts/bench.sh   # one hook alone (engine, plcemud, servers, fatek,
-#                                           # scan_lateness, rtu_turnaround, many_plcs, stepping)
+#                                           # console, scan_lateness, rtu_turnaround, many_plcs,
+#                                           # stepping)
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
@@ -82,7 +83,7 @@ print(s.getsockname()[1])'
 }
 
 # A child that has exited stays a zombie until waited for, so kill -0 alone would say alive.
-alive() { [[ -r /proc/$1/status ]] && ! grep -q '^State:[[:space:]]*Z' "/proc/$1/status"; }
+alive() { [[ -r /proc/$1/status ]] && ! grep -qs '^State:[[:space:]]*Z' "/proc/$1/status"; }
 
 # start_server NAME PORT COMMAND...: runs COMMAND in the background, logging to a temp file, and
 # waits until it accepts connections on PORT.
@@ -170,7 +171,8 @@ bench_plcemud() {
         return 0
     fi
     port=$(free_port)
-    bench_server plcemud "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port"
+    bench_server plcemud "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port" \
+        --http-port "$(free_port)"
 }
 
 # ---- Alternating rounds ---------------------------------------------------------------------
@@ -212,7 +214,8 @@ rounds() {
 # medians.
 start_modbus_server() {
     case $1 in
-        plcemud) start_server "$1" "$2" "$BUILD/plcemud" -c config/default.yaml --port "$2" ;;
+        plcemud) start_server "$1" "$2" "$BUILD/plcemud" -c config/default.yaml --port "$2" \
+            --http-port "$(free_port)" ;;
         noop) start_server "$1" "$2" "$BUILD/noop_server" --port "$2" ;;
         libmodbus) start_server "$1" "$2" "$BUILD/libmodbus_peer" --port "$2" ;;
     esac
@@ -240,7 +243,8 @@ start_fatek_server() {
             # default.yaml's PLC with its Modbus listener on a port of its own.
             { cat config/default.yaml
               printf 'fatek: {tcp: {bind: 127.0.0.1, port: %s}}\n' "$2"; } >"$TMP/fatek.yaml"
-            start_server "$1" "$2" "$BUILD/plcemud" -c "$TMP/fatek.yaml" --port 0 ;;
+            start_server "$1" "$2" "$BUILD/plcemud" -c "$TMP/fatek.yaml" --port 0 \
+                --http-port "$(free_port)" ;;
         fatek_noop) start_server "$1" "$2" "$BUILD/noop_server" --port "$2" --fatek ;;
     esac
 }
@@ -255,6 +259,52 @@ bench_fatek() {
     note "fatek: $ROUNDS rounds of ${servers[*]}, command 46 of 64 registers, at 1 and 16 connections"
     rounds start_fatek_server "--protocol fatek --quantity 64" "${servers[@]}"
     ratio plcemud_vs_noop_fatek fatek_plcemud fatek_noop
+}
+
+# ---- Hook: the console's cost ----------------------------------------------------------------
+# plcemud (config/default.yaml) loaded with FC03 at 16 connections, alone and with 10 browsers'
+# worth of live-update subscribers (bench/console_load.py: 20 event streams), in alternating
+# rounds on one daemon; the ratio of the medians; and how soon a value written over Modbus
+# reaches a subscriber.
+bench_console() {
+    local port http round out rps sub
+    if [[ $BUILD_OK != 1 || ! -x $BUILD/plcemud ]]; then
+        note "console: $BUILD/plcemud not built; skipped"
+        return 0
+    fi
+    port=$(free_port)
+    http=$(free_port)
+    start_server console "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port" \
+        --http-port "$http" || return 0
+    note "console: $ROUNDS rounds of FC03 at 16 connections, without and with 10 browsers' subscribers"
+    declare -A runs=()
+    for round in $(seq "$ROUNDS"); do
+        for sub in none browsers10; do
+            if [[ $sub == browsers10 ]]; then
+                "$PY" bench/console_load.py browsers --http-port "$http" --browsers 10 \
+                    --seconds "$((WARMUP_SECONDS + RUN_SECONDS + 1))" >"$TMP/subscribers.out" &
+                sleep 0.5
+            fi
+            if out=$("$BUILD/load_client" --port "$port" --connections 16 \
+                --seconds "$RUN_SECONDS" --warmup "$WARMUP_SECONDS" --label "console_$sub.c16"); then
+                rps=$(awk '$1 ~ /\.rps$/ { print $2 }' <<<"$out")
+                note "round $round: console_$sub.c16 $rps req/s"
+                runs[$sub]+="$rps"$'\n'
+            fi
+            if [[ $sub == browsers10 ]]; then
+                wait $! || note "console: the subscribers failed: $(cat "$TMP/subscribers.out")"
+            fi
+        done
+    done
+    emit < <(printf '%s' "${runs[none]:-}" | median_of console_none.c16.rps req/s)
+    emit < <(printf '%s' "${runs[browsers10]:-}" | median_of console_browsers10.c16.rps req/s)
+    local a=${FIG[console_browsers10.c16.rps.median]:-} b=${FIG[console_none.c16.rps.median]:-}
+    if [[ -n $a && -n $b && $b != 0 ]]; then
+        awk -v a="$a" -v b="$b" 'BEGIN { printf "ratio.console_browsers10_vs_none.c16 %.2f ratio\n", a / b }'
+    fi
+    emit < <("$PY" bench/console_load.py latency --http-port "$http" --modbus-port "$port" \
+        --samples 200)
+    stop_server
 }
 
 # ---- Hook: scan-engine benchmark --------------------------------------------------------------
@@ -299,8 +349,8 @@ bench_scan_lateness() {
     fi
     for what in idle c16; do
         port=$(free_port)
-        start_server lateness "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port" ||
-            return 0
+        start_server lateness "$port" "$BUILD/plcemud" -c config/default.yaml --port "$port" \
+            --http-port "$(free_port)" || return 0
         if [[ $what == c16 ]]; then
             "$BUILD/load_client" --port "$port" --connections 16 --seconds "$RUN_SECONDS" \
                 --warmup "$WARMUP_SECONDS" --label lateness >/dev/null || true
@@ -437,6 +487,7 @@ bench_server pymodbus "$port" "$PY" bench/pymodbus_server.py --port "$port"
 # ...and the throughput comparison, which one run per server cannot make.
 bench_servers
 bench_fatek
+bench_console
 bench_scan_lateness
 bench_rtu_turnaround
 bench_many_plcs

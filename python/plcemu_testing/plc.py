@@ -459,6 +459,7 @@ class Plc(Process, PlcApi):
         self.client = None
         self._tags = None
         self.port = free_port()
+        self.http_port = free_port(taken={self.port})
         self._set_config(config)
         self.map = WireMap(self.binary, self.config_path)
         self._start()
@@ -469,11 +470,19 @@ class Plc(Process, PlcApi):
         self.scan_ms, self.station = _settings(config if isinstance(config, Mapping) else text)
 
     def _args(self):
-        return ["--port", str(self.port)]
+        # Every PLC under test has its console, on a port of its own (docs/console.md).
+        return ["--port", str(self.port), "--http-port", str(self.http_port)]
 
     def _ports(self):
         fatek = fatek_listener(self._own_config())
-        return [self.port] + ([fatek[2]] if fatek and fatek[0] == "tcp" else [])
+        return ([self.port, self.http_port] +
+                ([fatek[2]] if fatek and fatek[0] == "tcp" else []))
+
+    @property
+    def console_url(self):
+        """The base URL of the PLC's console and REST API: "http://127.0.0.1:PORT/" (its pages
+        at plcs/0/devices..., its API at api/v1/...)."""
+        return f"http://127.0.0.1:{self.http_port}/"
 
     def _own_config(self):
         return fatek_config(self.config_path)
@@ -489,6 +498,7 @@ class Plc(Process, PlcApi):
 
     def _new_ports(self):
         self.port = free_port()
+        self.http_port = free_port(taken={self.port})
 
     def _snapshot(self):
         return self.scan_ms, self.station

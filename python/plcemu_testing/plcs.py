@@ -57,6 +57,13 @@ class PlcEntry(PlcApi):
     del _setting
 
     @property
+    def console_url(self):
+        """Its pages in the console that serves the config: "http://127.0.0.1:PORT/plcs/<its
+        name, or its position>/" (add devices, loops, plant or traffic)."""
+        key = str(self.index) if self.name.startswith("plcs[") else self.name
+        return f"{self.daemon.console_url}plcs/{key}/"
+
+    @property
     def client(self):
         clients = self.daemon._clients
         return clients[self.index] if self.index < len(clients) else None
@@ -99,6 +106,7 @@ class Plcs(Process):
         self._clients = []
         self._tags = None
         self._set_config(config)
+        self.http_port = free_port(taken=set(self._given.values()))
         self._maps = WireMap.per_plc(self.binary, self.config_path)
         self.plcs = [PlcEntry(self, i) for i in range(len(self._entries))]
         self._start()
@@ -147,12 +155,20 @@ class Plcs(Process):
     # --- the process --------------------------------------------------------------------------
 
     def _args(self):
-        return []  # each entry names its port (plcemud refuses --port with plcs:)
+        # Each entry names its Modbus port (plcemud refuses --port with plcs:); one console
+        # serves them all (docs/console.md).
+        return ["--http-port", str(self.http_port)]
 
     def _ports(self):
         fatek = [fatek_listener(p._own_config()) for p in getattr(self, "plcs", ())]
         return sorted({e["port"] for e in self._entries if e["port"]}
-                      | {f[2] for f in fatek if f and f[0] == "tcp"})
+                      | {f[2] for f in fatek if f and f[0] == "tcp"} | {self.http_port})
+
+    @property
+    def console_url(self):
+        """The base URL of the console and REST API that serves every PLC of the config
+        ("http://127.0.0.1:PORT/"; a PLC's pages at plcs/<name>/devices...)."""
+        return f"http://127.0.0.1:{self.http_port}/"
 
     def _connect(self):
         self._clients = [connect(e["port"]) if e["port"] else None for e in self._entries]
@@ -168,6 +184,7 @@ class Plcs(Process):
     def _new_ports(self):
         self._given = {}
         self._write()
+        self.http_port = free_port(taken=set(self._given.values()))
 
     def _snapshot(self):
         return self._source, dict(self._given), self._entries

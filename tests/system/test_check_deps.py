@@ -87,10 +87,10 @@ def test_fails_on_an_include_against_the_table(tmp_path, include):
 
 
 def test_fails_on_a_module_the_table_does_not_name(tmp_path):
-    root = make_tree(tmp_path, {"src/http/frame.cpp": '#include "plcemu/image/image.hpp"\n'})
+    root = make_tree(tmp_path, {"src/opcua/frame.cpp": '#include "plcemu/image/image.hpp"\n'})
     r = check(root)
     assert r.returncode == 1
-    assert "check-deps: src/http/: module 'http' is not in the table" in r.stderr
+    assert "check-deps: src/opcua/: module 'opcua' is not in the table" in r.stderr
 
 
 def test_the_table_in_the_docs_is_the_scripts():

@@ -15,7 +15,7 @@ import time
 
 import pytest
 
-from conftest import REPO, run_plcemud
+from conftest import REPO, free_port, run_plcemud
 from test_docs import render
 
 README = (REPO / "README.md").read_text()
@@ -102,7 +102,9 @@ def test_readme_pymodbus_example_heats_and_lets_the_simulation_run_again(start_p
     assert m, "README has no pymodbus example"
     code = m.group(1)
     assert "port=5020" in code
-    d = start_plcemud((REPO / "config" / "default.yaml").read_text())
+    # The console on a free port: config/default.yaml's 8020 may be taken on this machine.
+    d = start_plcemud((REPO / "config" / "default.yaml").read_text(), "--http-port",
+                      str(free_port()))
     r = subprocess.run([sys.executable, "-c", code.replace("port=5020", f"port={d.port}")],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr

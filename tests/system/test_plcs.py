@@ -300,7 +300,7 @@ def tcp_disagrees(setting):
          ":3:69:", "plcs[1]: persistence.file: 'x.state' is also plcs[0]'s state file"),
         # A per-PLC key beside plcs:.
         ("profile: fbs\nplcs:\n  - {profile: fbs}\n",
-         ":1:1:", "profile: belongs to one PLC; beside 'plcs:' only 'log:' may stand"),
+         ":1:1:", "profile: belongs to one PLC; beside 'plcs:' only 'log:' and 'http:' may stand"),
         # log: inside an entry.
         ("plcs:\n  - name: k1\n    profile: fbs\n    log: {level: debug}\n",
          ":4:10:", "plcs[0] (k1): log: applies to the whole process"),

@@ -6,7 +6,7 @@ import time
 
 import pytest
 
-from conftest import REPO, run_plcemud
+from conftest import REPO, free_port, run_plcemud
 
 DEFAULT_YAML = (REPO / "config" / "default.yaml").read_text()
 TIME_SCALE = "100"
@@ -116,7 +116,8 @@ def y_seen(c, seconds=1.0):
 
 @pytest.fixture
 def plc(start_plcemud):
-    d = start_plcemud(DEFAULT_YAML, "--time-scale", TIME_SCALE)
+    d = start_plcemud(DEFAULT_YAML, "--time-scale", TIME_SCALE,
+                      "--http-port", str(free_port()))
     c = d.client()
     # The measurement is running (execute code 56h) and the loops are still cold.
     wait_until(lambda: regs(c, D_TEMP_WR)[0] >> 8 == 0x56, "temperature execute code 56h")
@@ -246,7 +247,8 @@ def test_b_thermocouple_at_room_temperature_reads_its_range_floor_and_heats(star
     # 350.0 °C, not a broken line (docs/profile-fbs.md decision), so FUN86 heats it towards a 400.0 °C SP.
     text = DEFAULT_YAML.replace("0x0101, 0x0002]", "0x0501, 0x0002]")  # TC6 with type B
     assert text != DEFAULT_YAML
-    d = start_plcemud(text, "--time-scale", TIME_SCALE)
+    d = start_plcemud(text, "--time-scale", TIME_SCALE,
+                      "--http-port", str(free_port()))
     c = d.client()
     assert not c.write_register(SIM_FREEZE, 1, slave=SIM).isError()
     assert not c.write_register(R_SV, 4000, slave=1).isError()
@@ -272,7 +274,8 @@ def test_bad_sn_zn_is_not_executed_and_sets_err(start_plcemud):
     # instruction is not executed and ERR (M100) is ON.
     text = DEFAULT_YAML.replace("sn: 0, zn: 10", "sn: 30, zn: 10")
     assert text != DEFAULT_YAML
-    d = start_plcemud(text, "--time-scale", TIME_SCALE)
+    d = start_plcemud(text, "--time-scale", TIME_SCALE,
+                      "--http-port", str(free_port()))
     c = d.client()
     start_loops(c)
     wait_until(lambda: coils(c, COIL_ERR)[0], "ERR (M100) on")

@@ -1,0 +1,493 @@
+"""The web console in a real browser (headless Chromium through Selenium, docs/console.md): live
+values, writes in place and their refusals, the plant's fault buttons, text from the server shown
+as text, and the overview of every PLC. Skipped when chromium, chromedriver or selenium is
+missing (scripts/install-deps.sh test installs them)."""
+
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import time
+import urllib.error
+import urllib.parse
+import urllib.request
+
+import pytest
+
+from conftest import PLCEMUD, free_port, port_open
+
+def _tool(path):
+    return path if os.access(path, os.X_OK) else shutil.which(os.path.basename(path))
+
+
+CHROMIUM = _tool("/usr/bin/chromium")
+CHROMEDRIVER = _tool("/usr/bin/chromedriver")
+if CHROMIUM is None or CHROMEDRIVER is None:
+    pytest.skip("chromium and chromedriver are not installed", allow_module_level=True)
+try:
+    from selenium import webdriver
+    from selenium.common.exceptions import NoAlertPresentException
+    from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+    from selenium.webdriver.support.ui import WebDriverWait
+except ImportError:
+    pytest.skip("python3-selenium is not installed", allow_module_level=True)
+
+VIEWS = ("devices", "loops", "plant", "traffic")
+
+
+@pytest.fixture(scope="module")
+def browser():
+    """One headless Chromium for the whole module (starting one takes a second or two)."""
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                "--window-size=1280,800"):
+        options.add_argument(arg)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    driver.set_page_load_timeout(15)
+    yield driver
+    driver.quit()
+
+
+def start_console(start_plcemud, modbus="", http=""):
+    """A one-PLC fbs daemon with its console on a free port -> (Daemon, base URL)."""
+    port = free_port()
+    d = start_plcemud(
+        "profile: fbs\n"
+        f"modbus: {{tcp: {{bind: 127.0.0.1}}{modbus}}}\n"
+        f"http: {{port: {port}{http}}}\n"
+    )
+    deadline = time.monotonic() + 5
+    while not port_open(port):
+        assert time.monotonic() < deadline, f"no console on port {port}\n{d.log_text()}"
+        time.sleep(0.02)
+    return d, f"http://127.0.0.1:{port}"
+
+
+def api(base, path, method="GET", body=None, token=None):
+    """One request to the REST API -> (status, JSON)."""
+    headers = {"Accept": "application/json"}
+    data = None
+    if body is not None:
+        headers["Content-Type"] = "application/json"
+        data = json.dumps(body).encode()
+    if token:
+        headers["Authorization"] = f"Bearer {token}"
+    rq = urllib.request.Request(base + path, data=data, method=method, headers=headers)
+    try:
+        with urllib.request.urlopen(rq, timeout=5) as r:
+            return r.status, json.loads(r.read())
+    except urllib.error.HTTPError as e:
+        return e.code, json.loads(e.read())
+
+
+def wait(driver, condition, timeout=5.0, what=""):
+    """Waits until condition(driver) is truthy and returns it (a WebDriverWait, polled often)."""
+    return WebDriverWait(driver, timeout, poll_frequency=0.02).until(condition, what)
+
+
+def css(driver, selector):
+    return driver.find_element(By.CSS_SELECTOR, selector)
+
+
+def cell(driver, device):
+    return css(driver, f'td[data-device="{device}"]')
+
+
+def row_texts(driver, device):
+    """The texts of a word's row: [decimal (the cell's value), signed, hex, bits]."""
+    c = cell(driver, device)
+    tds = c.find_element(By.XPATH, "..").find_elements(By.TAG_NAME, "td")
+    return [c.get_attribute("data-value")] + [td.text for td in tds[1:]]
+
+
+def holding(d, address, unit=1):
+    r = d.client().read_holding_registers(address, 1, slave=unit)
+    assert not r.isError(), r
+    return r.registers[0]
+
+
+def open_devices(driver, base, device, count=20):
+    """Opens the devices page and waits until its values are live (the event stream is open)."""
+    query = urllib.parse.urlencode({"from": device, "count": count})
+    driver.get(f"{base}/plcs/0/devices?{query}")
+    selector = f'td[data-device="{device}"][data-value]'
+    wait(driver, lambda dr: dr.find_elements(By.CSS_SELECTOR, selector),
+         what=f"no value cell for {device}")
+    wait(driver, lambda dr: "live" in css(dr, "#status").get_attribute("class").split(),
+         what="the live updates did not start")
+    driver.execute_script("window.plcemuNotReloaded = true;")
+
+
+def type_into(driver, device, text, enter=True):
+    """Clicks the device's value input, replaces its text by `text` and presses Enter."""
+    inp = css(driver, f'input[data-device="{device}"]')
+    inp.click()
+    inp.send_keys(Keys.CONTROL, "a")
+    inp.send_keys(text + (Keys.ENTER if enter else ""))
+    return inp
+
+
+def not_reloaded(driver):
+    return driver.execute_script("return window.plcemuNotReloaded === true;")
+
+
+def message(driver):
+    m = css(driver, "#message")
+    return m.text, m.get_attribute("class").split(), m.is_displayed()
+
+
+# ---- Devices ---------------------------------------------------------------------------------
+
+
+def test_a_modbus_write_shows_in_the_devices_page_within_a_second(browser, start_plcemud):
+    d, base = start_console(start_plcemud)
+    open_devices(browser, base, "R100")
+    assert row_texts(browser, "R100") == ["0", "0", "0x0000", "0000 0000 0000 0000"]
+    c = d.client()
+    # R100 is holding register 100 (docs/profile-fbs.md, "Modbus map").
+    assert not c.write_register(100, 1234, slave=1).isError()
+    wait(browser, lambda dr: cell(dr, "R100").get_attribute("data-value") == "1234", timeout=1.0,
+         what="R100 did not show 1234 within 1 s")
+    assert css(browser, 'input[data-device="R100"]').get_attribute("value") == "1234"
+    assert row_texts(browser, "R100") == ["1234", "1234", "0x04D2", "0000 0100 1101 0010"]
+    assert not c.write_register(119, 0xFFFF, slave=1).isError()
+    wait(browser,
+         lambda dr: row_texts(dr, "R119") == ["65535", "-1", "0xFFFF", "1111 1111 1111 1111"],
+         timeout=1.0, what="R119 (the last row) did not show 65535 / -1")
+    assert not_reloaded(browser)
+
+
+def test_editing_a_value_writes_the_register(browser, start_plcemud):
+    d, base = start_console(start_plcemud)
+    open_devices(browser, base, "R100")
+    type_into(browser, "R101", "0x1F")
+    wait(browser, lambda _: holding(d, 101) == 31, what="R101 was not written 0x1F")
+    wait(browser, lambda dr: "ok" in message(dr)[1], what="no confirmation")
+    assert "R101" in message(browser)[0]
+    type_into(browser, "R102", "-2")
+    wait(browser, lambda _: holding(d, 102) == 65534, what="R102 was not written -2")
+    wait(browser, lambda dr: row_texts(dr, "R102")[:3] == ["65534", "-2", "0xFFFE"])
+    # While the input has focus, live updates leave what is typed alone.
+    inp = type_into(browser, "R103", "77", enter=False)
+    assert not d.client().write_register(103, 555, slave=1).isError()
+    wait(browser, lambda dr: row_texts(dr, "R103")[1] == "555", timeout=1.0,
+         what="R103's other columns did not follow the Modbus write")
+    assert inp.get_attribute("value") == "77"
+    inp.send_keys(Keys.ENTER)
+    wait(browser, lambda _: holding(d, 103) == 77, what="R103 was not written 77")
+    # Not a number: said, nothing written.
+    type_into(browser, "R104", "12abc")
+    wait(browser, lambda dr: "error" in message(dr)[1])
+    assert "12abc" in message(browser)[0]
+    assert holding(d, 104) == 0
+    assert not_reloaded(browser)
+
+
+def test_a_write_to_a_protected_register_shows_the_refusal(browser, start_plcemud):
+    d, base = start_console(start_plcemud, modbus=", write_protect: [R200-R209]")
+    for device, address in (("R200", 200), ("R3840", 3840)):  # write_protect; IR: read-only
+        status, expected = api(base, f"/api/v1/plcs/0/devices/{device}", "PUT", {"values": [42]})
+        assert status == 403, expected
+        before = holding(d, address)
+        open_devices(browser, base, device, count=5)
+        assert not message(browser)[2]
+        type_into(browser, device, "42")
+        wait(browser, lambda dr: "error" in message(dr)[1], what=f"no refusal shown for {device}")
+        text, _, shown = message(browser)
+        assert shown and text == expected["error"]
+        assert holding(d, address) == before
+
+
+def test_a_read_only_console_and_the_token(browser, start_plcemud):
+    _, base = start_console(start_plcemud, http=", read_only: true")
+    open_devices(browser, base, "R100", count=2)
+    type_into(browser, "R100", "5")
+    wait(browser, lambda dr: "error" in message(dr)[1])
+    assert message(browser)[0] == "this console is read-only (http.read_only)"
+
+    d, base = start_console(start_plcemud, http=", token: s3cret")
+    open_devices(browser, base, "R100", count=2)
+    type_into(browser, "R100", "5")
+    wait(browser, lambda dr: "error" in message(dr)[1])
+    assert "token" in message(browser)[0]
+    assert holding(d, 100) == 0
+    css(browser, "#token").send_keys("s3cret")
+    type_into(browser, "R100", "5")
+    wait(browser, lambda _: holding(d, 100) == 5, what="the write with the token failed")
+    # Entered once: the next page of this console has it.
+    open_devices(browser, base, "R110", count=2)
+    assert css(browser, "#token").get_attribute("value") == "s3cret"
+    type_into(browser, "R110", "6")
+    wait(browser, lambda _: holding(d, 110) == 6, what="the token was not kept")
+
+
+def test_text_from_the_server_is_shown_as_text(browser, start_plcemud):
+    _, base = start_console(start_plcemud)
+    for name in ("<script>alert(1)</script>", "<img src=x onerror=alert(2)>"):
+        path = "/api/v1/plcs/0/devices/" + urllib.parse.quote(name, safe="")
+        status, expected = api(base, path)
+        assert status == 404, expected
+        browser.get(f"{base}/plcs/0/devices?" + urllib.parse.urlencode({"from": name}))
+        wait(browser, lambda dr: "error" in message(dr)[1], what=f"no error shown for {name}")
+        text, _, shown = message(browser)
+        assert shown and name in text and text == expected["error"]
+        assert browser.find_elements(By.CSS_SELECTOR, "#message *") == []
+        assert browser.find_elements(By.CSS_SELECTOR, "main img, main script") == []
+        assert css(browser, "#from").get_attribute("value") == name
+        with pytest.raises(NoAlertPresentException):
+            browser.switch_to.alert.text  # noqa: B018 - raises when there is no alert
+
+
+# ---- Plant -----------------------------------------------------------------------------------
+
+
+def test_a_fault_button_switches_the_fault_as_the_simulator_unit(browser, start_plcemud):
+    d, base = start_console(start_plcemud)
+    browser.get(f"{base}/plcs/0/plant")
+    selector = 'button[data-channel="0"][data-fault="heater_open"]'
+    button = wait(browser, lambda dr: dr.find_element(By.CSS_SELECTOR, selector))
+    wait(browser, lambda dr: "live" in css(dr, "#status").get_attribute("class").split())
+    assert button.get_attribute("aria-pressed") == "false"
+    button.click()
+    wait(browser, lambda _: button.get_attribute("aria-pressed") == "true",
+         what="the button does not show the fault on")
+    _, sim = api(base, "/api/v1/plcs/0/simulator")
+    assert sim["channels"][0]["faults"] == {"sensor_broken": False, "heater_open": True,
+                                           "heater_shorted": False, "reading_frozen": False}
+    assert not any(sim["channels"][1]["faults"].values())
+    # The simulator unit (247) says the same: channel 0's fault bits, b1 heater open.
+    assert holding(d, 100, unit=247) == 0b0010
+    button.click()
+    wait(browser, lambda _: button.get_attribute("aria-pressed") == "false")
+    assert not api(base, "/api/v1/plcs/0/simulator")[1]["channels"][0]["faults"]["heater_open"]
+    # A fault set elsewhere shows on the next refresh (once a second).
+    # Channel 3's fault bits (register 130): b0 sensor broken.
+    assert not d.client().write_register(130, 0b0001, slave=247).isError()
+    wait(browser, lambda dr: css(dr, 'button[data-channel="3"][data-fault="sensor_broken"]')
+         .get_attribute("aria-pressed") == "true", timeout=3)
+    # Channels 0-7 are shown; the toggle shows all 32.
+    last = css(browser, 'tr[data-channel="31"]')
+    assert css(browser, 'tr[data-channel="7"]').is_displayed() and not last.is_displayed()
+    css(browser, "#show-all").click()
+    assert last.is_displayed()
+    # Freeze from the page; the API says frozen.
+    css(browser, "#frozen").click()
+    wait(browser, lambda dr: css(dr, "#frozen").get_attribute("aria-pressed") == "true")
+    assert api(base, "/api/v1/plcs/0/simulator")[1]["frozen"] is True
+
+
+# ---- Traffic ---------------------------------------------------------------------------------
+
+
+def peer_of(client):
+    """The "address:port" plcemud sees a pymodbus client as."""
+    host, port = client.socket.getsockname()[:2]
+    return f"{host}:{port}"
+
+
+# The traffic page's request rows, newest first, read in one go (the page replaces its rows
+# when the list changes): each row's data attributes, its cells' texts ("td.devices", ...)
+# and whether it is marked refused.
+ROWS_JS = """
+return [...document.querySelectorAll('#exchanges tbody tr[data-function]')].map((tr) => {
+  const o = {...tr.dataset, refused: tr.classList.contains('refused')};
+  for (const td of tr.querySelectorAll('td[data-field]')) o['td.' + td.dataset.field] = td.textContent;
+  return o;
+});
+"""
+
+
+def request_rows(driver):
+    return driver.execute_script(ROWS_JS)
+
+
+def newest(driver):
+    rows = request_rows(driver)
+    return rows[0] if rows else None
+
+
+def client_cell(driver, peer, field):
+    """The text of a clients table's cell of `peer`, or None while it has no row."""
+    return driver.execute_script(
+        "const td = document.querySelector("
+        "`#clients tr[data-peer=\"${arguments[0]}\"] td[data-field=\"${arguments[1]}\"]`);"
+        "return td ? td.textContent : null;", peer, field)
+
+
+def test_the_traffic_page_lists_modbus_requests_and_pauses(browser, start_plcemud):
+    d, base = start_console(start_plcemud, modbus=", write_protect: [R200-R209]")
+    browser.get(f"{base}/plcs/0/traffic")
+    wait(browser, lambda dr: "live" in css(dr, "#status").get_attribute("class").split(),
+         what="the traffic page did not start refreshing")
+    browser.execute_script("window.plcemuNotReloaded = true;")
+    assert newest(browser) is None
+    c = d.client()
+    peer = peer_of(c)
+    assert not c.read_holding_registers(100, 10, slave=1).isError()
+    wait(browser, lambda dr: newest(dr), timeout=2.0, what="the FC03 request did not show within 2 s")
+    first = newest(browser)
+    assert first["function"] == "03h" and first["td.devices"] == "R100-R109", first
+    assert (first["client"], first["td.client"], first["td.unit"], first["td.protocol"]) == (
+        peer, peer, "1", "modbus-tcp"), first
+    assert first["td.function"].startswith("03h") and not first["refused"], first
+    assert first["error"] == "" and first["td.error"] == "", first
+    # A refused write: on top (newest first), marked, with its exception code.
+    assert c.write_register(205, 1, slave=1).isError()
+    wait(browser, lambda dr: (newest(dr) or {}).get("function") == "06h", timeout=2.0,
+         what="the refused FC06 did not show on top")
+    rows = request_rows(browser)
+    assert [(r["function"], r["td.devices"], r["error"], r["refused"]) for r in rows] == [
+        ("06h", "R205", "02h", True), ("03h", "R100-R109", "", False)], rows
+    assert "02h" in rows[0]["td.error"], rows[0]
+    assert browser.find_elements(By.CSS_SELECTOR, 'tr[data-function="03h"] td[data-field="devices"]')
+    # The client, counted.
+    wait(browser, lambda dr: client_cell(dr, peer, "refusals") == "1",
+         what="the client's refusal is not counted")
+    assert client_cell(browser, peer, "requests") == "2"
+    assert client_cell(browser, peer, "protocol") == "modbus-tcp"
+    # Paused: a new request does not show, however long; the clients stay live.
+    pause = css(browser, "#pause")
+    assert pause.get_attribute("aria-pressed") == "false"
+    pause.click()
+    assert pause.get_attribute("aria-pressed") == "true" and pause.text == "Resume"
+    time.sleep(0.2)  # a refresh already asked for is not shown either
+    before = newest(browser)
+    assert not c.read_holding_registers(300, 2, slave=1).isError()
+    wait(browser, lambda dr: client_cell(dr, peer, "requests") == "3", timeout=2.0,
+         what="the clients table stopped while paused")
+    time.sleep(1.5)
+    assert newest(browser) == before
+    assert "R300-R301" not in [r["td.devices"] for r in request_rows(browser)]
+    # Resumed: it shows.
+    pause.click()
+    assert pause.get_attribute("aria-pressed") == "false" and pause.text == "Pause"
+    wait(browser, lambda dr: (newest(dr) or {}).get("td.devices") == "R300-R301", timeout=2.0,
+         what="the request made while paused did not show after Resume")
+    assert not_reloaded(browser)
+
+
+# ---- Overview and the pages' frame -----------------------------------------------------------
+
+
+def test_the_overview_shows_the_plc_and_its_scans_grow(browser, start_plcemud):
+    _, base = start_console(start_plcemud)
+    browser.get(base + "/")
+    field = lambda name: css(browser, f'tr[data-plc="0"] td[data-field="{name}"]')  # noqa: E731
+    wait(browser, lambda _: field("profile").text == "fbs", what="no row for PLC 0")
+    assert field("model").text == "FBs-24MC"
+    assert field("running").text == "RUN"
+    browser.execute_script("window.plcemuNotReloaded = true;")
+    first = int(field("scans").text)
+    wait(browser, lambda _: int(field("scans").text) > first, timeout=3,
+         what="the scans count did not grow")
+    assert not_reloaded(browser)
+    links = [a.get_attribute("href") for a in
+             browser.find_elements(By.CSS_SELECTOR, 'tr[data-plc="0"] td a')]
+    assert links == [f"{base}/plcs/0/{view}" for view in VIEWS]
+
+
+def test_the_overview_shows_the_connected_clients_and_the_lateness(browser, start_plcemud):
+    d, base = start_console(start_plcemud)
+    c = d.client()
+    peer = peer_of(c)
+    assert not c.read_holding_registers(0, 1, slave=1).isError()
+    assert c.read_holding_registers(9999, 1, slave=1).isError()
+    browser.get(base + "/")
+    row = f'#clients tr[data-plc="0"][data-peer="{peer}"]'
+    wait(browser, lambda dr: dr.find_elements(By.CSS_SELECTOR, row), timeout=3,
+         what=f"the client {peer} is not listed")
+    field = lambda name: css(browser, f'{row} td[data-field="{name}"]').text  # noqa: E731
+    assert (field("peer"), field("protocol"), field("requests"), field("refusals")) == (
+        peer, "modbus-tcp", "2", "1")
+    assert re.fullmatch(r"\d\d:\d\d:\d\d\.\d{3}", field("last")), field("last")
+    lateness = css(browser, 'tr[data-plc="0"] td[data-field="lateness"]').text
+    assert re.fullmatch(r"\d+ / \d+ µs", lateness), lateness
+    p99, worst = map(int, re.findall(r"\d+", lateness))
+    assert p99 <= worst
+    # Live: more requests count up, and the client goes when it closes.
+    browser.execute_script("window.plcemuNotReloaded = true;")
+    assert not c.read_coils(0, 8, slave=1).isError()
+    wait(browser, lambda _: field("requests") == "3", timeout=3, what="requests did not count up")
+    c.close()
+    wait(browser, lambda dr: not dr.find_elements(By.CSS_SELECTOR, row), timeout=3,
+         what="the closed client is still listed")
+    assert css(browser, "#clients tbody").text == "No client connected."
+    assert not_reloaded(browser)
+
+
+def test_every_page_has_the_nav_bar_and_a_title(browser, start_plcemud):
+    _, base = start_console(start_plcemud)
+    browser.get_log("browser")  # what earlier tests left
+    for view in ("", *VIEWS):
+        browser.get(f"{base}/plcs/0/{view}" if view else base + "/")
+        wait(browser, lambda dr: dr.execute_script("return document.readyState") == "complete")
+        nav = [a.text for a in browser.find_elements(By.CSS_SELECTOR, "#nav a")]
+        current = [a.text for a in
+                   browser.find_elements(By.CSS_SELECTOR, '#nav a[aria-current="page"]')]
+        if view:
+            assert nav == ["Overview", "Devices", "Loops", "Plant", "Traffic"]
+            assert current == [view.capitalize()]
+            assert browser.title.startswith(view.capitalize()) and "PLC 0" in browser.title
+        else:
+            assert nav == ["Overview"] and current == ["Overview"]
+            assert browser.title.startswith("Overview")
+        if view == "loops":
+            assert "Not available yet in this version" in css(browser, "main").text
+        else:
+            assert "Not available yet" not in css(browser, "main").text
+        # No CSP violation, no failed request, no script error.
+        severe = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
+        assert severe == [], severe
+
+
+def test_two_named_plcs_show_in_the_overview(browser, tmp_path):
+    http = free_port()
+    config = tmp_path / "two.yaml"
+    config.write_text(
+        f"http: {{port: {http}}}\n"
+        "plcs:\n"
+        "  - name: kiln\n"
+        "    profile: fbs\n"
+        f"    modbus: {{tcp: {{bind: 127.0.0.1, port: {free_port()}}}}}\n"
+        "  - name: press\n"
+        "    profile: fbs\n"
+        "    station: 2\n"
+        f"    modbus: {{tcp: {{bind: 127.0.0.1, port: {free_port()}}}}}\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "STATE_DIRECTORY"}
+    with open(tmp_path / "two.log", "wb") as log:
+        proc = subprocess.Popen([PLCEMUD, "-c", str(config)], stdin=subprocess.DEVNULL,
+                                stdout=log, stderr=log, cwd=tmp_path, env=env)
+    try:
+        deadline = time.monotonic() + 10
+        while not port_open(http):
+            assert proc.poll() is None, (tmp_path / "two.log").read_text()
+            assert time.monotonic() < deadline, "the console did not listen"
+            time.sleep(0.02)
+        base = f"http://127.0.0.1:{http}"
+        browser.get(base + "/")
+        for name, station in (("kiln", "1"), ("press", "2")):
+            row = f'tr[data-plc="{name}"]'
+            wait(browser, lambda dr, r=row: dr.find_elements(By.CSS_SELECTOR, r),
+                 what=f"no row for {name}")
+            assert css(browser, f'{row} td[data-field="profile"]').text == "fbs"
+            assert css(browser, f'{row} td[data-field="station"]').text == station
+        rows = browser.find_elements(By.CSS_SELECTOR, "#plcs tbody tr")
+        assert [r.get_attribute("data-plc") for r in rows] == ["kiln", "press"]
+        css(browser, 'tr[data-plc="press"] a[href="/plcs/press/devices"]').click()
+        wait(browser,
+             lambda dr: dr.find_elements(By.CSS_SELECTOR, 'td[data-device="R0"][data-value]'))
+        assert "PLC press" in browser.title
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        try:
+            proc.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
