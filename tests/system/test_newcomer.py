@@ -120,6 +120,27 @@ def test_readme_pymodbus_example_heats_and_lets_the_simulation_run_again(start_p
         time.sleep(0.1)
 
 
+def test_readme_console_is_default_yamls_and_its_curl_answers(start_plcemud):
+    """README, "A first try": config/default.yaml serves the console on 127.0.0.1:8020, the
+    page named there is HTML, and the README's curl line answers ten values of R0-R9."""
+    import json
+    import urllib.request
+    assert "http://127.0.0.1:8020/" in README
+    text = (REPO / "config" / "default.yaml").read_text()
+    assert re.search(r"(?m)^http:\n  bind: 127\.0\.0\.1\n  port: 8020$", text), text
+    m = re.search(r"curl '127\.0\.0\.1:8020(/api/v1/[^']+)'", README)
+    assert m, "README has no curl line for the console's API"
+    port = free_port()
+    start_plcemud(text, "--http-port", str(port))
+    base = f"http://127.0.0.1:{port}"
+    with urllib.request.urlopen(base + "/plcs/0/devices?from=R0&count=10", timeout=5) as r:
+        assert r.headers["Content-Type"].startswith("text/html")
+    with urllib.request.urlopen(base + m.group(1), timeout=5) as r:
+        body = json.load(r)
+    assert body["names"] == [f"R{i}" for i in range(10)]
+    assert len(body["values"]) == 10
+
+
 # Every profile, everywhere a user looks ----------------------------------------------------
 
 
