@@ -114,8 +114,10 @@ Json span_names(const listener::Seat& plc, const Span& s) {
     Json names = Json::array();
     for (std::uint32_t k = 0; k < s.count; ++k) {
         const std::uint32_t i = s.first.index + k * step_of(s);
-        std::string n = plc.naming->format_device(s.first.area, i);
-        if (s.first.word_of_bits) n.insert(0, "W");
+        // Appended, not inserted in front: GCC 12 at -O2 takes insert(0, "W") for an
+        // overlapping copy (-Wrestrict, a false positive -Werror would make fatal).
+        std::string n = s.first.word_of_bits ? "W" : "";
+        n += plc.naming->format_device(s.first.area, i);
         names.push_back(std::move(n));
     }
     return names;

@@ -9,8 +9,8 @@ namespace {
 
 // A word's device name: "R100", "WM800".
 std::string name_of(const listener::Seat& plc, const image::Device& d) {
-    std::string n = plc.naming->format_device(d.area, d.index);
-    if (d.word_of_bits) n.insert(0, "W");
+    std::string n = d.word_of_bits ? "W" : "";  // appended: see span_names (-Wrestrict)
+    n += plc.naming->format_device(d.area, d.index);
     return n;
 }
 
