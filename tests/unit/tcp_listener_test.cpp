@@ -52,15 +52,17 @@ private:
     UnitTable units_;
 };
 
-class TcpListenerTest : public ::testing::Test {
+// A listener on a free port of 127.0.0.1 carrying protocol `P`, and a client's helpers.
+template <typename P>
+class Seated : public ::testing::Test {
 protected:
-    TcpListenerTest() {
+    Seated() {
         TcpOptions o;
         o.bind = "127.0.0.1";
         o.port = 0;
-        listener_ = std::make_unique<TcpListener>(io_, lines_, o);
+        listener_ = std::make_unique<TcpListener>(io_, protocol_, o);
     }
-    ~TcpListenerTest() override { listener_->stop(); }
+    ~Seated() override { listener_->stop(); }
 
     asio::ip::tcp::socket connect() {
         asio::ip::tcp::socket s(io_);
@@ -79,9 +81,11 @@ protected:
     }
 
     asio::io_context io_;
-    Lines lines_;
+    P protocol_;
     std::unique_ptr<TcpListener> listener_;
 };
+
+using TcpListenerTest = Seated<Lines>;
 
 TEST_F(TcpListenerTest, CutsFramesWhereTheProtocolSaysAndAnswersPipelinedOnesInOrder) {
     auto s = connect();
@@ -89,7 +93,7 @@ TEST_F(TcpListenerTest, CutsFramesWhereTheProtocolSaysAndAnswersPipelinedOnesInO
     EXPECT_EQ(read(s, 8), "ONE\nTWO\n");
     asio::write(s, asio::buffer(std::string("ee\n")));  // the rest of a frame begun before
     EXPECT_EQ(read(s, 6), "THREE\n");
-    EXPECT_EQ(lines_.answered, 3);
+    EXPECT_EQ(protocol_.answered, 3);
     EXPECT_EQ(listener_->connections(), 1u);
 }
 
@@ -108,7 +112,7 @@ TEST_F(TcpListenerTest, AFrameLongerThanTheProtocolAllowsClosesTheConnection) {
     auto s = connect();
     asio::write(s, asio::buffer(std::string(100, 'x')));
     EXPECT_TRUE(closed(s));
-    EXPECT_EQ(lines_.answered, 0);
+    EXPECT_EQ(protocol_.answered, 0);
 }
 
 TEST_F(TcpListenerTest, NewLimitsClosePeersTheAllowListNoLongerNames) {
@@ -178,36 +182,22 @@ private:
     UnitTable units_;
 };
 
-class SessionTest : public ::testing::Test {
-protected:
-    SessionTest() {
-        TcpOptions o;
-        o.bind = "127.0.0.1";
-        o.port = 0;
-        listener_ = std::make_unique<TcpListener>(io_, dots_, o);
-    }
-    ~SessionTest() override { listener_->stop(); }
-
-    asio::io_context io_;
-    Dots dots_;
-    std::unique_ptr<TcpListener> listener_;
-};
+using SessionTest = Seated<Dots>;
 
 TEST_F(SessionTest, AnswersLargerThanAFramePushesAndACloseTheSessionAskedFor) {
-    asio::ip::tcp::socket s(io_);
-    s.connect({asio::ip::make_address("127.0.0.1"), listener_->port()});
+    auto s = connect();
     asio::write(s, asio::buffer(std::string("abc\nde\n")));
-    EXPECT_EQ(testing::read_bytes(io_, s, 5002),
+    EXPECT_EQ(read(s, 5002),
               std::string(3000, '.') + "\n" + std::string(2000, '.') + "\n");
-    EXPECT_EQ(dots_.open_sessions, 1);
+    EXPECT_EQ(protocol_.open_sessions, 1);
     asio::write(s, asio::buffer(std::string("tick\n")));
-    EXPECT_EQ(testing::read_bytes(io_, s, 6), "*\n*\n*\n");  // pushed at the session's pace
+    EXPECT_EQ(read(s, 6), "*\n*\n*\n");  // pushed at the session's pace
     asio::write(s, asio::buffer(std::string("bye\n")));
-    const std::string rest = testing::read_bytes(io_, s, 1 << 16);
+    const std::string rest = read(s, 1 << 16);
     EXPECT_NE(rest.find(std::string(3000, '.') + "\n"), std::string::npos);
     EXPECT_LT(rest.size(), std::size_t{1} << 16);  // it ended: the connection was closed
     // The session ended with its connection.
-    EXPECT_EQ(dots_.open_sessions, 0);
+    EXPECT_EQ(protocol_.open_sessions, 0);
     EXPECT_EQ(listener_->connections(), 0u);
 }
 
