@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """Takes the console's screenshots for docs/console.md: starts plcemud on config/default.yaml's
 PLC (a copy in a temporary directory, on free ports: the config files are not touched), lets its
-ten loops heat for a few simulated minutes, polls it as a SCADA would over Modbus TCP (one
-client, connected while the pages are taken, so the overview and the traffic page show it), and
-saves each page at 1280x800 as docs/images/console-<page>.png.
+ten loops heat for a few simulated minutes (and eight more while the loops page is open, so that
+its trends show them), polls it as a SCADA would over Modbus TCP (one client, connected while the
+pages are taken, so the overview and the traffic page show it), and saves each page at 1280x800
+as docs/images/console-<page>.png.
 
 Usage: console_screenshots.py [PLCEMUD]       (default build-dev2/plcemud; needs Debian's
                                                chromium, chromium-driver and python3-selenium)
@@ -156,7 +157,8 @@ def main():
                 ("devices", "/plcs/0/devices?from=R100&count=20",
                  'td[data-device="R100"][data-value]'),
                 ("plant", "/plcs/0/plant", 'button[data-fault][aria-pressed="true"]'),
-                ("loops", "/plcs/0/loops", "#plc-name:not(:empty)"),
+                ("loops", "/plcs/0/loops",
+                 'article[data-loop] polyline[data-series="pv"]:not([data-points="0"])'),
                 ("traffic", "/plcs/0/traffic", "#exchanges tbody tr[data-function]"),
             ]
             for name, path, ready in pages:
@@ -167,6 +169,14 @@ def main():
                 WebDriverWait(driver, 10).until(
                     lambda d: d.find_elements(By.CSS_SELECTOR, "#status.live")
                     or not d.find_elements(By.ID, "status"))
+                if name == "loops":
+                    # The trends are what the page has seen: eight simulated minutes at x30.
+                    api(base, "/api/v1/plcs/0/simulator", {"time_scale": 30})
+                    for _ in range(16):
+                        master.poll()
+                        time.sleep(1)
+                    api(base, "/api/v1/plcs/0/simulator", {"time_scale": 1})
+                    time.sleep(1.2)
                 time.sleep(0.3)  # let the last values land
                 target = OUT / f"console-{name}.png"
                 driver.save_screenshot(str(target))

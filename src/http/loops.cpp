@@ -1,6 +1,7 @@
 #include "http/loops.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 
 namespace plcemu::http {
@@ -21,7 +22,9 @@ std::int16_t signed_word(const image::Image& img, const image::Device& d) {
 Json value_json(const listener::Seat& plc, const image::Device& d, double scale) {
     const image::Image& img = plc.engine->image();
     const int raw = signed_word(img, d);
-    return Json{{"device", name_of(plc, d)}, {"raw", raw}, {"value", raw * scale}};
+    // Rounded to a millionth: 981 × 0.1 is 98.1, not 98.10000000000001.
+    const double value = std::round(raw * scale * 1e6) / 1e6;
+    return Json{{"device", name_of(plc, d)}, {"raw", raw}, {"value", value}};
 }
 
 Json flag_json(const listener::Seat& plc, const engine::LoopFlag& f) {

@@ -1,7 +1,8 @@
 """The web console in a real browser (headless Chromium through Selenium, docs/console.md): live
-values, writes in place and their refusals, the plant's fault buttons, text from the server shown
-as text, and the overview of every PLC. Skipped when chromium, chromedriver or selenium is
-missing (scripts/install-deps.sh test installs them)."""
+values, writes in place and their refusals, the loops' faceplates (trend, set point, switches),
+the plant's fault buttons, text from the server shown as text, and the overview of every PLC.
+Skipped when chromium, chromedriver or selenium is missing (scripts/install-deps.sh test
+installs them)."""
 
 import json
 import os
@@ -16,7 +17,7 @@ import urllib.request
 
 import pytest
 
-from conftest import PLCEMUD, free_port, port_open
+from conftest import PLCEMUD, REPO, free_port, port_open
 
 def _tool(path):
     return path if os.access(path, os.X_OK) else shutil.which(os.path.basename(path))
@@ -62,6 +63,18 @@ def start_console(start_plcemud, modbus="", http=""):
         f"modbus: {{tcp: {{bind: 127.0.0.1}}{modbus}}}\n"
         f"http: {{port: {port}{http}}}\n"
     )
+    deadline = time.monotonic() + 5
+    while not port_open(port):
+        assert time.monotonic() < deadline, f"no console on port {port}\n{d.log_text()}"
+        time.sleep(0.02)
+    return d, f"http://127.0.0.1:{port}"
+
+
+def start_config_file(start_plcemud, name, *args):
+    """config/<name> as it is, but for its ports: Modbus on a free port (--port), the console on
+    another (--http-port) -> (Daemon, base URL)."""
+    port = free_port()
+    d = start_plcemud((REPO / "config" / name).read_text(), "--http-port", str(port), *args)
     deadline = time.monotonic() + 5
     while not port_open(port):
         assert time.monotonic() < deadline, f"no console on port {port}\n{d.log_text()}"
@@ -372,6 +385,127 @@ def test_the_traffic_page_lists_modbus_requests_and_pauses(browser, start_plcemu
     assert not_reloaded(browser)
 
 
+# ---- Loops -----------------------------------------------------------------------------------
+
+
+def open_loops(driver, base, count):
+    """Opens the loops page and waits for its `count` faceplates and its first refresh."""
+    driver.get(f"{base}/plcs/0/loops")
+    wait(driver, lambda dr: len(dr.find_elements(By.CSS_SELECTOR, "article[data-loop]")) == count,
+         what=f"not {count} faceplates")
+    wait(driver, lambda dr: "live" in css(dr, "#status").get_attribute("class").split(),
+         what="the loops page did not start refreshing")
+    driver.execute_script("window.plcemuNotReloaded = true;")
+
+
+def faceplate(driver, index, selector):
+    return css(driver, f'article[data-loop="{index}"] {selector}')
+
+
+def trend_points(driver, index, series="pv"):
+    line = faceplate(driver, index, f'polyline[data-series="{series}"]')
+    return int(line.get_attribute("data-points"))
+
+
+def test_the_loops_page_shows_a_faceplate_per_loop_and_its_trend_grows(browser, start_plcemud):
+    _, base = start_config_file(start_plcemud, "default.yaml", "--time-scale", "60")
+    browser.get_log("browser")  # what earlier tests left
+    open_loops(browser, base, 10)
+    cards = browser.find_elements(By.CSS_SELECTOR, "article[data-loop]")
+    assert [c.get_attribute("data-loop") for c in cards] == [str(i) for i in range(10)]
+    assert [c.find_element(By.TAG_NAME, "h2").text for c in cards] == [
+        f"TPCTL point {i} (channel {i})" for i in range(10)]
+    # Point 3: its set point in °C, editable in place; its lamps, its parameters; no switch.
+    assert faceplate(browser, 3, 'input[data-device="R103"]').get_attribute("value") == "150.0"
+    lamps = faceplate(browser, 3, ".lamps").find_elements(By.CSS_SELECTOR, "[data-alarm]")
+    assert [(x.get_attribute("data-alarm"), x.get_attribute("data-on")) for x in lamps] == [
+        ("in zone", "false"), ("warning", "false"), ("over temperature", "false"),
+        ("heater open", "false")]
+    for device in ("R123", "R133", "R143", "R113"):
+        assert faceplate(browser, 3, f'input[data-device="{device}"]')
+    assert browser.find_elements(By.CSS_SELECTOR, "button[data-switch]") == []
+    # The loops started as a SCADA does (M800-M809, then M0): the heaters come on, and the
+    # trend of point 0's PV grows by one point a refresh (a simulated minute at x60).
+    assert api(base, "/api/v1/plcs/0/devices/WM800", "PUT", {"values": [1023]})[0] == 200
+    assert api(base, "/api/v1/plcs/0/devices/M0", "PUT", {"values": [1]})[0] == 200
+    first = trend_points(browser, 0)
+    wait(browser, lambda dr: trend_points(dr, 0) >= first + 3, timeout=10,
+         what="point 0's PV trend did not grow")
+    assert trend_points(browser, 0, "sv") >= first + 3
+    wait(browser, lambda dr: faceplate(dr, 0, '[data-field="output"]').text != "0.0 %",
+         timeout=5, what="point 0's output stays at 0 %")
+    assert re.fullmatch(r"\d+\.\d %", faceplate(browser, 0, '[data-field="output"]').text)
+    assert int(faceplate(browser, 0, 'polyline[data-series="output"]').get_attribute(
+        "data-points")) > 0
+    assert not_reloaded(browser)
+    # No CSP violation, no failed request, no script error.
+    severe = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
+    assert severe == [], severe
+
+
+def test_editing_a_loops_set_point_writes_its_register(browser, start_plcemud):
+    d, base = start_config_file(start_plcemud, "default.yaml")
+    open_loops(browser, base, 10)
+    # In °C: 123.4 is R103 = 1234 (0.1 °C).
+    type_into(browser, "R103", "123.4")
+    wait(browser, lambda _: holding(d, 103) == 1234, what="R103 was not written 1234")
+    wait(browser, lambda dr: "ok" in message(dr)[1], what="no confirmation")
+    assert "R103 = 1234" in message(browser)[0]
+    assert api(base, "/api/v1/plcs/0/devices/R103")[1]["values"] == [1234]
+    browser.execute_script("document.activeElement.blur();")  # the field shows the live value
+    wait(browser, lambda dr: css(dr, 'input[data-device="R103"]').get_attribute("value")
+         == "123.4", what="R103's field does not show 123.4")
+    # A parameter is raw: Kc of point 3.
+    type_into(browser, "R123", "250")
+    wait(browser, lambda _: holding(d, 123) == 250, what="R123 was not written 250")
+    # A set point the register cannot hold: the server's refusal, in its own words.
+    status, expected = api(base, "/api/v1/plcs/0/devices/R103", "PUT", {"values": [999990]})
+    assert status == 400, expected
+    type_into(browser, "R103", "99999")
+    wait(browser, lambda dr: "error" in message(dr)[1], what="no refusal shown")
+    assert message(browser)[0] == expected["error"]
+    assert holding(d, 103) == 1234
+    # Not a number: said, nothing written.
+    type_into(browser, "R103", "12abc")
+    wait(browser, lambda dr: "12abc" in message(dr)[0])
+    assert "error" in message(browser)[1] and holding(d, 103) == 1234
+    assert not_reloaded(browser)
+
+
+def test_the_tuning_button_and_the_manual_switch_set_their_bits(browser, start_plcemud):
+    # config/vb-pid.yaml: D201 = 31h, auto-tuning (bit 4) pending until M0 runs the PID.
+    _, base = start_config_file(start_plcemud, "vb-pid.yaml")
+    assert api(base, "/api/v1/plcs/0/devices/D201", "PUT", {"values": [0x21]})[0] == 200
+    open_loops(browser, base, 1)
+    button = faceplate(browser, 0, 'button[data-switch="tuning"]')
+    assert button.text == "Start auto-tuning" and button.get_attribute("aria-pressed") == "false"
+    assert faceplate(browser, 0, '[data-field="mode"]').text == "auto"
+    button.click()
+    wait(browser, lambda _: api(base, "/api/v1/plcs/0/devices/D201")[1]["values"] == [0x31],
+         what="D201 bit 4 was not set")
+    wait(browser, lambda _: button.get_attribute("aria-pressed") == "true", timeout=5,
+         what="the button does not show the tuning")
+    assert button.text == "Auto-tuning…" and not button.is_enabled()
+    assert faceplate(browser, 0, '[data-field="mode"]').text == "tuning"
+    assert "ok" in message(browser)[1]
+    # config/vb-tpid.yaml: channel 0's manual bit is D103 bit 0.
+    _, base = start_config_file(start_plcemud, "vb-tpid.yaml")
+    open_loops(browser, base, 1)
+    switch = faceplate(browser, 0, 'button[data-switch="manual"]')
+    assert switch.get_attribute("aria-pressed") == "false"
+    switch.click()
+    wait(browser, lambda _: api(base, "/api/v1/plcs/0/devices/D103")[1]["values"] == [1],
+         what="D103 bit 0 was not set")
+    wait(browser, lambda _: switch.get_attribute("aria-pressed") == "true", timeout=5)
+    assert faceplate(browser, 0, '[data-field="mode"]').text == "manual"
+    switch.click()
+    wait(browser, lambda _: api(base, "/api/v1/plcs/0/devices/D103")[1]["values"] == [0],
+         what="D103 bit 0 was not cleared")
+    wait(browser, lambda _: switch.get_attribute("aria-pressed") == "false", timeout=5)
+    # Its output has a full scale (1000 = 100 %): a bar.
+    assert faceplate(browser, 0, "progress").is_displayed()
+
+
 # ---- Overview and the pages' frame -----------------------------------------------------------
 
 
@@ -438,9 +572,11 @@ def test_every_page_has_the_nav_bar_and_a_title(browser, start_plcemud):
             assert nav == ["Overview"] and current == ["Overview"]
             assert browser.title.startswith("Overview")
         if view == "loops":
-            assert "Not available yet in this version" in css(browser, "main").text
-        else:
-            assert "Not available yet" not in css(browser, "main").text
+            # A program without loops: the page says so, and shows no faceplate.
+            wait(browser, lambda dr: css(dr, "#no-loops").is_displayed(),
+                 what="the loops page does not say there is no loop")
+            assert browser.find_elements(By.CSS_SELECTOR, "article[data-loop]") == []
+        assert "Not available yet" not in css(browser, "main").text
         # No CSP violation, no failed request, no script error.
         severe = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
         assert severe == [], severe

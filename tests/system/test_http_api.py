@@ -1,6 +1,7 @@
 """The HTTP side of plcemud (`http:`): the REST API under /api/v1, its refusals, live events,
-/healthz and /metrics, the console's pages, the OpenAPI document, and how the listener bounds
-its clients (HTTP/1.1 keep-alive and pipelining, frame timeout, max_clients, slow readers).
+the control loops of config/default.yaml, vb-pid.yaml and vb-tpid.yaml, /healthz and /metrics,
+the console's pages, the OpenAPI document, and how the listener bounds its clients (HTTP/1.1
+keep-alive and pipelining, frame timeout, max_clients, slow readers).
 
 Every request here is made with the standard library (http.client, raw sockets); what the API
 says is checked against what the PLC answers over Modbus TCP on the same image."""
@@ -18,7 +19,7 @@ from pathlib import Path
 import pytest
 from pymodbus.client import ModbusTcpClient
 
-from conftest import PLCEMUD, Daemon, free_port, port_open, run_plcemud
+from conftest import PLCEMUD, REPO, Daemon, free_port, port_open, run_plcemud
 
 TIMEOUT = 3.0  # every socket operation of a test
 SIM_UNIT = 247  # the simulator-control Modbus unit (docs/simulator-and-plant.md)
@@ -39,6 +40,7 @@ CONTRACT_PATHS = [
     "/api/v1/plcs/{plc}/simulator",
     "/api/v1/plcs/{plc}/events",
     "/api/v1/plcs/{plc}/traffic",
+    "/api/v1/plcs/{plc}/loops",
     "/api/v1/events",
     "/api/v1/openapi.json",
     "/healthz",
@@ -544,6 +546,7 @@ def test_a_write_is_read_back_over_modbus_in_the_same_scan(start_http):
         ("GET", "/api/v1/plcs/7/simulator", ["'7'"]),
         ("GET", "/api/v1/plcs/7/events", ["'7'"]),
         ("GET", "/api/v1/plcs/7/traffic", ["'7'"]),
+        ("GET", "/api/v1/plcs/7/loops", ["'7'"]),
         ("GET", "/api/v1/plcs/0/devices/Q5", ["'Q5'", "fbs"]),
         ("GET", "/api/v1/plcs/0/devices/R99999", ["'R99999'"]),
         ("GET", "/api/v1/plcs/0/devices/R-1", ["'R-1'"]),
@@ -773,6 +776,7 @@ def test_bad_percent_encoding_is_400(fbs, target):
         ("PATCH", "/api/v1/plcs/0/simulator", "GET, HEAD, PUT"),
         ("POST", "/api/v1/plcs/0/events", "GET, HEAD"),
         ("PUT", "/api/v1/plcs/0/traffic", "GET, HEAD"),
+        ("PUT", "/api/v1/plcs/0/loops", "GET, HEAD"),
         ("DELETE", "/api/v1/events", "GET, HEAD"),
         ("PUT", "/api/v1/openapi.json", "GET, HEAD"),
         ("POST", "/healthz", "GET, HEAD"),
@@ -1306,6 +1310,146 @@ def test_metrics_count_scans_and_modbus_requests(fbs):
     m = parse_metrics(get(fbs.http, "/metrics").body.decode())
     assert m[("plcemu_modbus_exceptions_total", (("code", "2"), ("plc", "0")))] >= 1
     assert request(fbs.http, "HEAD", "/metrics").body == b""
+
+
+# --- Loops ------------------------------------------------------------------------------------
+
+
+def start_config_file(start_plcemud, name, *args):
+    """config/<name> as it is, but for its ports: Modbus on a free port (--port), the console on
+    another (--http-port) -> Plc."""
+    hp = free_port()
+    d = start_plcemud((REPO / "config" / name).read_text(), "--http-port", str(hp), *args)
+    wait_listening(d, [hp])
+    return Plc(d, hp)
+
+
+def loops(port, plc="0"):
+    r = get(port, f"/api/v1/plcs/{plc}/loops")
+    assert r.status == 200, r
+    body = r.json()
+    assert set(body) == {"loops", "simulated_s"}, body
+    assert isinstance(body["simulated_s"], float), body
+    return body["loops"]
+
+
+def flags(loop):
+    return [(a["name"], a["device"], a["bit"], a["on"]) for a in loop["alarms"]]
+
+
+def test_a_program_without_loops_has_none(fbs):
+    assert loops(fbs.http) == []
+    assert request(fbs.http, "HEAD", "/api/v1/plcs/0/loops").status == 200
+
+
+def test_loops_of_default_yaml_are_its_ten_tpctl_points(start_plcemud):
+    plc = start_config_file(start_plcemud, "default.yaml", "--time-scale", "10")
+    # The PVs are there once the temperature modules have read every channel (execute code 56h
+    # in D0, the modules' working registers).
+    ls = wait_for(lambda: [lp for lp in loops(plc.http) if lp["pv"]], timeout=5,
+                  what="the loops' PVs")
+    assert [lp["name"] for lp in ls] == [f"TPCTL point {i} (channel {i})" for i in range(10)]
+    p3 = ls[3]
+    assert (p3["channel"], p3["unit"], p3["scale"], p3["output_full"]) == (3, "°C", 0.1, 16383), p3
+    assert p3["pv"]["device"] == "R3", p3
+    assert p3["pv"]["value"] == pytest.approx(p3["pv"]["raw"] * 0.1), p3
+    assert p3["sv"] == {"device": "R103", "raw": 1500, "value": 150.0}, p3
+    assert p3["output"] == {"device": "R203", "raw": 0, "value": 0, "percent": 0}, p3
+    assert [(q["name"], q["device"], q["unit"]) for q in p3["parameters"]] == [
+        ("Kc", "R123", "1-9999"), ("Ki", "R133", "0.01 repeats/min"), ("Td", "R143", "0.01 min"),
+        ("in-zone offset", "R113", "0.1 °C")], p3
+    assert p3["parameters"][3]["value"] == 50, p3
+    assert flags(p3) == [("in zone", "R300", 3, False), ("warning", "R302", 3, False),
+                         ("over temperature", "R305", 3, False), ("heater open", "R307", 3, False)]
+    assert p3["manual"] is None and p3["tuning"] is None, p3
+    assert p3["true_temperature_c"] == pytest.approx(25.0, abs=0.5), p3
+    # What the loops say is the PLC's image: point 3's set point written over Modbus (just above
+    # the ambient 25 °C, so that its PV is in zone), then the loops started as a SCADA does.
+    c = plc.client()
+    assert not c.write_register(103, 260, slave=1).isError()
+    p3 = loops(plc.http)[3]
+    assert p3["sv"]["raw"] == 260 and p3["sv"]["value"] == pytest.approx(26.0), p3
+    assert put(plc.http, "/api/v1/plcs/0/devices/WM800", {"values": [1023]}).status == 200
+    assert put(plc.http, "/api/v1/plcs/0/devices/M0", {"values": [1]}).status == 200
+
+    def running():
+        ls = loops(plc.http)
+        return ls if flags(ls[3])[0][3] and ls[0]["output"]["raw"] > 0 else None
+
+    ls = wait_for(running, timeout=10, what="point 3 in zone and point 0 heating")
+    assert holding(c, 300)[0] & 0b1111 == 0b1000  # in zone: point 3 alone (bit 3 of WR+0)
+    assert not flags(ls[0])[0][3]
+    out = ls[0]["output"]
+    assert out["device"] == "R200" and out["percent"] == pytest.approx(100 * out["raw"] / 16383)
+    # The first execution wrote the default gains into PR, IR, DR.
+    assert [q["value"] for q in ls[0]["parameters"]] == [110, 17, 50, 50], ls[0]
+    assert holding(c, 120) == [110]
+
+
+def test_loops_of_vb_pid_yaml_are_its_pid_with_its_tuning_bit(start_plcemud):
+    plc = start_config_file(start_plcemud, "vb-pid.yaml")
+    ls = loops(plc.http)
+    assert len(ls) == 1, ls
+    lp = ls[0]
+    assert (lp["pv"]["device"], lp["sv"]["device"], lp["output"]["device"]) == (
+        "D101", "D100", "D102"), lp
+    assert lp["sv"] == {"device": "D100", "raw": 1500, "value": 1500}, lp
+    # D201 = H0031 at start: bit 4, auto-tuning, is on until M0 runs the PID and tuning ends.
+    assert lp["tuning"] == {"name": "auto-tuning", "device": "D201", "bit": 4, "on": True}, lp
+    assert lp["manual"] is None, lp
+    # MV in the program's own units: no percentage.
+    assert lp["output_full"] == 0 and "percent" not in lp["output"], lp
+    assert [q["device"] for q in lp["parameters"]] == ["D200", "D203", "D204", "D206"], lp
+    assert lp["parameters"][0]["value"] == 2000, lp
+    assert flags(lp)[0] == ("PV rose", "D224", 0, False), lp
+    assert not plc.client().write_register(201, 0x21, slave=1).isError()
+    assert loops(plc.http)[0]["tuning"]["on"] is False
+
+
+def test_loops_of_vb_tpid_yaml_have_a_manual_bit_and_a_full_scale(start_plcemud):
+    plc = start_config_file(start_plcemud, "vb-tpid.yaml")
+    ls = loops(plc.http)
+    assert [lp["name"] for lp in ls] == ["TPID channel 0 (D10)"], ls
+    lp = ls[0]
+    assert lp["output_full"] == 1000 and lp["output"]["device"] == "D110", lp
+    assert lp["output"]["percent"] == pytest.approx(lp["output"]["raw"] / 10), lp
+    assert lp["manual"] == {"name": "manual", "device": "D103", "bit": 0, "on": False}, lp
+    assert lp["tuning"] == {"name": "auto-tuning", "device": "D104", "bit": 0, "on": False}, lp
+    assert (lp["pv"]["device"], lp["scale"], lp["unit"]) == ("D10", 0.1, "°C"), lp
+    assert lp["sv"] == {"device": "D0", "raw": 2450, "value": 245.0}, lp
+    assert [q["device"] for q in lp["parameters"]] == [f"D{7000 + i}" for i in range(6)], lp
+    assert flags(lp) == [("limitation alarm", "D106", 0, False),
+                         ("deviation alarm", "D107", 0, False)], lp
+    assert put(plc.http, "/api/v1/plcs/0/devices/D103", {"values": [1]}).status == 200
+    assert loops(plc.http)[0]["manual"]["on"] is True
+
+
+def test_a_tpid_with_n_in_a_register_has_the_loops_it_runs(start_plcemud):
+    text = (REPO / "config" / "vb-tpid.yaml").read_text()
+    text, subs = re.subn(r"(?m)^(  - TPID: \{.*)n: K1\}$", r"\1n: D500}", text)
+    assert subs == 1
+    text = text.replace("program:\n", "program:\n  - MOV: {en: M9002, s: K1, d: D500}\n", 1)
+    hp = free_port()
+    d = start_plcemud(text, "--http-port", str(hp))
+    wait_listening(d, [hp])
+    assert devices(hp, "D500").json()["values"] == [1]
+    assert [lp["name"] for lp in loops(hp)] == ["TPID channel 0 (D10)"]
+
+
+def test_metrics_have_each_loops_pv_sv_and_output(start_plcemud):
+    plc = start_config_file(start_plcemud, "default.yaml")
+    wait_for(lambda: all(lp["pv"] for lp in loops(plc.http)), timeout=5, what="the loops' PVs")
+    m = parse_metrics(get(plc.http, "/metrics").body.decode())
+    for i in range(10):
+        labels = (("loop", f"TPCTL point {i} (channel {i})"), ("plc", "0"))
+        assert m[("plcemu_loop_sv", labels)] == 150, i
+        assert ("plcemu_loop_pv", labels) in m, i
+        assert m[("plcemu_loop_output_percent", labels)] == 0, i
+    assert len([k for k in m if k[0].startswith("plcemu_loop_")]) == 30
+    # Text of the exposition itself, as a scraper reads it.
+    text = get(plc.http, "/metrics").body.decode()
+    line = r'(?m)^plcemu_loop_sv\{plc="0",loop="TPCTL point 0 \(channel 0\)"\} 150(\.0)?$'
+    assert re.search(line, text), text
 
 
 # --- Keep-alive and pipelining -----------------------------------------------------------------

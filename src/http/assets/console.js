@@ -882,6 +882,428 @@
     loadPlcHeading();
   }
 
+  // ---- Loops --------------------------------------------------------------------------------
+
+  const SVG_NS = 'http://www.w3.org/2000/svg';
+  const TREND_S = 600; // a trend's span: the last 10 simulated minutes
+  const GOOD_FLAGS = new Set(['in zone']); // lamps lit green, not as a warning
+  const SERIES = [['pv', 'PV'], ['sv', 'SV'], ['output', 'Output %']];
+
+  // svg('polyline', {class: 'pv', points: '...'}): an SVG element, its attributes set as given.
+  function svg(tag, attrs = {}, ...children) {
+    const e = document.createElementNS(SVG_NS, tag);
+    for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, String(v));
+    for (const c of children) e.append(c);
+    return e;
+  }
+
+  // Digits after the point for values counted in `scale` units: 0.1 -> 1, 0.25 -> 2, 1 -> 0.
+  function decimalsOf(scale) {
+    if (typeof scale !== 'number' || !Number.isFinite(scale) || scale <= 0 || Number.isInteger(scale)) return 0;
+    const m = /\.(\d+)$/.exec(String(scale));
+    return Math.min(6, m ? m[1].length : Math.ceil(-Math.log10(scale)));
+  }
+
+  // "123.4", "-5", ".5", "12,5" -> a number; anything else -> null.
+  function parseDecimal(text) {
+    const s = text.trim().replace(',', '.');
+    return /^[+-]?(\d+\.?\d*|\.\d+)$/.test(s) ? Number(s) : null;
+  }
+
+  // A tick step of 1, 2 or 5 times a power of ten, about `rough`.
+  function niceStep(rough) {
+    const p = Math.pow(10, Math.floor(Math.log10(rough)));
+    const f = rough / p;
+    return (f <= 1 ? 1 : f <= 2 ? 2 : f <= 5 ? 5 : 10) * p;
+  }
+
+  // The trend's drawing: viewBox units, the plot's area inside it.
+  const TW = 360;
+  const TH = 150;
+  const PLOT = {x0: 40, x1: 322, y0: 8, y1: 128};
+
+  function makeTrend(loop) {
+    const grid = svg('g', {class: 'grid'});
+    const lines = {};
+    for (const [key] of SERIES) {
+      lines[key] = svg('polyline', {class: 'series ' + key, fill: 'none', 'stroke-width': 1.6,
+        'stroke-linejoin': 'round', 'data-series': key, 'data-points': 0, points: ''});
+    }
+    const box = svg('svg', {class: 'trend', viewBox: '0 0 ' + TW + ' ' + TH, role: 'img',
+      'aria-label': loop.name + ': trend of the last 10 simulated minutes'}, grid, lines.pv, lines.sv, lines.output);
+    const legend = el('p', {className: 'legend'});
+    for (const [key, label] of SERIES) {
+      const item = el('span', {className: 'key ' + key, text: label, dataset: {series: key}});
+      if (key === 'output') item.hidden = !(loop.output_full > 0);
+      legend.append(item);
+    }
+    return {box, grid, lines, legend};
+  }
+
+  // Draws samples [{t, pv, sv, out}] ending at `now` (simulated seconds) into trend `tr`.
+  function drawTrend(tr, samples, now, digits, unit) {
+    const {x0, x1, y0, y1} = PLOT;
+    const xOf = (t) => x0 + (x1 - x0) * (t - (now - TREND_S)) / TREND_S;
+    const values = [];
+    for (const s of samples) {
+      if (s.pv !== null) values.push(s.pv);
+      values.push(s.sv);
+    }
+    let lo = values.length ? Math.min(...values) : 0;
+    let hi = values.length ? Math.max(...values) : 1;
+    const span = hi - lo > 1e-9 ? hi - lo : Math.max(1, Math.abs(hi) * 0.1);
+    const step = niceStep(span / 3);
+    lo = Math.floor((lo - span * 0.05) / step) * step;
+    hi = Math.ceil((hi + span * 0.05) / step) * step;
+    const yOf = (v) => y1 - (y1 - y0) * (v - lo) / (hi - lo);
+    const yPct = (p) => y1 - (y1 - y0) * Math.min(100, Math.max(0, p)) / 100;
+    const tickDigits = Math.max(0, Math.min(digits, Math.ceil(-Math.log10(step))));
+    const kids = [svg('rect', {class: 'plot', x: x0, y: y0, width: x1 - x0, height: y1 - y0})];
+    for (let v = lo, i = 0; v <= hi + step / 2 && i < 12; v += step, ++i) {
+      const y = yOf(v);
+      kids.push(svg('line', {x1: x0, x2: x1, y1: y, y2: y}));
+      const label = svg('text', {x: x0 - 4, y: y + 3.5, 'text-anchor': 'end'});
+      label.textContent = v.toFixed(tickDigits);
+      kids.push(label);
+    }
+    if (unit) {
+      const u = svg('text', {x: 3, y: y0 + 3.5, 'text-anchor': 'start', class: 'unit'});
+      u.textContent = unit;
+      kids.push(u);
+    }
+    if (!tr.legend.querySelector('.output').hidden) {
+      for (const p of [0, 50, 100]) {
+        const label = svg('text', {x: x1 + 4, y: yPct(p) + 3.5, 'text-anchor': 'start', class: 'pct'});
+        label.textContent = p + ' %';
+        kids.push(label);
+      }
+    }
+    for (const [m, anchor] of [[10, 'start'], [5, 'middle'], [0, 'end']]) {
+      const label = svg('text', {x: xOf(now - m * 60), y: TH - 6, 'text-anchor': anchor});
+      label.textContent = m ? '−' + m + ' min' : 'now';
+      kids.push(label);
+    }
+    tr.grid.replaceChildren(...kids);
+    const line = (key, pick, y) => {
+      const pts = [];
+      for (const s of samples) {
+        const v = pick(s);
+        if (v !== null) pts.push(xOf(s.t).toFixed(1) + ',' + y(v).toFixed(1));
+      }
+      tr.lines[key].setAttribute('points', pts.join(' '));
+      tr.lines[key].setAttribute('data-points', String(pts.length));
+    };
+    line('pv', (s) => s.pv, yOf);
+    line('sv', (s) => s.sv, yOf);
+    line('output', (s) => s.out, yPct);
+  }
+
+  function loops() {
+    const box = byId('loops');
+    const none = byId('no-loops');
+    const flagPath = (device) => apiPlc(plc) + '/devices/' + encodeURIComponent(device);
+    let cards = [];
+    let shape = null; // what the cards were built for: the loops' names and devices
+    let lastT = null;
+    let writes = 0; // an answer asked for before a write finished may show the value before it
+
+    // What makes the faceplates: a change (a reload) rebuilds them.
+    const shapeOf = (list) => JSON.stringify(list.map((l) => [l.name, l.unit, l.scale, l.output_full,
+      l.pv && l.pv.device, l.sv && l.sv.device, l.output && l.output.device,
+      (l.parameters || []).map((p) => [p.name, p.device, p.unit]),
+      (l.alarms || []).map((a) => [a.name, a.device, a.bit]),
+      [l.manual, l.tuning].map((f) => f && [f.device, f.bit]), l.true_temperature_c !== undefined]));
+
+    // A value field: the set point (engineering units) or a parameter (raw).
+    function field(card, device, kind, label) {
+      const input = el('input', {
+        className: 'value',
+        dataset: {device, kind},
+        attrs: {type: 'text', inputmode: kind === 'sv' ? 'decimal' : 'text', autocomplete: 'off', spellcheck: 'false',
+          'aria-label': label + ' (' + device + ')', title: device},
+      });
+      card.inputs.set(input, {kind, current: ''});
+      return input;
+    }
+
+    // A reading's box: its label above, then its value and what follows it.
+    function reading(label, key, ...rest) {
+      return el('div', {className: 'reading ' + key, dataset: {field: key}}, el('span', {className: 'label', text: label}), ...rest);
+    }
+
+    function makeCard(l, index) {
+      const card = {loop: l, samples: [], inputs: new Map(), lamps: []};
+      const digits = decimalsOf(l.scale);
+      card.digits = digits;
+      const title = el('h2', {text: l.name, attrs: {id: 'loop-' + index + '-name'}});
+      card.mode = el('span', {className: 'badge mode', dataset: {field: 'mode'}});
+      const switches = el('div', {className: 'switches'});
+      if (l.manual) {
+        card.manual = el('button', {text: 'Manual', dataset: {switch: 'manual', device: l.manual.device, bit: l.manual.bit},
+          attrs: {type: 'button', 'aria-pressed': 'false', title: l.manual.device + ' bit ' + l.manual.bit + ': manual output'}});
+        switches.append(card.manual);
+      }
+      if (l.tuning) {
+        card.tuning = el('button', {text: 'Start auto-tuning', dataset: {switch: 'tuning', device: l.tuning.device, bit: l.tuning.bit},
+          attrs: {type: 'button', 'aria-pressed': 'false', title: l.tuning.device + ' bit ' + l.tuning.bit + ': auto-tuning'}});
+        switches.append(card.tuning);
+      }
+      const head = el('div', {className: 'loop-head'}, el('div', {}, title, ' ', card.mode), switches);
+
+      const unit = l.unit ? ' ' + l.unit : '';
+      card.pv = el('span', {className: 'big', dataset: {field: 'pv-value'}});
+      card.pvDevice = el('span', {className: 'device'});
+      card.sv = field(card, l.sv.device, 'sv', 'Set point');
+      const readings = el('div', {className: 'readings'},
+        reading('PV', 'pv', card.pv, el('span', {className: 'unit', text: unit}), card.pvDevice),
+        reading('SV', 'sv', card.sv, el('span', {className: 'unit', text: unit}), el('span', {className: 'device', text: l.sv.device})));
+      if (l.true_temperature_c !== undefined) {
+        card.plantTemp = el('span', {className: 'big', dataset: {field: 'true-temperature'}});
+        const r = reading('Plant', 'true', card.plantTemp, el('span', {className: 'unit', text: ' °C'}),
+          el('span', {className: 'device', text: 'channel ' + l.channel}));
+        r.title = 'The process\'s true temperature, before the sensor and its faults';
+        readings.append(r);
+      }
+
+      card.outBar = el('progress', {attrs: {max: 100, value: 0, 'aria-label': l.name + ' output'}});
+      card.outText = el('span', {className: 'out-text', dataset: {field: 'output'}});
+      card.outRaw = el('span', {className: 'device'});
+      card.outBar.hidden = !(l.output_full > 0);
+      const output = el('div', {className: 'output'}, el('span', {className: 'label', text: 'Output'}), card.outBar, card.outText, card.outRaw);
+
+      const lamps = el('div', {className: 'lamps'});
+      for (const a of l.alarms || []) {
+        const lamp = el('span', {className: 'lamp' + (GOOD_FLAGS.has(a.name) ? ' good' : ''), text: a.name,
+          dataset: {alarm: a.name, on: 'false'}});
+        card.lamps.push(lamp);
+        lamps.append(lamp);
+      }
+
+      card.trend = makeTrend(l);
+
+      const params = el('div', {className: 'params'});
+      for (const p of l.parameters || []) {
+        params.append(el('label', {className: 'param'}, el('span', {className: 'name', text: p.name}),
+          field(card, p.device, 'parameter', p.name), el('span', {className: 'unit', text: p.unit || ''})));
+      }
+
+      card.article = el('article', {className: 'loop', dataset: {loop: index}, attrs: {'aria-labelledby': 'loop-' + index + '-name'}},
+        head, readings, output, lamps, card.trend.box, card.trend.legend, params);
+      return card;
+    }
+
+    const shown = (v, digits) => (typeof v === 'number' && Number.isFinite(v) ? v.toFixed(digits) : '—');
+
+    function showInput(card, input, text) {
+      const f = card.inputs.get(input);
+      f.current = text;
+      if (document.activeElement !== input && !input.hasAttribute('aria-busy')) {
+        input.value = text;
+        input.classList.remove('edited');
+      }
+    }
+
+    function cardOf(input) {
+      const article = input.closest('article[data-loop]');
+      return cards[Number(article.dataset.loop)];
+    }
+
+    function showSwitch(button, flag, onText, offText) {
+      if (!button || !flag) return;
+      button.setAttribute('aria-pressed', flag.on ? 'true' : 'false');
+      setText(button, flag.on ? onText : offText);
+    }
+
+    function update(card, l) {
+      card.loop = l;
+      const d = card.digits;
+      setText(card.pv, l.pv ? shown(l.pv.value, d) : '—');
+      setText(card.pvDevice, l.pv ? l.pv.device + ' = ' + l.pv.raw : 'no reading');
+      showInput(card, card.sv, shown(l.sv.value, d));
+      if (card.plantTemp) setText(card.plantTemp, shown(l.true_temperature_c, 1));
+      const pct = l.output && typeof l.output.percent === 'number' ? l.output.percent : null;
+      if (pct !== null) {
+        card.outBar.value = Math.min(100, Math.max(0, pct));
+        setText(card.outText, pct.toFixed(1) + ' %');
+        setText(card.outRaw, l.output.device + ' = ' + l.output.raw);
+      } else {
+        setText(card.outText, l.output ? String(l.output.raw) : '—');
+        setText(card.outRaw, l.output ? l.output.device : '');
+      }
+      (l.alarms || []).forEach((a, i) => {
+        const lamp = card.lamps[i];
+        if (!lamp) return;
+        lamp.classList.toggle('on', !!a.on);
+        lamp.dataset.on = a.on ? 'true' : 'false';
+        lamp.title = a.device + ' bit ' + a.bit + ': ' + (a.on ? 'on' : 'off');
+      });
+      (l.parameters || []).forEach((p) => {
+        for (const [input, f] of card.inputs) {
+          if (f.kind === 'parameter' && input.dataset.device === p.device) showInput(card, input, String(p.value));
+        }
+      });
+      showSwitch(card.manual, l.manual, 'Manual', 'Manual');
+      showSwitch(card.tuning, l.tuning, 'Auto-tuning…', 'Start auto-tuning');
+      if (card.tuning) card.tuning.disabled = !!(l.tuning && l.tuning.on);
+      const mode = l.tuning && l.tuning.on ? 'tuning' : l.manual && l.manual.on ? 'manual' : 'auto';
+      setText(card.mode, mode);
+      card.mode.className = 'badge mode ' + mode;
+    }
+
+    function sample(card, l, t) {
+      const s = {t, pv: l.pv ? l.pv.value : null, sv: l.sv.value,
+        out: l.output && typeof l.output.percent === 'number' ? l.output.percent : null};
+      const last = card.samples[card.samples.length - 1];
+      if (last && last.t === t) {
+        card.samples[card.samples.length - 1] = s; // frozen: the same instant, the values as now
+      } else {
+        card.samples.push(s);
+      }
+      while (card.samples.length && card.samples[0].t < t - TREND_S) card.samples.shift();
+      drawTrend(card.trend, card.samples, t, card.digits, card.loop.unit);
+    }
+
+    function apply(data) {
+      const list = Array.isArray(data.loops) ? data.loops : [];
+      const t = typeof data.simulated_s === 'number' ? data.simulated_s : performance.now() / 1000;
+      const s = shapeOf(list);
+      if (s !== shape) {
+        // Other loops (a reload changed the program): new faceplates.
+        shape = s;
+        cards = list.map(makeCard);
+        box.replaceChildren(...cards.map((c) => c.article));
+      } else if (lastT !== null && t < lastT) {
+        // Simulated time went back (a reload): the trends start over.
+        for (const c of cards) c.samples = [];
+      }
+      lastT = t;
+      none.hidden = list.length > 0;
+      list.forEach((l, i) => {
+        update(cards[i], l);
+        sample(cards[i], l, t);
+      });
+    }
+
+    let polling = false;
+    async function poll() {
+      if (polling) return;
+      polling = true;
+      const seen = writes;
+      try {
+        const data = await request('GET', apiPlc(plc) + '/loops');
+        if (seen === writes) {
+          apply(data);
+          setStatus('Updated every second · simulated time ' + fmtNumber(data.simulated_s, 1) + ' s', 'live');
+        }
+      } catch (e) {
+        setStatus(e.message, 'down');
+      } finally {
+        polling = false;
+      }
+    }
+
+    async function write(input) {
+      const card = cardOf(input);
+      const f = card.inputs.get(input);
+      const name = input.dataset.device;
+      const text = input.value.trim();
+      let raw;
+      if (f.kind === 'sv') {
+        const v = parseDecimal(text);
+        const scale = card.loop.scale > 0 ? card.loop.scale : 1;
+        raw = v === null ? null : Math.round(v / scale);
+        if (raw === null || !Number.isSafeInteger(raw)) {
+          say(name + ': \'' + text + '\' is not a number (write the set point in ' + (card.loop.unit || 'counts') + ', e.g. 150.5)', 'error');
+          return;
+        }
+      } else {
+        raw = parseValue(text);
+        if (raw === null) {
+          say(name + ': \'' + text + '\' is not a whole number (write 1234, -5 or 0x1F)', 'error');
+          return;
+        }
+      }
+      input.setAttribute('aria-busy', 'true');
+      ++writes;
+      try {
+        const res = await request('PUT', flagPath(name), {values: [raw]});
+        ++writes;
+        const back = signed16(Array.isArray(res.values) ? res.values[0] : raw);
+        const shownBack = f.kind === 'sv' ? (back * card.loop.scale).toFixed(card.digits) : String(back);
+        f.current = shownBack;
+        input.value = shownBack;
+        input.classList.remove('edited');
+        say(name + ' = ' + back + (f.kind === 'sv' && card.loop.unit ? ' (' + shownBack + ' ' + card.loop.unit + ')' : '') +
+          ': written', 'ok');
+      } catch (e) {
+        say(e.message, 'error');
+      } finally {
+        input.removeAttribute('aria-busy');
+      }
+    }
+
+    function restore(input) {
+      const f = cardOf(input).inputs.get(input);
+      input.value = f.current;
+      input.classList.remove('edited');
+    }
+
+    // Sets or clears a flag's bit: a bit device is written 0/1, a word read, changed and written.
+    async function setFlag(flag, on, done) {
+      ++writes;
+      try {
+        const now = await request('GET', flagPath(flag.device));
+        const v = Number(now.values[0]);
+        const mask = 1 << flag.bit;
+        const next = now.bits ? (on ? 1 : 0) : (on ? v | mask : v & ~mask) & 0xFFFF;
+        await request('PUT', flagPath(flag.device), {values: [next]});
+        ++writes;
+        say(done, 'ok');
+      } catch (e) {
+        say(e.message, 'error');
+      }
+      poll();
+    }
+
+    box.addEventListener('click', (ev) => {
+      const b = ev.target instanceof Element ? ev.target.closest('button[data-switch]') : null;
+      if (!b) return;
+      const card = cards[Number(b.closest('article[data-loop]').dataset.loop)];
+      const l = card.loop;
+      if (b.dataset.switch === 'tuning' && l.tuning) {
+        setFlag(l.tuning, true, l.name + ': auto-tuning started (' + l.tuning.device + ' bit ' + l.tuning.bit + ')');
+      } else if (b.dataset.switch === 'manual' && l.manual) {
+        const on = !l.manual.on;
+        setFlag(l.manual, on, l.name + ': ' + (on ? 'manual' : 'automatic') + ' (' + l.manual.device + ' bit ' + l.manual.bit + ' ' + (on ? 'on' : 'off') + ')');
+      }
+    });
+    box.addEventListener('keydown', (ev) => {
+      const input = ev.target;
+      if (!(input instanceof HTMLInputElement) || !input.dataset.device) return;
+      if (ev.key === 'Enter') {
+        ev.preventDefault();
+        write(input);
+      } else if (ev.key === 'Escape') {
+        ev.preventDefault();
+        restore(input);
+        input.select();
+      }
+    });
+    box.addEventListener('input', (ev) => {
+      if (ev.target instanceof HTMLInputElement) ev.target.classList.add('edited');
+    });
+    box.addEventListener('focusin', (ev) => {
+      if (ev.target instanceof HTMLInputElement) ev.target.select();
+    });
+    box.addEventListener('focusout', (ev) => {
+      const input = ev.target;
+      if (input instanceof HTMLInputElement && input.dataset.device && !input.hasAttribute('aria-busy')) restore(input);
+    });
+
+    poll().then(() => setInterval(poll, 1000));
+    loadPlcHeading();
+  }
+
   // ---- Start --------------------------------------------------------------------------------
 
   initNav();
@@ -894,6 +1316,8 @@
     plant();
   } else if (page === 'traffic') {
     traffic();
+  } else if (page === 'loops') {
+    loops();
   } else if (plc !== null) {
     loadPlcHeading();
   }

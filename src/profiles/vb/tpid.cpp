@@ -180,9 +180,12 @@ public:
         }
     }
 
-    void loops(const image::Image& /*image*/, engine::Loops& out) const override {
+    void loops(const image::Image& image, engine::Loops& out) const override {
         auto d = [](std::uint32_t i) { return image::Device{Area::D, i, false}; };
-        for (int m = 0; m < b_.blocks_n; ++m) {
+        // The channels it runs: n, or what D(n) holds now (within the blocks checked for it).
+        const long long n = b_.n_constant ? b_.n : i16(image, b_.n_d);
+        const int channels = static_cast<int>(std::clamp<long long>(n, 0, b_.blocks_n));
+        for (int m = 0; m < channels; ++m) {
             const auto mw = static_cast<std::uint32_t>(m);
             const auto bit = static_cast<std::uint8_t>(m);
             engine::Loop l;
