@@ -49,13 +49,12 @@ std::string gone(std::uint64_t client) {
 
 Json exchange_json(const listener::Seat& plc, const listener::Exchange& e) {
     const std::string_view peer = plc.traffic->peer(e.client);
-    Json j{
-        {"at", wall_time(e.at)},
-        {"client", peer.empty() ? gone(e.client) : std::string(peer)},
-        {"protocol", std::string(e.protocol)},
-        {"unit", e.unit},
-        {"function", hex2(e.function) + "h"},
-        {"error", e.error == 0 ? std::string() : hex2(e.error) + "h"}};
+    Json j{{"at", wall_time(e.at)},
+           {"client", peer.empty() ? gone(e.client) : std::string(peer)},
+           {"protocol", std::string(e.protocol)},
+           {"unit", e.unit},
+           {"function", hex2(e.function) + "h"},
+           {"error", e.error == 0 ? std::string() : hex2(e.error) + "h"}};
     std::string devices;
     const bool modbus = e.protocol.rfind("modbus", 0) == 0;
     if (modbus && e.simulator) {
