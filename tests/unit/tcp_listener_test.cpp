@@ -187,8 +187,7 @@ using SessionTest = Seated<Dots>;
 TEST_F(SessionTest, AnswersLargerThanAFramePushesAndACloseTheSessionAskedFor) {
     auto s = connect();
     asio::write(s, asio::buffer(std::string("abc\nde\n")));
-    EXPECT_EQ(read(s, 5002),
-              std::string(3000, '.') + "\n" + std::string(2000, '.') + "\n");
+    EXPECT_EQ(read(s, 5002), std::string(3000, '.') + "\n" + std::string(2000, '.') + "\n");
     EXPECT_EQ(protocol_.open_sessions, 1);
     asio::write(s, asio::buffer(std::string("tick\n")));
     EXPECT_EQ(read(s, 6), "*\n*\n*\n");  // pushed at the session's pace
