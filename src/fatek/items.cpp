@@ -1,5 +1,7 @@
 #include "items.hpp"
 
+#include "plcemu/listener/access.hpp"
+
 namespace plcemu::fatek {
 
 namespace {
@@ -61,19 +63,8 @@ void write_item(image::Image& image, const Run& run, std::uint32_t k, std::uint3
 bool writable(const Run& run,
               const std::vector<image::Range>* protected_ranges,
               const engine::Holds& holds) noexcept {
-    if (protected_ranges == nullptr) return true;
-    const image::Range devices{run.area, run.start, run.step * run.items};
-    for (const image::Range& p : *protected_ranges) {
-        if (!p.overlaps(devices)) continue;
-        if (!image::is_bit_area(run.area)) return false;
-        // An input (or another protected discrete) is written only while it is disabled.
-        const std::uint32_t from = p.start > devices.start ? p.start : devices.start;
-        const std::uint32_t to = p.end() < devices.end() ? p.end() : devices.end();
-        for (std::uint32_t i = from; i < to; ++i) {
-            if (!holds.held(run.area, i)) return false;
-        }
-    }
-    return true;
+    return !listener::write_refused_by(protected_ranges, holds,
+                                       {run.area, run.start, run.step * run.items});
 }
 
 }  // namespace plcemu::fatek

@@ -1,6 +1,7 @@
 #include "http/api.hpp"
 
 #include <algorithm>
+#include <charconv>
 
 namespace plcemu::http {
 
@@ -76,6 +77,22 @@ std::optional<Response> write_refusal(const Call& call) {
         return error(415, "the body must be JSON (Content-Type: application/json)");
     }
     return std::nullopt;
+}
+
+std::size_t count_param(const Call& call,
+                        std::size_t absent,
+                        std::size_t max,
+                        std::optional<Response>& refused) {
+    const std::string* c = call.request.param("count");
+    if (c == nullptr) return absent;
+    std::size_t n = 0;
+    const auto [end, ec] = std::from_chars(c->data(), c->data() + c->size(), n);
+    if (ec != std::errc() || end != c->data() + c->size() || n == 0 || n > max) {
+        refused = error(400, "count: expected 1 to " + std::to_string(max) + ", got '" +
+                                 c->substr(0, 20) + "'");
+        return absent;
+    }
+    return n;
 }
 
 Json body_object(const Call& call, std::optional<Response>& refused) {

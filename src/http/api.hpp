@@ -37,6 +37,13 @@ Response no_such_plc(listener::UnitTable& units, std::string_view id);
 /// token, a body that is not JSON), as the answer to give; nothing when it may.
 std::optional<Response> write_refusal(const Call& call);
 
+/// The request's `count` parameter: `absent` without one; 1 to `max`, else `refused` is set
+/// (400 naming the range and what was given).
+std::size_t count_param(const Call& call,
+                        std::size_t absent,
+                        std::size_t max,
+                        std::optional<Response>& refused);
+
 /// The body of a write, parsed; sets `refused` when it is not a JSON object.
 Json body_object(const Call& call, std::optional<Response>& refused);
 

@@ -1,6 +1,6 @@
 #include "http/devices.hpp"
 
-#include <charconv>
+#include "plcemu/listener/access.hpp"
 
 namespace plcemu::http {
 
@@ -18,25 +18,12 @@ std::uint32_t step_of(const Span& s) { return s.first.word_of_bits ? 16 : 1; }
 // Why the span may not be written: the protected range it meets ("R4000-R4167 may not be
 // written: ..."), or "".
 std::string protected_by(const listener::Seat& plc, const Span& s) {
-    if (plc.protected_ranges == nullptr) return "";
-    const image::Range r = range_of(s);
-    for (const image::Range& p : *plc.protected_ranges) {
-        if (!p.overlaps(r)) continue;
-        // Disabled discretes (FATEK command 42) hold what is written to them, as on the PLC.
-        if (image::is_bit_area(r.area) && plc.engine != nullptr) {
-            const std::uint32_t from = std::max(p.start, r.start);
-            const std::uint32_t to = std::min(p.end(), r.end());
-            bool held = true;
-            for (std::uint32_t i = from; i < to && held; ++i) {
-                held = plc.engine->holds().held(r.area, i);
-            }
-            if (held) continue;
-        }
-        return plc.naming->format_range(p) +
-               " may not be written: the PLC's read-only devices, program data or "
-               "modbus.write_protect";
-    }
-    return "";
+    const auto p =
+        listener::write_refused_by(plc.protected_ranges, plc.engine->holds(), range_of(s));
+    if (!p) return "";
+    return plc.naming->format_range(*p) +
+           " may not be written: the PLC's read-only devices, program data or "
+           "modbus.write_protect";
 }
 
 }  // namespace
@@ -126,16 +113,8 @@ Json span_names(const listener::Seat& plc, const Span& s) {
 Response devices(const Call& call, const listener::Seat& plc, std::string_view device) {
     const Request& rq = call.request;
     std::optional<Response> refused;
-    std::uint32_t count = 1;
-    if (const std::string* c = rq.param("count")) {
-        unsigned long n = 0;
-        const auto [end, ec] = std::from_chars(c->data(), c->data() + c->size(), n);
-        if (ec != std::errc() || end != c->data() + c->size() || n > kMaxCount || n == 0) {
-            return error(400, "count: expected 1 to " + std::to_string(kMaxCount) + ", got '" +
-                                  c->substr(0, 20) + "'");
-        }
-        count = static_cast<std::uint32_t>(n);
-    }
+    auto count = static_cast<std::uint32_t>(count_param(call, 1, kMaxCount, refused));
+    if (refused) return *refused;
     if (rq.method == "PUT") {
         if (auto r = write_refusal(call)) return *r;
         const Json body = body_object(call, refused);

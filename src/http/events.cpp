@@ -1,7 +1,5 @@
 #include "http/events.hpp"
 
-#include <charconv>
-
 #include "http/devices.hpp"
 #include "http/plcs.hpp"
 
@@ -81,15 +79,8 @@ std::optional<Subscription> subscribe(const Call& call,
             return std::nullopt;
         }
         id = seat->id;
-        if (const std::string* c = call.request.param("count")) {
-            unsigned long n = 0;
-            const auto [end, ec] = std::from_chars(c->data(), c->data() + c->size(), n);
-            if (ec != std::errc() || end != c->data() + c->size() || n == 0 || n > kMaxCount) {
-                refused = error(400, "count: expected 1 to " + std::to_string(kMaxCount));
-                return std::nullopt;
-            }
-            count = static_cast<std::uint32_t>(n);
-        }
+        count = static_cast<std::uint32_t>(count_param(call, 1, kMaxCount, refused));
+        if (refused) return std::nullopt;
         if (const std::string* d = call.request.param("device")) {
             device = *d;
             parse_span(*seat, device, count, refused);

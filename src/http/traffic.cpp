@@ -1,6 +1,5 @@
 #include "http/traffic.hpp"
 
-#include <charconv>
 #include <optional>
 
 #include "http/plcs.hpp"
@@ -82,16 +81,9 @@ Json exchange_json(const listener::Seat& plc, const listener::Exchange& e) {
 }  // namespace
 
 Response traffic(const Call& call, const listener::Seat& plc) {
-    std::size_t count = 100;
-    if (const std::string* c = call.request.param("count")) {
-        unsigned long n = 0;
-        const auto [end, ec] = std::from_chars(c->data(), c->data() + c->size(), n);
-        if (ec != std::errc() || end != c->data() + c->size() || n == 0 ||
-            n > listener::Traffic::kKept) {
-            return error(400, "count: expected 1 to " + std::to_string(listener::Traffic::kKept));
-        }
-        count = n;
-    }
+    std::optional<Response> refused;
+    const std::size_t count = count_param(call, 100, listener::Traffic::kKept, refused);
+    if (refused) return *refused;
     Json clients = Json::array();
     Json exchanges = Json::array();
     if (plc.traffic != nullptr) {

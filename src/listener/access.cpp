@@ -1,0 +1,23 @@
+#include "plcemu/listener/access.hpp"
+
+#include <algorithm>
+
+namespace plcemu::listener {
+
+std::optional<image::Range> write_refused_by(const std::vector<image::Range>* protected_ranges,
+                                             const engine::Holds& holds,
+                                             const image::Range& devices) noexcept {
+    if (protected_ranges == nullptr) return std::nullopt;
+    for (const image::Range& p : *protected_ranges) {
+        if (!p.overlaps(devices)) continue;
+        if (!image::is_bit_area(devices.area)) return p;
+        // An input (or another protected discrete) is written only while it is disabled.
+        const std::uint32_t to = std::min(p.end(), devices.end());
+        for (std::uint32_t i = std::max(p.start, devices.start); i < to; ++i) {
+            if (!holds.held(devices.area, i)) return p;
+        }
+    }
+    return std::nullopt;
+}
+
+}  // namespace plcemu::listener
