@@ -1,6 +1,7 @@
 #include "profiles/fb/control_loop.hpp"
 
 #include <array>
+#include <string>
 
 #include "profiles/fb/conversion.hpp"
 
@@ -43,6 +44,52 @@ const fatek::LoopRules kRules{kFullScale, kGainCeiling, 300, 50, {2, 4, 8, 1}, t
 }  // namespace control
 
 using namespace control;
+
+engine::Loop point_loop(const image::Image& img,
+                        const fatek::LoopBlocks& blocks,
+                        std::string_view mnemonic,
+                        int i,
+                        const image::Device& pv,
+                        int sensor) {
+    const auto k = static_cast<std::uint32_t>(i);
+    auto at = [k](const image::Device& block) {
+        image::Device d = block;
+        d.index += k;
+        return d;
+    };
+    const int channel = blocks.first + i;
+    engine::Loop l;
+    l.name = std::string(mnemonic) + " point " + std::to_string(i) + " (channel " +
+             std::to_string(channel) + ")";
+    l.channel = channel;  // point p is plant channel p (docs/profile-fb.md, "Plant and simulator")
+    const image::Device reading = at(pv);
+    if (img.layout().contains({reading.area, reading.index, 1})) l.pv = reading;
+    l.sv = at(blocks.sv);
+    l.output = at(blocks.out);
+    // FB manual FUN73: thermocouple readings in whole degrees, RTD ones in 0.1°; R4009 low byte 1
+    // makes them °F. SV and Os are in the readings' unit.
+    const bool tenths = !thermocouple(sensor);
+    l.scale = tenths ? 0.1 : 1.0;
+    l.unit = Factors::read(img).fahrenheit ? "°F" : "°C";
+    l.output_full = kFullScale;
+    l.parameters = {{"Kc", at(blocks.pr), "1-999"},
+                    {"Ti", at(blocks.ir), "0.01 repeats/min"},
+                    {"Td", at(blocks.dr), "0.01 min"},
+                    {"in-zone offset", at(blocks.os), (tenths ? "0.1 " : "") + l.unit}};
+    // The status block (TPCTL's WR, TSTC's WR+8): +0/1 in zone, +2/3 over-temperature or heater
+    // open, +5/6 over-temperature, +7/8 heater open; bit i % 16 of the word of points 0-15 or
+    // 16-31 counted from the loop's first.
+    const auto half = static_cast<std::uint32_t>(i / 16);
+    const auto bit = static_cast<std::uint8_t>(i % 16);
+    auto flag = [&](const char* name, std::uint32_t word) {
+        image::Device w = blocks.status;
+        w.index += word + half;
+        return engine::LoopFlag{name, w, bit};
+    };
+    l.alarms = {flag("in zone", 0), flag("warning", 2), flag("over temperature", 5),
+                flag("heater open", 7)};
+    return l;
+}
 
 ControlLoop::ControlLoop(const fatek::LoopBlocks& blocks)
     : blocks_(blocks),

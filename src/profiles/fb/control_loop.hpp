@@ -5,8 +5,10 @@
 // FATEK loop with the FB's figures and its error scaled by 4095 / the converter's full scale.
 
 #include <cstdint>
+#include <string_view>
 
 #include "plcemu/engine/engine.hpp"
+#include "plcemu/engine/loops.hpp"
 #include "profiles/fatek/temperature_loop.hpp"
 #include "profiles/fb/points.hpp"
 
@@ -41,6 +43,18 @@ struct LoopSource {
     int pl = 0;              ///< its range
     bool measuring = false;  ///< the measuring instruction runs (TPSNS's EN for a TPCTL)
 };
+
+/// Point `i` of a TSTC's or TPCTL's loop as the console's faceplate shows it (docs/console.md,
+/// "Loops"): named "<mnemonic> point i (channel first+i)", on plant channel first + i, PV the word
+/// at pv + i (none when that lies outside the image), SV, OR (0–4095), Kc/Ti/Td/Os and the status
+/// block's in-zone, warning, over-temperature and heater-open bits. `sensor` (Tp) and R4009 give
+/// the readings' unit: whole degrees for thermocouples, 0.1° for RTDs, °C or °F.
+engine::Loop point_loop(const image::Image& img,
+                        const fatek::LoopBlocks& blocks,
+                        std::string_view mnemonic,
+                        int i,
+                        const image::Device& pv,
+                        int sensor);
 
 /// One TSTC's or TPCTL's PID over points blocks.first…first+points−1.
 class ControlLoop {

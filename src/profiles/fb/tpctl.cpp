@@ -138,6 +138,19 @@ public:
         }
     }
 
+    // Point i: PV at TPSNS's TR + Sn + i, SV, OR, Kc/Ti/Td/Os and WR's bits as
+    // docs/profile-fb.md, "FUN86 TPCTL", gives them, and ALM, the instruction's control warning.
+    void loops(const image::Image& image, engine::Loops& out) const override {
+        Device pv = tpsns_->tr;
+        pv.index += static_cast<std::uint32_t>(b_.sn);
+        const fatek::LoopBlocks blocks = loop_blocks(b_);
+        for (int i = 0; i < b_.points; ++i) {
+            engine::Loop l = point_loop(image, blocks, "TPCTL", i, pv, tpsns_->sensor);
+            if (b_.alm) l.alarms.push_back({"control warning (ALM)", *b_.alm, 0});
+            out.push_back(std::move(l));
+        }
+    }
+
     void execute(engine::ScanContext& ctx) noexcept override {
         image::Image& img = ctx.image;
         if (ctx.first_scan) loop_.reset();

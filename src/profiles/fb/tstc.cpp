@@ -120,6 +120,24 @@ public:
         }
     }
 
+    // Point i (absolute point Sh + i): PV at TR + (Sh + i − Sm), SV, OR, Kc/Ti/Td/Os and the
+    // loop's WR+8…WR+16 bits as docs/profile-fb.md, "FUN73 TSTC", gives them; a point of its own
+    // module also WR+0's broken bit, and every point AO1, the instruction's control warning.
+    void loops(const image::Image& image, engine::Loops& out) const override {
+        Device pv = b_.m.tr;
+        pv.index += static_cast<std::uint32_t>(b_.sh - b_.m.sm);
+        const fatek::LoopBlocks blocks = loop_blocks(b_);
+        for (int i = 0; i < b_.points; ++i) {
+            engine::Loop l = point_loop(image, blocks, "TSTC", i, pv, static_cast<int>(b_.m.tp));
+            // WR+0 bit k: point Sm + k of its own module broken.
+            const long long k = b_.sh + i - b_.m.sm;
+            if (k < cycle::kPoints)
+                l.alarms.push_back({"sensor broken", b_.m.wr, static_cast<std::uint8_t>(k)});
+            if (b_.ao1) l.alarms.push_back({"control warning (AO1)", *b_.ao1, 0});
+            out.push_back(std::move(l));
+        }
+    }
+
     void execute(engine::ScanContext& ctx) noexcept override {
         image::Image& img = ctx.image;
         if (ctx.first_scan) {
