@@ -480,6 +480,9 @@ private:
         if (!p.errors.empty()) {
             for (const auto& e : p.errors) spdlog::error("reload: {}", e);
             spdlog::error("reload: configuration rejected; still running the previous one");
+            ++census_.reloads_rejected;
+        } else {
+            ++census_.reloads_applied;
         }
         notify_.ready(status_line());
         if (reload_again_) {
@@ -535,9 +538,11 @@ private:
     ScanTimer scan_timer_{io_};
     // Every PLC's queued steps, a slice per turn of the loop.
     StepRounds step_rounds_{io_};
-    SyncThread syncs_;  // every PLC's state file, on one thread
+    // What /metrics shows of the process beside its PLCs (connections are asked of listeners_).
+    listener::Census census_{.connections = [this] { return listeners_.connections(); }};
+    SyncThread syncs_{census_};  // every PLC's state file, on one thread
     std::vector<std::unique_ptr<Host>> hosts_;
-    Listeners listeners_{io_};
+    Listeners listeners_{io_, census_};
     asio::signal_set signals_{io_, SIGINT, SIGTERM, SIGHUP};
     ReloadThread reload_thread_;
     bool reloading_ = false;

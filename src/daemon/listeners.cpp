@@ -215,8 +215,9 @@ struct Listeners::Staged {
     std::unique_ptr<Listener> fresh;  // a new listener
 };
 
-Listeners::Listeners(asio::io_context& io)
-    : io_(io) {}
+Listeners::Listeners(asio::io_context& io, const listener::Census& census)
+    : io_(io),
+      census_(census) {}
 
 Listeners::~Listeners() { stop(); }
 
@@ -269,14 +270,15 @@ void Listeners::open_reopened(const std::vector<ListenerMember>& plcs, bool at_s
                 r->stream = protocol(g.protocol).datagram(std::move(setup));
                 r->udp = std::make_unique<listener::UdpListener>(
                     io_, *r->stream,
-                    listener::UdpOptions{r->options.bind, r->options.port, r->options.allow});
+                    listener::UdpOptions{r->options.bind, r->options.port, r->options.allow,
+                                         g.protocol});
             } else {
                 const config::RtuConfig& s = *l.line;
                 setup.line = {s.device, s.baud, s.parity, s.data_bits, s.stop_bits};
                 setup.read_only = s.read_only;
                 r->serial = protocol(g.protocol).serial(setup);
                 r->line = std::make_unique<listener::SerialListener>(io_, *r->serial, setup.line,
-                                                                     r->what());
+                                                                     r->what(), g.protocol);
             }
         } catch (const std::exception& e) {
             if (at_start) throw;
@@ -303,7 +305,16 @@ void Listeners::route(const std::vector<ListenerMember>& plcs) {
         t->units().set_read_only(l && l->net->read_only);
         t->units().set_token(l ? l->net->token : std::string());
         t->units().set_hosts(l ? l->net->hosts : std::vector<std::string>());
+        t->units().set_census(&census_);
     }
+}
+
+std::vector<listener::ConnectionFigures> Listeners::connections() const {
+    std::vector<listener::ConnectionFigures> out;
+    for (const auto& t : tcp_) {
+        if (t->tcp) out.push_back(t->tcp->figures());
+    }
+    return out;
 }
 
 void Listeners::describe_seats() {

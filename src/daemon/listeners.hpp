@@ -13,6 +13,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/config/listeners.hpp"
+#include "plcemu/listener/census.hpp"
 #include "plcemu/listener/protocol.hpp"
 
 namespace plcemu::daemon {
@@ -30,7 +31,9 @@ struct ListenerMember {
 /// Every listener of the process.
 class Listeners {
 public:
-    explicit Listeners(asio::io_context& io);
+    /// `census` (which must outlive it) is handed to every unit table, for the views that show
+    /// it.
+    Listeners(asio::io_context& io, const listener::Census& census);
     ~Listeners();
     Listeners(const Listeners&) = delete;
     Listeners& operator=(const Listeners&) = delete;
@@ -63,6 +66,9 @@ public:
     std::string unit_clash(const std::vector<config::Config>& next,
                            const std::vector<std::uint8_t>& stations) const;
 
+    /// The connections of every stream listener open now.
+    std::vector<listener::ConnectionFigures> connections() const;
+
     /// Closes every listener.
     void stop();
     /// ", tcp ADDR:PORT, rtu DEVICE, fatek tcp ADDR:PORT ..." for the PLC at `index`, for the
@@ -78,6 +84,7 @@ private:
     void raise_fd_limit(std::size_t plcs) const;
 
     asio::io_context& io_;
+    const listener::Census& census_;
     std::vector<std::unique_ptr<Listener>> tcp_;       // TCP listeners (kept across reloads)
     std::vector<std::unique_ptr<Listener>> reopened_;  // UDP and serial: reopened at a reload
     std::vector<ListenerMember> plcs_;  // every PLC, by index, as last opened or applied

@@ -1,6 +1,10 @@
 #include "persistence.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 
 namespace plcemu::daemon {
 
@@ -80,12 +84,32 @@ void SyncThread::run() {
             image::StateFile* file = it->file;
             syncing_ = id;
             lock.unlock();
-            file->sync();
+            const int error = file->sync() ? 0 : errno;
             lock.lock();
+            synced(*file, error);
             syncing_ = 0;
             cv_.notify_all();
         }
     }
+}
+
+// Counts a sync (`error`: 0, or the errno it failed with); a failure is logged when an episode of
+// them begins, and the recovery when it ends, so that a failing disk cannot fill the log.
+void SyncThread::synced(const image::StateFile& file, int error) {
+    if (error == 0) {
+        census_.syncs.fetch_add(1, std::memory_order_relaxed);
+        if (failing_) spdlog::info("persistence: {}: syncing again", file.path());
+        failing_ = false;
+        return;
+    }
+    census_.sync_failures.fetch_add(1, std::memory_order_relaxed);
+    if (!failing_) {
+        spdlog::error(
+            "persistence: {}: sync failed ({}); the state stays in memory and is "
+            "synced again every period",
+            file.path(), std::strerror(error));
+    }
+    failing_ = true;
 }
 
 }  // namespace plcemu::daemon

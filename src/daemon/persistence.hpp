@@ -12,6 +12,7 @@
 #include "plcemu/config/config.hpp"
 #include "plcemu/config/listener_key.hpp"
 #include "plcemu/image/state_file.hpp"
+#include "plcemu/listener/census.hpp"
 
 namespace plcemu::daemon {
 
@@ -23,7 +24,9 @@ public:
     /// A file's place on the thread.
     using Id = std::uint64_t;
 
-    SyncThread() = default;
+    /// Counts its syncs and their failures into `census`, which must outlive it.
+    explicit SyncThread(listener::Census& census)
+        : census_(census) {}
     /// Stops (a last sync is each owner's close()).
     ~SyncThread();
     SyncThread(const SyncThread&) = delete;
@@ -45,6 +48,7 @@ private:
         Clock::time_point due;
     };
     void run();
+    void synced(const image::StateFile& file, int error);
 
     std::mutex mutex_;
     std::condition_variable cv_;
@@ -53,6 +57,8 @@ private:
     Id syncing_ = 0;  // the file being synced now, 0 = none
     bool changed_ = false;
     bool stop_ = false;
+    listener::Census& census_;
+    bool failing_ = false;  // the last sync failed: the next failure is not logged again
     std::thread thread_;
 };
 

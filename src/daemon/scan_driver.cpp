@@ -131,9 +131,12 @@ void ScanDriver::tick() {
     auto now = start;
     for (auto d = schedule_.due(now); d.scans > 0; d = schedule_.due(now)) {
         lateness_.record(now - d.next_deadline);
+        figures_.lateness.record(now - d.next_deadline);
+        const auto began = now;
         run_one(schedule_.next_sim());
         schedule_.ran();
         now = Clock::now();
+        figures_.duration.record(now - began);
         last_scan_ = now;
         if (now - start > kBudget) break;
     }

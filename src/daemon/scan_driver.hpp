@@ -92,6 +92,7 @@ public:
     void on_station_request(std::function<bool(std::uint8_t)> f) { grant_ = std::move(f); }
     /// Lateness figures.
     const LatenessStats& lateness() const { return lateness_; }
+    const engine::ScanFigures* scan_figures() const noexcept override { return &figures_; }
 
 private:
     void arm();
@@ -112,6 +113,7 @@ private:
     std::function<void()> on_scan_;
     std::function<bool(std::uint8_t)> grant_;
     LatenessStats lateness_;
+    engine::ScanFigures figures_;
     Clock::time_point last_scan_{};  // real time of the last scan tick() ran (or the start)
 };
 

@@ -16,6 +16,11 @@ Response json(unsigned status, const Json& body) {
 
 Response error(unsigned status, std::string why) { return json(status, Json{{"error", why}}); }
 
+std::string hex2(unsigned v) {
+    static constexpr char kDigits[] = "0123456789ABCDEF";
+    return {kDigits[(v >> 4) & 0xF], kDigits[v & 0xF]};
+}
+
 const listener::Seat* find_plc(listener::UnitTable& units, std::string_view id) {
     const auto& seats = units.seats();
     for (const auto& s : seats) {

@@ -33,6 +33,10 @@ const listener::Seat* find_plc(listener::UnitTable& units, std::string_view id);
 /// The answer for an unknown PLC: 404 naming the PLCs there are.
 Response no_such_plc(listener::UnitTable& units, std::string_view id);
 
+/// A code as two hex digits ("0B"), as the traffic and the metrics write function, command,
+/// exception and error codes.
+std::string hex2(unsigned v);
+
 /// Why a write may not be made through this listener (read_only, a missing or wrong bearer
 /// token, a body that is not JSON), as the answer to give; nothing when it may.
 std::optional<Response> write_refusal(const Call& call);

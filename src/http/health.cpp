@@ -1,7 +1,9 @@
 #include "http/health.hpp"
 
 #include "http/loops.hpp"
+#include "plcemu/engine/time_control.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -53,6 +55,97 @@ void sample(std::string& out, const char* name, const std::string& labels, T val
     out += '\n';
 }
 
+// A PLC's requests by protocol and function, whatever their outcome.
+struct FunctionCount {
+    std::uint8_t function;
+    std::string_view protocol;
+    std::uint64_t count;
+};
+std::vector<FunctionCount> by_function(const listener::Traffic& traffic) {
+    std::vector<FunctionCount> v;
+    for (const auto& k : traffic.counts()) {
+        auto it = std::find_if(v.begin(), v.end(), [&](const FunctionCount& f) {
+            return f.function == k.function && f.protocol == k.protocol;
+        });
+        if (it == v.end()) {
+            v.push_back({k.function, k.protocol, k.count});
+        } else {
+            it->count += k.count;
+        }
+    }
+    return v;
+}
+
+std::string seconds(std::chrono::nanoseconds d) {
+    return Json(std::chrono::duration<double>(d).count()).dump();
+}
+
+// One histogram of every PLC's scans, in Prometheus' cumulative buckets.
+void histogram(std::string& out,
+               const std::vector<listener::Seat>& seats,
+               const char* name,
+               const char* text,
+               engine::DurationHistogram engine::ScanFigures::*which) {
+    help(out, name, "histogram", text);
+    const std::string bucket = std::string(name) + "_bucket";
+    for (const auto& s : seats) {
+        const engine::ScanFigures* f = s.time != nullptr ? s.time->scan_figures() : nullptr;
+        if (f == nullptr) continue;
+        const engine::DurationHistogram& h = f->*which;
+        const std::string plc = "plc=\"" + label(s.id) + '"';
+        std::uint64_t below = 0;
+        for (std::size_t b = 0; b < h.buckets.size(); ++b) {
+            below += h.buckets[b];
+            std::string le = plc;
+            le += ",le=\"";
+            le += b < engine::DurationHistogram::kBoundsUs.size()
+                      ? seconds(std::chrono::microseconds(engine::DurationHistogram::kBoundsUs[b]))
+                      : std::string("+Inf");
+            le += '"';
+            sample(out, bucket.c_str(), le, below);
+        }
+        sample(out, (std::string(name) + "_sum").c_str(), plc,
+               std::chrono::duration<double>(h.sum).count());
+        sample(out, (std::string(name) + "_count").c_str(), plc, h.count);
+    }
+}
+
+// What the process counts beside its PLCs.
+void process(std::string& out, const listener::Census& census) {
+    const auto listeners =
+        census.connections ? census.connections() : std::vector<listener::ConnectionFigures>{};
+    auto each_listener = [&](const char* name, const char* type, const char* text,
+                             std::uint64_t listener::ConnectionFigures::*field) {
+        help(out, name, type, text);
+        for (const auto& l : listeners) {
+            std::string labels = "protocol=\"";
+            labels += label(l.protocol);
+            labels += "\",endpoint=\"";
+            labels += label(l.endpoint);
+            labels += '"';
+            sample(out, name, labels, l.*field);
+        }
+    };
+    each_listener("plcemu_connections_open", "gauge", "TCP connections open, by listener.",
+                  &listener::ConnectionFigures::open);
+    each_listener("plcemu_connections_accepted_total", "counter",
+                  "TCP connections accepted since the listener opened.",
+                  &listener::ConnectionFigures::accepted);
+    each_listener("plcemu_connections_refused_total", "counter",
+                  "TCP connections closed at accept (not in the allow list, or max_clients "
+                  "reached) since the listener opened.",
+                  &listener::ConnectionFigures::refused);
+    help(out, "plcemu_reloads_total", "counter", "SIGHUP reloads since start, by outcome.");
+    sample(out, "plcemu_reloads_total", "outcome=\"applied\"", census.reloads_applied);
+    sample(out, "plcemu_reloads_total", "outcome=\"rejected\"", census.reloads_rejected);
+    help(out, "plcemu_state_syncs_total", "counter",
+         "State-file syncs to disk since start, by outcome.");
+    sample(out, "plcemu_state_syncs_total", "outcome=\"ok\"",
+           census.syncs.load(std::memory_order_relaxed));
+    sample(out, "plcemu_state_syncs_total", "outcome=\"failed\"",
+           census.sync_failures.load(std::memory_order_relaxed));
+}
+
 }  // namespace
 
 Response health(const Call& call) {
@@ -94,28 +187,46 @@ Response metrics(const Call& call) {
              sample(out, "plcemu_simulated_seconds", l,
                     std::chrono::duration<double>(s.time->simulated_time()).count());
          });
-    each("plcemu_modbus_requests_total", "counter",
-         "Modbus requests served, by function code (since the PLC was built).",
+    each("plcemu_requests_total", "counter",
+         "Requests answered, by protocol and function (Modbus function code, FATEK command "
+         "code, as two hex digits), since start.",
          [&](const listener::Seat& s, const std::string& l) {
-             if (s.dispatcher == nullptr) return;
-             const auto& by = s.dispatcher->stats().by_function;
-             for (std::size_t fc = 0; fc < by.size(); ++fc) {
-                 if (by[fc] == 0) continue;
-                 sample(out, "plcemu_modbus_requests_total",
-                        l + ",function=\"" + std::to_string(fc) + "\"", by[fc]);
+             if (s.traffic == nullptr) return;
+             for (const auto& [function, protocol, count] : by_function(*s.traffic)) {
+                 std::string labels = l;
+                 labels += ",protocol=\"";
+                 labels += protocol;
+                 labels += "\",function=\"";
+                 labels += hex2(function);
+                 labels += '"';
+                 sample(out, "plcemu_requests_total", labels, count);
              }
          });
-    each("plcemu_modbus_exceptions_total", "counter",
-         "Modbus exception replies, by exception code (since the PLC was built).",
+    each("plcemu_request_errors_total", "counter",
+         "Requests refused, by protocol, function and the exception (Modbus) or error (FATEK) "
+         "code answered, since start.",
          [&](const listener::Seat& s, const std::string& l) {
-             if (s.dispatcher == nullptr) return;
-             const auto& by = s.dispatcher->stats().by_exception;
-             for (std::size_t code = 0; code < by.size(); ++code) {
-                 if (by[code] == 0) continue;
-                 sample(out, "plcemu_modbus_exceptions_total",
-                        l + ",code=\"" + std::to_string(code) + "\"", by[code]);
+             if (s.traffic == nullptr) return;
+             for (const auto& k : s.traffic->counts()) {
+                 if (k.error == 0) continue;
+                 std::string labels = l;
+                 labels += ",protocol=\"";
+                 labels += k.protocol;
+                 labels += "\",function=\"";
+                 labels += hex2(k.function);
+                 labels += "\",code=\"";
+                 labels += hex2(k.error);
+                 labels += '"';
+                 sample(out, "plcemu_request_errors_total", labels, k.count);
              }
          });
+    histogram(out, seats, "plcemu_scan_lateness_seconds",
+              "How late scans started against their real-time deadlines, since the PLC was "
+              "built (start or reload).",
+              &engine::ScanFigures::lateness);
+    histogram(out, seats, "plcemu_scan_duration_seconds",
+              "How long scans took (program, plant and I/O refresh), since the PLC was built.",
+              &engine::ScanFigures::duration);
     each("plcemu_plant_temperature_celsius", "gauge",
          "True process temperature of each plant channel.",
          [&](const listener::Seat& s, const std::string& l) {
@@ -159,6 +270,7 @@ Response metrics(const Call& call) {
     for (const auto& x : loops) {
         if (x.output) sample(out, "plcemu_loop_output_percent", x.labels, *x.output);
     }
+    if (const listener::Census* census = call.units.census()) process(out, *census);
     Response r;
     r.content_type = "text/plain; version=0.0.4; charset=utf-8";
     r.body = std::move(out);

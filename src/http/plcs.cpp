@@ -45,6 +45,11 @@ Json describe(const listener::Seat& plc) {
     if (plc.time != nullptr) {
         j["lateness_p99_us"] = plc.time->lateness_p99_us();
         j["lateness_max_us"] = plc.time->lateness_max_us();
+        // The scan's own time, on average since the PLC was built.
+        if (const engine::ScanFigures* f = plc.time->scan_figures(); f && f->duration.count > 0) {
+            j["scan_us"] = std::chrono::duration<double, std::micro>(f->duration.sum).count() /
+                           static_cast<double>(f->duration.count);
+        }
         j["time"] = Json{
             {"scale", plc.time->time_scale()},
             {"frozen", plc.time->frozen()},

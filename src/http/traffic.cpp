@@ -31,11 +31,6 @@ std::optional<modbus::Table> table_of(std::uint8_t fc) {
     }
 }
 
-std::string hex2(unsigned v) {
-    static constexpr char kDigits[] = "0123456789ABCDEF";
-    return {kDigits[(v >> 4) & 0xF], kDigits[v & 0xF]};
-}
-
 // Text is appended piece by piece in this file: GCC 12 at -O2 takes `"literal" +
 // std::to_string(...)` for an overlapping copy (-Wrestrict, a false positive that -Werror would
 // make fatal).

@@ -459,8 +459,8 @@ void StateFile::write_header_checksum() noexcept {
     std::memcpy(base_, &h, sizeof h);
 }
 
-void StateFile::sync() noexcept {
-    if (base_) ::msync(base_, mapped_, MS_SYNC);
+bool StateFile::sync() noexcept {
+    return base_ == nullptr || ::msync(base_, mapped_, MS_SYNC) == 0;
 }
 
 void StateFile::close() noexcept {

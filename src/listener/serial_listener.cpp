@@ -28,13 +28,18 @@ constexpr auto kSettle = std::chrono::seconds(1);
 }  // namespace
 
 struct SerialListener::State : std::enable_shared_from_this<SerialListener::State> {
-    State(asio::io_context& io, SerialProtocol& p, LineSettings o, std::string n)
+    State(asio::io_context& io,
+          SerialProtocol& p,
+          LineSettings o,
+          std::string n,
+          std::string_view protocol_name)
         : protocol(p),
           options(std::move(o)),
           name(std::move(n)),
           line(io),
           frame_end(io),
-          reopen_timer(io) {}
+          reopen_timer(io),
+          client(make_client(options.device, protocol_name)) {}
 
     void read() {
         if (stopped) return;
@@ -52,7 +57,9 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         if (link == Link::Settling) back();  // a byte proves the reopened device
         // The silence before these bytes may have ended the previous frame even if its timer
         // has not fired yet (the loop was busy): serve that frame first.
+        protocol.units().set_serving(&client);
         write(protocol.receive({buf.data(), n}, Clock::now()));
+        protocol.units().set_serving(nullptr);
         arm();
         read();
     }
@@ -68,7 +75,9 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
                 self->arm();
                 return;
             }
+            self->protocol.units().set_serving(&self->client);
             self->write(self->protocol.expire(Clock::now()));
+            self->protocol.units().set_serving(nullptr);
         });
     }
 
@@ -93,6 +102,7 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         // From Settling: the reopened device failed before proving itself; the back-off goes on.
         link = Link::Lost;
         protocol.clear();  // what came before the error is not a frame to answer
+        protocol.units().client_gone(client.id);  // the line's master is no longer heard
         frame_end.cancel();
         asio::error_code ignored;
         line.close(ignored);
@@ -157,13 +167,17 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     Clock::time_point opened_at = Clock::now();
     unsigned opens = 0;  // tells a settle wait from the ones of earlier reopens
     bool stopped = false;
+    // The line's master, as its PLCs list their clients: one per line, whoever it is.
+    Client client;
 };
 
 SerialListener::SerialListener(asio::io_context& io,
                                SerialProtocol& protocol,
                                LineSettings line,
-                               std::string name)
-    : state_(std::make_shared<State>(io, protocol, std::move(line), std::move(name))) {
+                               std::string name,
+                               std::string_view protocol_name)
+    : state_(
+          std::make_shared<State>(io, protocol, std::move(line), std::move(name), protocol_name)) {
     state_->line.assign(modbus::open_serial_line(state_->options, state_->name));
     state_->read();
 }
@@ -179,6 +193,7 @@ void SerialListener::stop() {
     asio::error_code ec;
     state_->frame_end.cancel();
     state_->reopen_timer.cancel();  // no reopen after stop
+    state_->protocol.units().client_gone(state_->client.id);
     state_->line.cancel(ec);
     state_->line.close(ec);
 }

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "plcemu/listener/protocol.hpp"
 
@@ -20,11 +21,13 @@ class SerialListener {
 public:
     /// Opens and configures the device (raw, baud, parity, data and stop bits) and starts
     /// reading; throws std::system_error when it cannot. `protocol` must outlive it; `name`
-    /// starts its log lines ("rtu").
+    /// starts its log lines ("rtu"); `protocol_name` is the protocol's, as the line's master is
+    /// listed among the clients ("modbus-rtu").
     SerialListener(asio::io_context& io,
                    SerialProtocol& protocol,
                    LineSettings line,
-                   std::string name);
+                   std::string name,
+                   std::string_view protocol_name);
     ~SerialListener();
     SerialListener(const SerialListener&) = delete;
     SerialListener& operator=(const SerialListener&) = delete;

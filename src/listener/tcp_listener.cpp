@@ -104,6 +104,8 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
     std::uint64_t accept_failures = 0;  // in the current episode of running out of descriptors
     Clock::time_point accept_failing_since{};
     Clock::duration accept_backoff{};
+    std::uint64_t accepted = 0;  // connections taken since the listener opened
+    std::uint64_t refused = 0;   // connections closed at accept
     bool stopped = false;
 };
 
@@ -401,6 +403,7 @@ void TcpListener::State::accept() {
                       "{}: {} refused: not in {}.allow", self->options.log_name, peer,
                       self->options.section);
             s.close(pec);
+            ++self->refused;
         } else if (static_cast<int>(self->connections.size()) >= self->options.max_clients &&
                    !self->evict_one(now)) {
             self->log(spdlog::level::warn, LogCause::RefusedFull,
@@ -408,6 +411,7 @@ void TcpListener::State::accept() {
                       self->options.log_name, peer, self->connections.size(),
                       self->options.section);
             s.close(pec);
+            ++self->refused;
         } else {
             s.set_option(tcp::no_delay(true), pec);
             set_keepalive(s);
@@ -416,6 +420,7 @@ void TcpListener::State::accept() {
             auto c = std::make_shared<Connection>(
                 std::move(s), self, peer, self->protocol->max_frame(), self->options.protocol);
             self->connections.insert(c);
+            ++self->accepted;
             c->start(*self->protocol);
         }
         self->accept();
@@ -545,6 +550,11 @@ std::string TcpListener::endpoint() const {
 }
 
 std::size_t TcpListener::connections() const { return state_->connections.size(); }
+
+ConnectionFigures TcpListener::figures() const {
+    return {std::string(state_->options.protocol), endpoint(), state_->connections.size(),
+            state_->accepted, state_->refused};
+}
 
 void TcpListener::set_limits(const TcpOptions& o) {
     state_->options.max_clients = o.max_clients;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cidr.hpp"
+#include "plcemu/listener/census.hpp"
 #include "plcemu/listener/protocol.hpp"
 
 namespace plcemu::listener {
@@ -45,6 +46,8 @@ public:
     std::string endpoint() const;
     /// Open connections.
     std::size_t connections() const;
+    /// Its connections, as metrics count them.
+    ConnectionFigures figures() const;
     /// Takes the limits of `options` that need no new listener (max_clients, timeouts, allow:
     /// a reload); open connections from peers no longer allowed are closed, the others kept.
     void set_limits(const TcpOptions& options);

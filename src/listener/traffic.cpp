@@ -24,9 +24,26 @@ void Traffic::record(const Client& client, const Exchange& e) {
     ++c.requests;
     if (e.error != 0) ++c.refusals;
     c.last = e.at;
+    count(e);
     ring_[next_] = e;
     next_ = (next_ + 1) % kKept;
     size_ = std::min(size_ + 1, kKept);
+}
+
+void Traffic::count(const Exchange& e) {
+    auto same = [&](const RequestCount& k) {
+        return k.function == e.function && k.error == e.error && k.protocol == e.protocol;
+    };
+    if (last_count_ >= counts_.size() || !same(counts_[last_count_])) {
+        const auto it = std::find_if(counts_.begin(), counts_.end(), same);
+        if (it == counts_.end()) {
+            counts_.push_back({e.protocol, e.function, e.error, 0});
+            last_count_ = counts_.size() - 1;
+        } else {
+            last_count_ = static_cast<std::size_t>(it - counts_.begin());
+        }
+    }
+    ++counts_[last_count_].count;
 }
 
 void Traffic::gone(std::uint64_t client) noexcept {

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <system_error>
 #include <utility>
@@ -19,6 +20,10 @@ namespace {
 // Refused peers are logged a few at a time, as the TCP listener's are.
 constexpr int kLogBurst = 5;
 constexpr std::chrono::seconds kLogWindow{10};
+// UDP has no connections: a peer is listed as a client while it keeps asking. The peers heard
+// most recently are kept, and one silent this long is no longer listed.
+constexpr std::size_t kPeers = 16;
+constexpr std::chrono::seconds kPeerSilence{60};
 
 std::string peer_name(const udp::endpoint& ep) {
     return ep.address().to_string() + ":" + std::to_string(ep.port());
@@ -54,12 +59,42 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
             }
             return;
         }
+        protocol.units().set_serving(&client_of(sender));
         const std::size_t size = protocol.answer(std::span(in.data(), n), std::span(out));
+        protocol.units().set_serving(nullptr);
         if (size == 0) return;
         // A datagram socket's send does not wait for the peer; should the kernel's buffer be
         // full, the reply is lost as on a real network and the master asks again.
         asio::error_code ec;
         socket.send_to(asio::buffer(out.data(), size), sender, 0, ec);
+    }
+
+    // The client a peer is listed as; peers silent too long, or the least recent beyond kPeers,
+    // are no longer listed.
+    const Client& client_of(const udp::endpoint& ep) {
+        const auto now = std::chrono::steady_clock::now();
+        Peer* hit = nullptr;
+        std::erase_if(peers, [&](const Peer& p) {
+            const bool gone = p.endpoint != ep && now - p.last > kPeerSilence;
+            if (gone) protocol.units().client_gone(p.client.id);
+            return gone;
+        });
+        for (auto& p : peers) {
+            if (p.endpoint == ep) hit = &p;
+        }
+        if (hit == nullptr) {
+            if (peers.size() >= kPeers) {
+                auto oldest =
+                    std::min_element(peers.begin(), peers.end(),
+                                     [](const Peer& a, const Peer& b) { return a.last < b.last; });
+                protocol.units().client_gone(oldest->client.id);
+                peers.erase(oldest);
+            }
+            peers.push_back({ep, make_client(peer_name(ep), options.protocol), now});
+            hit = &peers.back();
+        }
+        hit->last = now;
+        return hit->client;
     }
 
     bool allowed(const asio::ip::address& a) const {
@@ -78,6 +113,12 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     udp::endpoint sender;
     LogLimiter limiter{kLogBurst, kLogWindow};
     std::string name;
+    struct Peer {
+        udp::endpoint endpoint;
+        Client client;
+        std::chrono::steady_clock::time_point last;
+    };
+    std::vector<Peer> peers;  // the peers listed as clients
 };
 
 UdpListener::UdpListener(asio::io_context& io, StreamProtocol& protocol, UdpOptions options)
@@ -113,6 +154,8 @@ void UdpListener::set_allow(std::vector<Cidr> allow) { state_->options.allow = s
 void UdpListener::stop() {
     asio::error_code ec;
     state_->socket.close(ec);
+    for (const auto& p : state_->peers) state_->protocol.units().client_gone(p.client.id);
+    state_->peers.clear();
 }
 
 }  // namespace plcemu::listener

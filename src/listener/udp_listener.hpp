@@ -19,6 +19,7 @@ struct UdpOptions {
     std::string bind = "0.0.0.0";  ///< address
     std::uint16_t port = 500;      ///< port (0 = any free port)
     std::vector<Cidr> allow;       ///< peers answered (empty = all); others are ignored
+    std::string_view protocol{};   ///< the protocol's name, as its clients are listed
 };
 
 /// The UDP listener.

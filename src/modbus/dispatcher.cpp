@@ -29,13 +29,10 @@ std::size_t Dispatcher::answer(const Request& r, PduBuffer out) noexcept {
                       static_cast<unsigned>(s), r.broadcast ? " (broadcast, not sent)" : "");
         if (r.broadcast) return 0;  // a broadcast is never answered
         ++stats_.exceptions;
-        const auto code = static_cast<std::size_t>(s);
-        if (code < stats_.by_exception.size()) ++stats_.by_exception[code];
         return exception_pdu(fc, s, out);
     };
 
     ++stats_.requests;
-    ++stats_.by_function[fc & 0x7F];
     const FunctionHandler handler = fc < functions_.size() ? functions_[fc] : nullptr;
     if (handler == nullptr) return exception(Status::IllegalFunction);
     const FunctionRequest request{r.pdu, r.unit, r.slave_id, r.broadcast, identity_};

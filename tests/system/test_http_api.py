@@ -1270,6 +1270,8 @@ def parse_metrics(text):
             if m:
                 assert m.group(1) not in typed, f"two TYPE lines for {m.group(1)}"
                 typed.add(m.group(1))
+                if m.group(2) == "histogram":  # its samples are NAME_bucket, _sum and _count
+                    typed.update(m.group(1) + s for s in ("_bucket", "_sum", "_count"))
             else:
                 assert HELP.match(line), line
             continue
@@ -1289,7 +1291,8 @@ def parse_metrics(text):
 def test_metrics_count_scans_and_modbus_requests(fbs):
     c = fbs.client()
     before = parse_metrics(get(fbs.http, "/metrics").body.decode())
-    fc3 = ("plcemu_modbus_requests_total", (("function", "3"), ("plc", "0")))
+    fc3 = ("plcemu_requests_total",
+           (("function", "03"), ("plc", "0"), ("protocol", "modbus-tcp")))
     n = 7
     for _ in range(n):
         holding(c, 0)
@@ -1308,7 +1311,8 @@ def test_metrics_count_scans_and_modbus_requests(fbs):
     bad = c.read_holding_registers(4500, 1, slave=1)
     assert bad.isError()
     m = parse_metrics(get(fbs.http, "/metrics").body.decode())
-    assert m[("plcemu_modbus_exceptions_total", (("code", "2"), ("plc", "0")))] >= 1
+    assert m[("plcemu_request_errors_total", (("code", "02"), ("function", "03"), ("plc", "0"),
+                                              ("protocol", "modbus-tcp")))] >= 1
     assert request(fbs.http, "HEAD", "/metrics").body == b""
 
 

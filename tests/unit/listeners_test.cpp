@@ -148,7 +148,8 @@ protected:
 
     std::vector<std::unique_ptr<Member>> plcs_;  // outlive the listeners that seat them
     asio::io_context io_;
-    Listeners listeners_{io_};
+    listener::Census census_;
+    Listeners listeners_{io_, census_};
 };
 
 TEST_F(ListenersTest, OpensAListenerPerPlcOnPortZeroEachServingItsOwnPlc) {
@@ -207,6 +208,14 @@ TEST_F(ListenersTest, TheSamePortWithNewLimitsKeepsTheListenerAndItsClients) {
     auto third = connect(p);
     ASSERT_TRUE(third.is_open());  // the kernel's accept queue takes it; the listener closes it
     EXPECT_TRUE(closed(third));
+    // The kept listener counts on, for the metrics: 2 accepted and open, 1 refused.
+    const auto figures = listeners_.connections();
+    ASSERT_EQ(figures.size(), 1u);
+    EXPECT_EQ(figures[0].protocol, "modbus-tcp");
+    EXPECT_EQ(figures[0].endpoint, "127.0.0.1:" + std::to_string(p));
+    EXPECT_EQ(figures[0].open, 2u);
+    EXPECT_EQ(figures[0].accepted, 2u);
+    EXPECT_EQ(figures[0].refused, 1u);
 }
 
 TEST_F(ListenersTest, APortThatCannotBeHadFailsStageAndChangesNothing) {

@@ -367,7 +367,8 @@ protected:
 };
 
 TEST_F(RtuReopen, DeviceThatComesBackIsReopenedWithoutSpinning) {
-    listener::SerialListener server(io_, protocol_, {pty().link(), 115200, 'N', 8, 1}, "rtu");
+    listener::SerialListener server(io_, protocol_, {pty().link(), 115200, 'N', 8, 1}, "rtu",
+                                    "modbus-rtu");
     ASSERT_TRUE(answered());
 
     pty().unplug();
@@ -387,7 +388,8 @@ TEST_F(RtuReopen, DeviceThatComesBackIsReopenedWithoutSpinning) {
 }
 
 TEST_F(RtuReopen, StopDuringTheBackOffLeavesNothingToRun) {
-    listener::SerialListener server(io_, protocol_, {pty().link(), 115200, 'N', 8, 1}, "rtu");
+    listener::SerialListener server(io_, protocol_, {pty().link(), 115200, 'N', 8, 1}, "rtu",
+                                    "modbus-rtu");
     pty().unplug();
     ASSERT_TRUE(run_until([&] { return count("lost") == 1; }, 2000ms)) << loop_.log();
     server.stop();

@@ -101,6 +101,25 @@ TEST_F(ScanDriverTest, ScansAtTheirDeadlinesAndNoneEarly) {
     EXPECT_EQ(d->simulated_time(), engine_->now());
     EXPECT_EQ(d->lateness().scans, engine_->scans());
     EXPECT_EQ(on_scan_calls_, scans);
+    // Every scan run on schedule is in the metrics' histograms.
+    ASSERT_NE(d->scan_figures(), nullptr);
+    EXPECT_EQ(d->scan_figures()->lateness.count, engine_->scans());
+    EXPECT_EQ(d->scan_figures()->duration.count, engine_->scans());
+    EXPECT_GT(d->scan_figures()->duration.sum.count(), 0);
+}
+
+TEST(DurationHistogram, ABoundBelongsToItsOwnBucketAndTheLastTakesTheRest) {
+    engine::DurationHistogram h;
+    h.record(std::chrono::microseconds(10));     // le 10 µs
+    h.record(std::chrono::nanoseconds(10'001));  // le 50 µs
+    h.record(std::chrono::milliseconds(10));     // le 10 ms
+    h.record(std::chrono::seconds(3));           // +Inf
+    EXPECT_EQ(h.buckets[0], 1u);
+    EXPECT_EQ(h.buckets[1], 1u);
+    EXPECT_EQ(h.buckets[engine::DurationHistogram::kBoundsUs.size() - 1], 1u);
+    EXPECT_EQ(h.buckets.back(), 1u);
+    EXPECT_EQ(h.count, 4u);
+    EXPECT_EQ(h.sum, std::chrono::nanoseconds(3'010'020'001));
 }
 
 TEST_F(ScanDriverTest, TimeScaleTwoRunsTwiceTheScansInTheSameRealTime) {

@@ -43,6 +43,30 @@ TEST(Traffic, CountsEachClientsRequestsAndRefusals) {
     EXPECT_EQ(x[2].error, 2);
 }
 
+TEST(Traffic, CountsRequestsByProtocolFunctionAndErrorPastTheClientsThatMadeThem) {
+    Traffic t;
+    const Client a = make_client("10.0.0.1:5000", "modbus-tcp");
+    const Client b = make_client("/dev/ttyUSB0", "modbus-rtu");
+    for (int i = 0; i < 3; ++i) t.record(a, ask(a, 3));
+    t.record(a, ask(a, 3, 2));
+    t.record(b, ask(b, 3));
+    t.gone(a.id);  // counts are kept when the client leaves
+    t.record(b, ask(b, 3, 2));
+    const auto& k = t.counts();
+    ASSERT_EQ(k.size(), 4u);
+    EXPECT_EQ(k[0].protocol, "modbus-tcp");
+    EXPECT_EQ(k[0].function, 3);
+    EXPECT_EQ(k[0].error, 0);
+    EXPECT_EQ(k[0].count, 3u);
+    EXPECT_EQ(k[1].error, 2);
+    EXPECT_EQ(k[1].count, 1u);
+    EXPECT_EQ(k[2].protocol, "modbus-rtu");
+    EXPECT_EQ(k[2].count, 1u);
+    EXPECT_EQ(k[3].protocol, "modbus-rtu");
+    EXPECT_EQ(k[3].error, 2);
+    EXPECT_EQ(k[3].count, 1u);
+}
+
 TEST(Traffic, KeepsTheLastExchangesOnly) {
     Traffic t;
     const Client a = make_client("x", "modbus-tcp");

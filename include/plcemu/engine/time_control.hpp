@@ -2,11 +2,39 @@
 // Run-time control of simulated time (docs/simulator-and-plant.md, "Simulator-control unit"):
 // implemented by the daemon's scan driver, and by a fake in tests.
 
+#include <array>
+#include <chrono>
 #include <cstdint>
 
 #include "plcemu/engine/engine.hpp"
 
 namespace plcemu::engine {
+
+/// A histogram of durations with the bounds metrics show (Prometheus' cumulative `le` buckets
+/// are made from it).
+struct DurationHistogram {
+    /// Upper bounds of the buckets, µs; a last bucket holds everything longer.
+    static constexpr std::array<std::uint32_t, 9> kBoundsUs{10,   50,   100,  250,  500,
+                                                            1000, 2500, 5000, 10000};
+    std::array<std::uint64_t, kBoundsUs.size() + 1> buckets{};  ///< counts per bucket
+    std::uint64_t count = 0;                                    ///< everything recorded
+    std::chrono::nanoseconds sum{0};                            ///< their total
+
+    /// Records one duration.
+    void record(std::chrono::nanoseconds d) noexcept {
+        std::size_t b = 0;
+        while (b < kBoundsUs.size() && d > std::chrono::microseconds(kBoundsUs[b])) ++b;
+        ++buckets[b];
+        ++count;
+        sum += d;
+    }
+};
+
+/// How the scans of a real-time driver went, for metrics.
+struct ScanFigures {
+    DurationHistogram lateness;  ///< scan starts after their deadlines
+    DurationHistogram duration;  ///< the scans themselves (program, plant, I/O refresh)
+};
 
 /// Time scale, freeze and single-stepping of the scan loop.
 class TimeControl {
@@ -35,6 +63,8 @@ public:
     /// worst, µs (0 without a real-time driver).
     virtual std::uint64_t lateness_p99_us() const noexcept { return 0; }
     virtual std::uint64_t lateness_max_us() const noexcept { return 0; }
+    /// Lateness and duration of the scans run on schedule; null without a real-time driver.
+    virtual const ScanFigures* scan_figures() const noexcept { return nullptr; }
 };
 
 }  // namespace plcemu::engine

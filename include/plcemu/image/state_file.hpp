@@ -95,8 +95,9 @@ public:
 
     /// Records new retentive ranges in the header (config reload).
     void set_retentive(const std::vector<Range>& retentive);
-    /// Writes the mapping to disk (msync MS_SYNC). Safe from another thread; noexcept.
-    void sync() noexcept;
+    /// Writes the mapping to disk (msync MS_SYNC). Safe from another thread. False when the
+    /// kernel could not (an I/O error; the data stays in the mapping and the next sync retries).
+    bool sync() noexcept;
     /// Syncs, stores the data checksum, marks the file closed and unmaps it. Idempotent.
     void close() noexcept;
 

@@ -49,6 +49,14 @@ struct ClientFigures {
     std::chrono::system_clock::time_point last{};  ///< its last request
 };
 
+/// Requests of one kind answered since start, as metrics count them.
+struct RequestCount {
+    std::string_view protocol{};  ///< "modbus-tcp", "fatek"
+    std::uint8_t function = 0;    ///< function code, command code
+    std::uint8_t error = 0;       ///< exception or error code; 0: served
+    std::uint64_t count = 0;
+};
+
 /// The traffic of one PLC.
 class Traffic {
 public:
@@ -65,10 +73,17 @@ public:
     std::vector<Exchange> exchanges() const;
     /// The peer of a client still listed, or "".
     std::string_view peer(std::uint64_t client) const;
+    /// Every request recorded since start, counted by protocol, function and error, in the
+    /// order each kind was first seen.
+    const std::vector<RequestCount>& counts() const { return counts_; }
 
 private:
+    void count(const Exchange& e);
+
     std::vector<ClientFigures> clients_;
     std::size_t last_hit_ = 0;  // the client recorded last: the next request is likely its
+    std::vector<RequestCount> counts_;
+    std::size_t last_count_ = 0;  // the kind counted last: the next request is likely one
     std::array<Exchange, kKept> ring_{};
     std::size_t next_ = 0;
     std::size_t size_ = 0;

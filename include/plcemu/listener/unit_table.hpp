@@ -11,6 +11,7 @@
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/image/area.hpp"
 #include "plcemu/image/naming.hpp"
+#include "plcemu/listener/census.hpp"
 #include "plcemu/listener/traffic.hpp"
 #include "plcemu/plant/plant.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
@@ -109,6 +110,10 @@ public:
             if (s.traffic != nullptr) s.traffic->gone(client);
         }
     }
+    /// The process's figures beside its PLCs' (null: not kept), for views that show them.
+    void set_census(const Census* census) noexcept { census_ = census; }
+    /// Those figures, or null.
+    const Census* census() const noexcept { return census_; }
     /// Counts a broadcast handed to every PLC.
     void count_broadcast() noexcept { ++stats_.broadcasts; }
 
@@ -122,6 +127,7 @@ private:
     std::string token_;
     std::vector<std::string> hosts_;
     const Client* serving_ = nullptr;
+    const Census* census_ = nullptr;
     UnitTableStats stats_;
 };
 

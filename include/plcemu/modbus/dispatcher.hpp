@@ -23,10 +23,8 @@ struct Identity {
 
 /// Counters, for logs and tests.
 struct DispatchStats {
-    std::uint64_t requests = 0;                    ///< requests served, answered or not
-    std::uint64_t exceptions = 0;                  ///< exception replies sent
-    std::array<std::uint64_t, 128> by_function{};  ///< requests per function code (low 7 bits)
-    std::array<std::uint64_t, 16> by_exception{};  ///< exception replies per exception code
+    std::uint64_t requests = 0;    ///< requests served, answered or not
+    std::uint64_t exceptions = 0;  ///< exception replies sent
 };
 
 /// Where a function handler builds its reply PDU.

@@ -362,7 +362,9 @@
         r.cells.listeners.dataset.text = listeners;
         r.cells.listeners.replaceChildren(...listeners.split(', ').map((l) => el('div', {text: l})));
       }
-      setText(r.cells.scan_ms, p.scan_ms + ' ms');
+      // "10 ms / 145 µs": the scan period, and what a scan takes on average.
+      setText(r.cells.scan_ms, p.scan_ms + ' ms' +
+        (typeof p.scan_us === 'number' ? ' / ' + Math.round(p.scan_us) + ' µs' : ''));
       setText(r.badge, p.running ? 'RUN' : 'STOP');
       r.badge.className = 'badge ' + (p.running ? 'run' : 'stop');
       setText(r.cells.scans, p.scans);

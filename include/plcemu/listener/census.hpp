@@ -1,0 +1,34 @@
+#pragma once
+// What the process counts beside its PLCs' requests, for the metrics an operator scrapes
+// (docs/operations.md, "Health and metrics"): its listeners' connections, its reloads and its
+// state-file syncs. The daemon owns it and fills it; views (HTTP's /metrics) only read it.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace plcemu::listener {
+
+/// One stream listener's connections.
+struct ConnectionFigures {
+    std::string protocol;        ///< "modbus-tcp", "fatek", "http"
+    std::string endpoint;        ///< "0.0.0.0:502"
+    std::uint64_t open = 0;      ///< connections open now
+    std::uint64_t accepted = 0;  ///< connections accepted since the listener opened
+    std::uint64_t refused = 0;   ///< closed at accept: not allowed, or max_clients reached
+};
+
+/// The process's figures.
+struct Census {
+    /// The stream listeners open now (the daemon answers it from its listeners).
+    std::function<std::vector<ConnectionFigures>()> connections;
+    std::uint64_t reloads_applied = 0;   ///< SIGHUP reloads applied
+    std::uint64_t reloads_rejected = 0;  ///< SIGHUP reloads refused (the old config kept)
+    // The state files are synced on a thread of their own.
+    std::atomic<std::uint64_t> syncs{0};          ///< state-file syncs that reached the disk
+    std::atomic<std::uint64_t> sync_failures{0};  ///< syncs the kernel refused (msync failed)
+};
+
+}  // namespace plcemu::listener
