@@ -105,6 +105,7 @@ public:
         s.time = driver_.get();
         s.plant = &plc_->plant();
         s.traffic = &traffic_;
+        s.history = &history_;
         return s;
     }
 
@@ -294,7 +295,10 @@ private:
         sim_ = std::make_unique<simulator::SimulatorUnit>(
             plc_->plant(), *driver_, cfg_->simulator.writable.value_or(!cfg_->modbus.read_only));
         // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
-        driver_->on_scan([this] { notify_.watchdog(Notifier::Clock::now()); });
+        driver_->on_scan([this] {
+            notify_.watchdog(Notifier::Clock::now());
+            history_.after_scan(plc_->engine());
+        });
         // R4055: a station another unit on the PLC's listeners answers is refused.
         driver_->on_station_request([this](std::uint8_t s) { return !guard_.taken(s); });
         if (now) driver_->start();
@@ -316,6 +320,8 @@ private:
     std::unique_ptr<Plc> plc_;
     // What its clients asked, kept across reloads; the protocols write it through the seat.
     mutable listener::Traffic traffic_;
+    // Its loops' trends, kept once the console looked at them, and across reloads.
+    mutable engine::LoopHistory history_;
     std::unique_ptr<MasterLink> master_;
     std::unique_ptr<ScanDriver> driver_;
     std::unique_ptr<simulator::SimulatorUnit> sim_;

@@ -250,7 +250,7 @@ Response metrics(const Call& call) {
         auto word = [&](const image::Device& d) {
             return static_cast<double>(static_cast<std::int16_t>(img.read_word(d)));
         };
-        for (const engine::Loop& l : loops_of(s)) {
+        for (const engine::Loop& l : engine::loops_of(*s.engine)) {
             Sampled x{"plc=\"" + label(s.id) + "\",loop=\"" + label(l.name) + "\"",
                       {},
                       word(l.sv) * l.scale,

@@ -37,17 +37,10 @@ Json flag_json(const listener::Seat& plc, const engine::LoopFlag& f) {
 
 }  // namespace
 
-engine::Loops loops_of(const listener::Seat& plc) {
-    engine::Loops found;
-    for (const auto& instruction : plc.engine->program()) {
-        instruction->loops(plc.engine->image(), found);
-    }
-    return found;
-}
-
 Response loops(const Call& /*call*/, const listener::Seat& plc) {
     const image::Image& img = plc.engine->image();
-    const engine::Loops found = loops_of(plc);
+    const engine::Loops found = engine::loops_of(*plc.engine);
+    if (plc.history != nullptr) plc.history->watch();
     Json list = Json::array();
     for (const engine::Loop& l : found) {
         Json j{{"name", l.name},
@@ -80,6 +73,31 @@ Response loops(const Call& /*call*/, const listener::Seat& plc) {
         list.push_back(std::move(j));
     }
     Json out{{"loops", std::move(list)}};
+    if (plc.time != nullptr) {
+        out["simulated_s"] = std::chrono::duration<double>(plc.time->simulated_time()).count();
+    }
+    return json(200, out);
+}
+
+Response loop_history(const Call& /*call*/, const listener::Seat& plc) {
+    Json list = Json::array();
+    if (plc.history != nullptr) {
+        plc.history->watch();
+        const engine::Loops found = engine::loops_of(*plc.engine);
+        // Until its first sample the history has no loops: the program's are listed, empty.
+        for (std::size_t i = 0; i < found.size(); ++i) {
+            Json samples = Json::array();
+            if (plc.history->loops() == found.size()) {
+                for (const auto& s : plc.history->samples(i)) {
+                    // [t, pv, sv, output]; a PV without a source is null.
+                    samples.push_back(Json::array(
+                        {s.t, std::isnan(s.pv) ? Json(nullptr) : Json(s.pv), s.sv, s.output}));
+                }
+            }
+            list.push_back(Json{{"name", found[i].name}, {"samples", std::move(samples)}});
+        }
+    }
+    Json out{{"loops", std::move(list)}, {"every_s", 1}};
     if (plc.time != nullptr) {
         out["simulated_s"] = std::chrono::duration<double>(plc.time->simulated_time()).count();
     }

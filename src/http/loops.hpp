@@ -4,14 +4,16 @@
 // set points, parameters and switches are written through the devices endpoint.
 
 #include "http/api.hpp"
+#include "plcemu/engine/loop_history.hpp"
 #include "plcemu/engine/loops.hpp"
 
 namespace plcemu::http {
 
-/// The loops of the PLC's program, in program order.
-engine::Loops loops_of(const listener::Seat& plc);
-
-/// `GET /api/v1/plcs/{plc}/loops`.
+/// `GET /api/v1/plcs/{plc}/loops`. The PLC's loops are sampled for their trends from then on.
 Response loops(const Call& call, const listener::Seat& plc);
+
+/// `GET /api/v1/plcs/{plc}/loops/history`: each loop's samples of the last 10 simulated
+/// minutes, one a simulated second, from when the loops were first asked for.
+Response loop_history(const Call& call, const listener::Seat& plc);
 
 }  // namespace plcemu::http

@@ -69,6 +69,10 @@ Routed api(const Call& call) {
         if (!get) return {not_allowed("GET, HEAD"), {}};
         return {loops(call, *plc), {}};
     }
+    if (p.size() == 6 && p[4] == "loops" && p[5] == "history") {
+        if (!get) return {not_allowed("GET, HEAD"), {}};
+        return {loop_history(call, *plc), {}};
+    }
     if (p.size() == 5 && p[4] == "traffic") {
         if (!get) return {not_allowed("GET, HEAD"), {}};
         return {traffic(call, *plc), {}};

@@ -443,6 +443,18 @@ def test_the_loops_page_shows_a_faceplate_per_loop_and_its_trend_grows(browser, 
     assert severe == [], severe
 
 
+def test_a_trend_opens_with_what_the_plc_kept_of_the_last_minutes(browser, start_plcemud):
+    # At x60 two real seconds are two simulated minutes: about 120 samples kept by the PLC once
+    # its loops were looked at, where the page's own polls would draw two or three points.
+    _, base = start_config_file(start_plcemud, "default.yaml", "--time-scale", "60")
+    assert api(base, "/api/v1/plcs/0/loops")[0] == 200  # someone looked: the PLC keeps them
+    time.sleep(2)
+    open_loops(browser, base, 10)
+    wait(browser, lambda dr: trend_points(dr, 0) >= 90, timeout=3,
+         what="point 0's trend to open with the kept samples")
+    assert trend_points(browser, 0, "sv") >= 90
+
+
 def test_editing_a_loops_set_point_writes_its_register(browser, start_plcemud):
     d, base = start_config_file(start_plcemud, "default.yaml")
     open_loops(browser, base, 10)

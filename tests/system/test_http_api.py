@@ -41,6 +41,7 @@ CONTRACT_PATHS = [
     "/api/v1/plcs/{plc}/events",
     "/api/v1/plcs/{plc}/traffic",
     "/api/v1/plcs/{plc}/loops",
+    "/api/v1/plcs/{plc}/loops/history",
     "/api/v1/events",
     "/api/v1/openapi.json",
     "/healthz",
@@ -1388,6 +1389,46 @@ def test_loops_of_default_yaml_are_its_ten_tpctl_points(start_plcemud):
     # The first execution wrote the default gains into PR, IR, DR.
     assert [q["value"] for q in ls[0]["parameters"]] == [110, 17, 50, 50], ls[0]
     assert holding(c, 120) == [110]
+
+
+def test_loop_history_keeps_a_sample_a_simulated_second_once_the_loops_are_watched(
+        start_plcemud):
+    plc = start_config_file(start_plcemud, "default.yaml")
+    assert sim_put(plc.http, {"frozen": True}).status == 200
+    c = plc.client()
+    assert not c.write_register(103, 260, slave=1).isError()  # point 3's SV: 26.0 °C
+
+    def history():
+        r = get(plc.http, "/api/v1/plcs/0/loops/history")
+        assert r.status == 200, r
+        return r.json()
+
+    def stepped(n):
+        before = plc_state(plc.http)["scans"]
+        assert sim_put(plc.http, {"step": n}).status == 200
+        wait_for(lambda: plc_state(plc.http)["scans"] == before + n, what=f"{n} scans")
+
+    # Not watched yet: scans leave nothing behind (a process of many PLCs pays nothing).
+    stepped(300)
+    h = history()  # from now on it is watched
+    assert h["every_s"] == 1
+    assert [x["name"] for x in h["loops"]] == [f"TPCTL point {i} (channel {i})" for i in range(10)]
+    assert all(x["samples"] == [] for x in h["loops"]), h
+    stepped(501)  # 5.01 simulated seconds of 10 ms scans
+    h = history()
+    p3 = h["loops"][3]["samples"]
+    assert len(p3) == 6, p3
+    ts = [s[0] for s in p3]
+    assert [round(b - a, 6) for a, b in zip(ts, ts[1:])] == [1.0] * 5, ts
+    assert ts[-1] <= h["simulated_s"] < ts[-1] + 1, (ts, h["simulated_s"])
+    # [t, pv, sv, output %]: in the loop's units, as /loops gives them.
+    lp = loops(plc.http)[3]
+    t, pv, sv, out = p3[-1]
+    assert sv == pytest.approx(26.0) and sv == lp["sv"]["value"], (p3[-1], lp)
+    assert pv == pytest.approx(lp["pv"]["value"], abs=0.2), (p3[-1], lp)
+    assert out == pytest.approx(lp["output"]["percent"]), (p3[-1], lp)
+    assert request(plc.http, "HEAD", "/api/v1/plcs/0/loops/history").status == 200
+    assert request(plc.http, "PUT", "/api/v1/plcs/0/loops/history", json_body={}).status == 405
 
 
 def test_loops_of_vb_pid_yaml_are_its_pid_with_its_tuning_bit(start_plcemud):

@@ -143,6 +143,7 @@ public:
     Duration scan_period() const { return options_.scan_period; }
     /// The image.
     image::Image& image() { return image_; }
+    const image::Image& image() const { return image_; }
     /// Hands the program over (a reload's probe PLC validated it; the live PLC runs it). The
     /// engine is left without instructions.
     Program take_program() noexcept { return std::move(program_); }

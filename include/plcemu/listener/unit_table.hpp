@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "plcemu/engine/engine.hpp"
+#include "plcemu/engine/loop_history.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "plcemu/image/area.hpp"
 #include "plcemu/image/naming.hpp"
@@ -42,10 +43,11 @@ struct Seat {
     std::string model{};       ///< "FBs-24MC"
     int scan_ms = 0;           ///< scan period, simulated ms
     std::string listeners{};   ///< "tcp 0.0.0.0:502, fatek tcp 0.0.0.0:500"
-    const image::Naming* naming = nullptr;  ///< the family's device names
-    engine::TimeControl* time = nullptr;    ///< its scan's time control
-    plant::Plant* plant = nullptr;          ///< its simulated process
-    Traffic* traffic = nullptr;             ///< what its clients asked of it (null: not kept)
+    const image::Naming* naming = nullptr;   ///< the family's device names
+    engine::TimeControl* time = nullptr;     ///< its scan's time control
+    plant::Plant* plant = nullptr;           ///< its simulated process
+    Traffic* traffic = nullptr;              ///< what its clients asked of it (null: not kept)
+    engine::LoopHistory* history = nullptr;  ///< its loops' recent past (null: not kept)
 };
 
 /// What a listener does with a unit ID no PLC on it has: answer it with the protocol's refusal

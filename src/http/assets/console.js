@@ -1170,10 +1170,12 @@
       const t = typeof data.simulated_s === 'number' ? data.simulated_s : performance.now() / 1000;
       const s = shapeOf(list);
       if (s !== shape) {
-        // Other loops (a reload changed the program): new faceplates.
+        // Other loops (a reload changed the program): new faceplates, their trends filled with
+        // what the PLC kept of the last 10 simulated minutes.
         shape = s;
         cards = list.map(makeCard);
         box.replaceChildren(...cards.map((c) => c.article));
+        fillTrends(cards);
       } else if (lastT !== null && t < lastT) {
         // Simulated time went back (a reload): the trends start over.
         for (const c of cards) c.samples = [];
@@ -1183,6 +1185,28 @@
       list.forEach((l, i) => {
         update(cards[i], l);
         sample(cards[i], l, t);
+      });
+    }
+
+    // The samples the PLC kept ([t, pv, sv, output] a simulated second) before this page's
+    // first poll; those of the page's own polls come after them.
+    async function fillTrends(built) {
+      let data;
+      try {
+        data = await request('GET', apiPlc(plc) + '/loops/history');
+      } catch (e) {
+        return; // the trends then start with the page
+      }
+      if (cards !== built || !Array.isArray(data.loops)) return;
+      data.loops.forEach((h, i) => {
+        const card = built[i];
+        if (!card || h.name !== card.loop.name || !Array.isArray(h.samples)) return;
+        const first = card.samples.length ? card.samples[0].t : Infinity;
+        const kept = h.samples.filter((x) => x[0] < first)
+          .map((x) => ({t: x[0], pv: x[1], sv: x[2], out: x[3]}));
+        card.samples = kept.concat(card.samples);
+        const last = card.samples[card.samples.length - 1];
+        if (last) drawTrend(card.trend, card.samples, last.t, card.digits, card.loop.unit);
       });
     }
 
