@@ -408,7 +408,8 @@ def trend_points(driver, index, series="pv"):
 
 
 def test_the_loops_page_shows_a_faceplate_per_loop_and_its_trend_grows(browser, start_plcemud):
-    _, base = start_config_file(start_plcemud, "default.yaml", "--time-scale", "60")
+    # At x10 the trend's 10 simulated minutes take a real minute to fill: it can still grow.
+    _, base = start_config_file(start_plcemud, "default.yaml", "--time-scale", "10")
     browser.get_log("browser")  # what earlier tests left
     open_loops(browser, base, 10)
     cards = browser.find_elements(By.CSS_SELECTOR, "article[data-loop]")
@@ -425,7 +426,7 @@ def test_the_loops_page_shows_a_faceplate_per_loop_and_its_trend_grows(browser, 
         assert faceplate(browser, 3, f'input[data-device="{device}"]')
     assert browser.find_elements(By.CSS_SELECTOR, "button[data-switch]") == []
     # The loops started as a SCADA does (M800-M809, then M0): the heaters come on, and the
-    # trend of point 0's PV grows by one point a refresh (a simulated minute at x60).
+    # trend of point 0's PV grows by one point a refresh (ten simulated seconds at x10).
     assert api(base, "/api/v1/plcs/0/devices/WM800", "PUT", {"values": [1023]})[0] == 200
     assert api(base, "/api/v1/plcs/0/devices/M0", "PUT", {"values": [1]})[0] == 200
     first = trend_points(browser, 0)
@@ -444,15 +445,25 @@ def test_the_loops_page_shows_a_faceplate_per_loop_and_its_trend_grows(browser, 
 
 
 def test_a_trend_opens_with_what_the_plc_kept_of_the_last_minutes(browser, start_plcemud):
-    # At x60 two real seconds are two simulated minutes: about 120 samples kept by the PLC once
-    # its loops were looked at, where the page's own polls would draw two or three points.
+    # Once its loops were looked at, the PLC keeps a sample a simulated second: a page opened
+    # a simulated minute later draws about 60 points at once, where its own polls would draw one.
     _, base = start_config_file(start_plcemud, "default.yaml", "--time-scale", "60")
+
+    def simulated():
+        status, body = api(base, "/api/v1/plcs/0")
+        assert status == 200, body
+        return body["time"]["simulated_s"]
+
     assert api(base, "/api/v1/plcs/0/loops")[0] == 200  # someone looked: the PLC keeps them
-    time.sleep(2)
+    watched = simulated()
+    deadline = time.monotonic() + 20
+    while simulated() < watched + 60:
+        assert time.monotonic() < deadline, "simulated time does not advance"
+        time.sleep(0.1)
     open_loops(browser, base, 10)
-    wait(browser, lambda dr: trend_points(dr, 0) >= 90, timeout=3,
+    wait(browser, lambda dr: trend_points(dr, 0) >= 55, timeout=3,
          what="point 0's trend to open with the kept samples")
-    assert trend_points(browser, 0, "sv") >= 90
+    assert trend_points(browser, 0, "sv") >= 55
 
 
 def test_editing_a_loops_set_point_writes_its_register(browser, start_plcemud):

@@ -265,6 +265,36 @@
     return us(p.lateness_p99_us) + ' / ' + us(p.lateness_max_us) + ' µs';
   }
 
+  // Values edited in place (the devices page's cells, a faceplate's set point and parameters),
+  // for every input with a data-device under `container`: Enter writes it (`write(input)`),
+  // Escape puts the live value back (`restore(input)`), and so does leaving it without Enter.
+  function editInPlace(container, write, restore) {
+    container.addEventListener('keydown', (ev) => {
+      const input = ev.target;
+      if (!(input instanceof HTMLInputElement) || !input.dataset.device) return;
+      if (ev.key === 'Enter') {
+        ev.preventDefault();
+        write(input);
+      } else if (ev.key === 'Escape') {
+        ev.preventDefault();
+        restore(input);
+        input.select();
+      }
+    });
+    container.addEventListener('input', (ev) => {
+      if (ev.target instanceof HTMLInputElement) ev.target.classList.add('edited');
+    });
+    container.addEventListener('focusin', (ev) => {
+      if (ev.target instanceof HTMLInputElement) ev.target.select();
+    });
+    container.addEventListener('focusout', (ev) => {
+      const input = ev.target;
+      if (input instanceof HTMLInputElement && input.dataset.device && !input.hasAttribute('aria-busy')) {
+        restore(input);
+      }
+    });
+  }
+
   const signed16 = (v) => (v >= 0x8000 ? v - 0x10000 : v);
   const hex16 = (v) => '0x' + v.toString(16).toUpperCase().padStart(4, '0');
   const bits16 = (v) => v.toString(2).padStart(16, '0').replace(/(\d{4})(?=\d)/g, '$1 ');
@@ -555,31 +585,7 @@
       input.classList.remove('edited');
     }
 
-    tbody.addEventListener('keydown', (ev) => {
-      const input = ev.target;
-      if (!(input instanceof HTMLInputElement) || !input.dataset.device) return;
-      if (ev.key === 'Enter') {
-        ev.preventDefault();
-        write(input);
-      } else if (ev.key === 'Escape') {
-        ev.preventDefault();
-        restore(input);
-        input.select();
-      }
-    });
-    tbody.addEventListener('input', (ev) => {
-      if (ev.target instanceof HTMLInputElement) ev.target.classList.add('edited');
-    });
-    tbody.addEventListener('focusin', (ev) => {
-      if (ev.target instanceof HTMLInputElement) ev.target.select();
-    });
-    // Leaving a value without Enter drops the edit: the cell shows the live value again.
-    tbody.addEventListener('focusout', (ev) => {
-      const input = ev.target;
-      if (input instanceof HTMLInputElement && input.dataset.device && !input.hasAttribute('aria-busy')) {
-        restore(input);
-      }
-    });
+    editInPlace(tbody, write, restore);
 
     request('GET', devicePath(from) + '?count=' + encodeURIComponent(count))
       .then((data) => {
@@ -1303,28 +1309,7 @@
         setFlag(l.manual, on, l.name + ': ' + (on ? 'manual' : 'automatic') + ' (' + l.manual.device + ' bit ' + l.manual.bit + ' ' + (on ? 'on' : 'off') + ')');
       }
     });
-    box.addEventListener('keydown', (ev) => {
-      const input = ev.target;
-      if (!(input instanceof HTMLInputElement) || !input.dataset.device) return;
-      if (ev.key === 'Enter') {
-        ev.preventDefault();
-        write(input);
-      } else if (ev.key === 'Escape') {
-        ev.preventDefault();
-        restore(input);
-        input.select();
-      }
-    });
-    box.addEventListener('input', (ev) => {
-      if (ev.target instanceof HTMLInputElement) ev.target.classList.add('edited');
-    });
-    box.addEventListener('focusin', (ev) => {
-      if (ev.target instanceof HTMLInputElement) ev.target.select();
-    });
-    box.addEventListener('focusout', (ev) => {
-      const input = ev.target;
-      if (input instanceof HTMLInputElement && input.dataset.device && !input.hasAttribute('aria-busy')) restore(input);
-    });
+    editInPlace(box, write, restore);
 
     poll().then(() => setInterval(poll, 1000));
     loadPlcHeading();
