@@ -29,7 +29,8 @@ if CHROMIUM is None or CHROMEDRIVER is None:
     pytest.skip("chromium and chromedriver are not installed", allow_module_level=True)
 try:
     from selenium import webdriver
-    from selenium.common.exceptions import NoAlertPresentException
+    from selenium.common.exceptions import (NoAlertPresentException,
+                                            StaleElementReferenceException)
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
@@ -100,8 +101,12 @@ def api(base, path, method="GET", body=None, token=None):
 
 
 def wait(driver, condition, timeout=5.0, what=""):
-    """Waits until condition(driver) is truthy and returns it (a WebDriverWait, polled often)."""
-    return WebDriverWait(driver, timeout, poll_frequency=0.02).until(condition, what)
+    """Waits until condition(driver) is truthy and returns it (a WebDriverWait, polled often).
+    An element the page replaced while the condition read it (the loops page rebuilds its
+    faceplates when a loop's PV source appears) is asked for again."""
+    return WebDriverWait(driver, timeout, poll_frequency=0.02,
+                         ignored_exceptions=[StaleElementReferenceException]).until(
+                             condition, what)
 
 
 def css(driver, selector):
