@@ -170,7 +170,7 @@ std::string serialize(const Response& r, bool keep_alive, bool head_only) {
     for (const auto& [k, v] : r.headers) m.set(k, v);
     m.body() = r.body;
     m.keep_alive(keep_alive);
-    m.prepare_payload();
+    if (!r.stream) m.prepare_payload();
     std::ostringstream o;
     if (head_only) {
         o << m.base();
@@ -180,9 +180,11 @@ std::string serialize(const Response& r, bool keep_alive, bool head_only) {
     return o.str();
 }
 
-std::string event_stream_head() {
-    return "HTTP/1.1 200 OK\r\nServer: plcemud\r\nContent-Type: text/event-stream\r\n"
-           "Cache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\n\r\n";
+Response event_stream() {
+    Response r;
+    r.content_type = "text/event-stream";
+    r.stream = true;
+    return r;
 }
 
 }  // namespace plcemu::http

@@ -45,6 +45,8 @@ struct Response {
     std::string content_type = "application/json";
     std::string body;
     std::vector<std::pair<std::string, std::string>> headers;  ///< besides the usual ones
+    /// The body follows as a stream of events until the connection closes: no length is sent.
+    bool stream = false;
 };
 
 /// A request that could not be read: the status that says why, and a message.
@@ -65,7 +67,7 @@ bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& r
 /// headers of a GET without its body (HEAD).
 std::string serialize(const Response& response, bool keep_alive, bool head_only = false);
 
-/// The head of a response whose body follows as a stream of Server-Sent Events.
-std::string event_stream_head();
+/// A response whose body follows as a stream of Server-Sent Events.
+Response event_stream();
 
 }  // namespace plcemu::http

@@ -23,6 +23,16 @@ Response not_allowed(const char* allow) {
 
 Response not_found(const Request& rq) { return error(404, "nothing at " + rq.path.substr(0, 200)); }
 
+// An event stream: every PLC's (`plc` empty) or one PLC's. A HEAD gets the stream's head and no
+// subscription, as no events follow it.
+Routed events(const Call& call, std::string_view plc) {
+    std::optional<Response> refused;
+    auto sub = subscribe(call, plc, refused);
+    if (refused) return {*refused, {}};
+    if (call.request.method == "HEAD") return {event_stream(), {}};
+    return {event_stream(), std::move(sub)};
+}
+
 // The console's pages: one HTML file each, which fetches what it shows from the API.
 Response page(const Call& call, std::string_view name) {
     const Asset* a = find_asset(name);
@@ -42,9 +52,7 @@ Routed api(const Call& call) {
     }
     if (p.size() == 3 && p[2] == "events") {
         if (!get) return {not_allowed("GET, HEAD"), {}};
-        std::optional<Response> refused;
-        auto sub = subscribe(call, "", refused);
-        return {refused ? *refused : Response{}, std::move(sub)};
+        return events(call, "");
     }
     if (p.size() < 3 || p[2] != "plcs") return {not_found(call.request), {}};
     if (p.size() == 3) {
@@ -79,9 +87,7 @@ Routed api(const Call& call) {
     }
     if (p.size() == 5 && p[4] == "events") {
         if (!get) return {not_allowed("GET, HEAD"), {}};
-        std::optional<Response> refused;
-        auto sub = subscribe(call, p[3], refused);
-        return {refused ? *refused : Response{}, std::move(sub)};
+        return events(call, p[3]);
     }
     return {not_found(call.request), {}};
 }

@@ -36,13 +36,9 @@ public:
                 keep = false;
             } else {
                 Routed routed = route(rq, units_);
-                if (routed.stream && rq.method == "HEAD") {
-                    // The stream's head alone: a HEAD has no body, and no events follow it.
-                    keep = rq.keep_alive;
-                    bytes = event_stream_head();
-                } else if (routed.stream) {
+                if (routed.stream) {
                     stream_ = std::move(routed.stream);
-                    bytes = event_stream_head();
+                    bytes = serialize(routed.response, false);
                     bool ended = false;
                     bytes += stream_->poll(units_, ended);
                     if (ended) {

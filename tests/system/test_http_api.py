@@ -818,10 +818,14 @@ def test_head_gives_the_headers_of_get_without_a_body(fbs):
     assert head.header("Content-Type") == "application/json"
     assert int(head.header("Content-Length")) == len(got.body), (head, got)
     assert events.status == 200 and events.header("Content-Type") == "text/event-stream", events
+    assert events.header("Content-Length") is None, events  # a stream's length is never known
     assert missing.status == 404 and int(missing.header("Content-Length")) > 0, missing
     assert got.status == 200 and got.json()["names"] == ["R100", "R101", "R102"], got
     r = request(fbs.http, "HEAD", "/healthz")
     assert r.status == 200 and r.body == b"", r
+    # A HEAD of a stream is refused as its GET would be.
+    r = request(fbs.http, "HEAD", "/api/v1/plcs/0/events?device=Q1")
+    assert r.status == 404 and r.body == b"", r
 
 
 # --- The Host check (DNS rebinding) ------------------------------------------------------------
