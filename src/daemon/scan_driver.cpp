@@ -19,6 +19,7 @@ void LatenessStats::record(std::chrono::nanoseconds late) noexcept {
     ++scans;
     if (late > max) max = late;
     if (late > std::chrono::milliseconds(1)) ++over_1ms;
+    sum += late;
     const auto bucket = static_cast<std::size_t>(late.count() < 0 ? 0 : late / kBucket);
     ++histogram[std::min(bucket, kBuckets - 1)];
 }
@@ -35,6 +36,21 @@ std::chrono::microseconds LatenessStats::percentile(double fraction) const noexc
         }
     }
     return std::chrono::duration_cast<std::chrono::microseconds>(max);
+}
+
+engine::DurationHistogram LatenessStats::coarse() const noexcept {
+    engine::DurationHistogram h;
+    constexpr auto& kBounds = engine::DurationHistogram::kBoundsUs;
+    std::size_t fine = 0;
+    for (std::size_t b = 0; b < kBounds.size(); ++b) {
+        const auto below =
+            static_cast<std::size_t>(std::chrono::microseconds(kBounds[b]) / kBucket);
+        for (; fine < below && fine < kBuckets; ++fine) h.buckets[b] += histogram[fine];
+    }
+    for (; fine < kBuckets; ++fine) h.buckets.back() += histogram[fine];
+    h.count = scans;
+    h.sum = sum;
+    return h;
 }
 
 ScanDriver::ScanDriver(ScanTimer& timer,
@@ -131,12 +147,11 @@ void ScanDriver::tick() {
     auto now = start;
     for (auto d = schedule_.due(now); d.scans > 0; d = schedule_.due(now)) {
         lateness_.record(now - d.next_deadline);
-        figures_.lateness.record(now - d.next_deadline);
         const auto began = now;
         run_one(schedule_.next_sim());
         schedule_.ran();
         now = Clock::now();
-        figures_.duration.record(now - began);
+        duration_.record(now - began);
         last_scan_ = now;
         if (now - start > kBudget) break;
     }

@@ -29,11 +29,15 @@ struct LatenessStats {
     std::chrono::nanoseconds max{0};                  ///< worst lateness
     std::uint64_t over_1ms = 0;                       ///< scans started more than 1 ms late
     std::array<std::uint32_t, kBuckets> histogram{};  ///< scans per 10 µs of lateness
+    std::chrono::nanoseconds sum{0};                  ///< all lateness together
 
     /// Records one scan start `late` after its deadline.
     void record(std::chrono::nanoseconds late) noexcept;
     /// The lateness that `fraction` (e.g. 0.99) of the scans did not exceed, to 10 µs.
     std::chrono::microseconds percentile(double fraction) const noexcept;
+    /// The same scans in the metrics' buckets (each bound of DurationHistogram is a multiple of
+    /// 10 µs: a bucket counts the scans below its bound and not below the previous one).
+    engine::DurationHistogram coarse() const noexcept;
 };
 
 /// The real-time scan loop of one PLC, woken by the process's one ScanTimer; its queued steps run
@@ -92,7 +96,9 @@ public:
     void on_station_request(std::function<bool(std::uint8_t)> f) { grant_ = std::move(f); }
     /// Lateness figures.
     const LatenessStats& lateness() const { return lateness_; }
-    const engine::ScanFigures* scan_figures() const noexcept override { return &figures_; }
+    std::optional<engine::ScanFigures> scan_figures() const noexcept override {
+        return engine::ScanFigures{lateness_.coarse(), duration_};
+    }
 
 private:
     void arm();
@@ -113,8 +119,8 @@ private:
     std::function<void()> on_scan_;
     std::function<bool(std::uint8_t)> grant_;
     LatenessStats lateness_;
-    engine::ScanFigures figures_;
-    Clock::time_point last_scan_{};  // real time of the last scan tick() ran (or the start)
+    engine::DurationHistogram duration_;  // how long the scans took
+    Clock::time_point last_scan_{};       // real time of the last scan tick() ran (or the start)
 };
 
 }  // namespace plcemu::daemon

@@ -89,9 +89,9 @@ void histogram(std::string& out,
     help(out, name, "histogram", text);
     const std::string bucket = std::string(name) + "_bucket";
     for (const auto& s : seats) {
-        const engine::ScanFigures* f = s.time != nullptr ? s.time->scan_figures() : nullptr;
-        if (f == nullptr) continue;
-        const engine::DurationHistogram& h = f->*which;
+        const auto f = s.time != nullptr ? s.time->scan_figures() : std::nullopt;
+        if (!f) continue;
+        const engine::DurationHistogram& h = (*f).*which;
         const std::string plc = "plc=\"" + label(s.id) + '"';
         std::uint64_t below = 0;
         for (std::size_t b = 0; b < h.buckets.size(); ++b) {

@@ -46,7 +46,7 @@ Json describe(const listener::Seat& plc) {
         j["lateness_p99_us"] = plc.time->lateness_p99_us();
         j["lateness_max_us"] = plc.time->lateness_max_us();
         // The scan's own time, on average since the PLC was built.
-        if (const engine::ScanFigures* f = plc.time->scan_figures(); f && f->duration.count > 0) {
+        if (const auto f = plc.time->scan_figures(); f && f->duration.count > 0) {
             j["scan_us"] = std::chrono::duration<double, std::micro>(f->duration.sum).count() /
                            static_cast<double>(f->duration.count);
         }

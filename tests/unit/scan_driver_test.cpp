@@ -102,10 +102,22 @@ TEST_F(ScanDriverTest, ScansAtTheirDeadlinesAndNoneEarly) {
     EXPECT_EQ(d->lateness().scans, engine_->scans());
     EXPECT_EQ(on_scan_calls_, scans);
     // Every scan run on schedule is in the metrics' histograms.
-    ASSERT_NE(d->scan_figures(), nullptr);
+    ASSERT_TRUE(d->scan_figures().has_value());
     EXPECT_EQ(d->scan_figures()->lateness.count, engine_->scans());
     EXPECT_EQ(d->scan_figures()->duration.count, engine_->scans());
     EXPECT_GT(d->scan_figures()->duration.sum.count(), 0);
+}
+
+TEST(LatenessStats, CoarseBucketsCountTheScansBelowEachBound) {
+    LatenessStats s;
+    for (const auto us : {0, 9, 10, 49, 50, 9'999, 10'000, 60'000}) {
+        s.record(std::chrono::microseconds(us));
+    }
+    const engine::DurationHistogram h = s.coarse();
+    // Bounds 10, 50, 100, 250, 500, 1000, 2500, 5000, 10000 µs, then the rest.
+    EXPECT_EQ(h.buckets, (std::array<std::uint64_t, 10>{2, 2, 1, 0, 0, 0, 0, 0, 1, 2}));
+    EXPECT_EQ(h.count, 8u);
+    EXPECT_EQ(h.sum, std::chrono::microseconds(0 + 9 + 10 + 49 + 50 + 9'999 + 10'000 + 60'000));
 }
 
 TEST(DurationHistogram, ABoundBelongsToItsOwnBucketAndTheLastTakesTheRest) {

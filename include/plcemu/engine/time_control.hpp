@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 
 #include "plcemu/engine/engine.hpp"
 
@@ -63,8 +64,8 @@ public:
     /// worst, µs (0 without a real-time driver).
     virtual std::uint64_t lateness_p99_us() const noexcept { return 0; }
     virtual std::uint64_t lateness_max_us() const noexcept { return 0; }
-    /// Lateness and duration of the scans run on schedule; null without a real-time driver.
-    virtual const ScanFigures* scan_figures() const noexcept { return nullptr; }
+    /// Lateness and duration of the scans run on schedule; none without a real-time driver.
+    virtual std::optional<ScanFigures> scan_figures() const noexcept { return std::nullopt; }
 };
 
 }  // namespace plcemu::engine
