@@ -265,6 +265,29 @@
     return us(p.lateness_p99_us) + ' / ' + us(p.lateness_max_us) + ' µs';
   }
 
+  // A page's refresh: one GET of `path` at a time, its answer handed to apply(data) unless a
+  // write began while it was out (`writes()` counts them: that answer may show the state from
+  // before the write); `status(data)` is then the status line. Returns the function to call.
+  function poller(path, writes, apply, status) {
+    let busy = false;
+    return async function poll() {
+      if (busy) return;
+      busy = true;
+      const seen = writes();
+      try {
+        const data = await request('GET', path);
+        if (seen === writes()) {
+          apply(data);
+          setStatus(status(data), 'live');
+        }
+      } catch (e) {
+        setStatus(e.message, 'down');
+      } finally {
+        busy = false;
+      }
+    };
+  }
+
   // Values edited in place (the devices page's cells, a faceplate's set point and parameters),
   // for every input with a data-device under `container`: Enter writes it (`write(input)`),
   // Escape puts the live value back (`restore(input)`), and so does leaving it without Enter.
@@ -668,21 +691,7 @@
       }
     }
 
-    let polling = false;
-    async function poll() {
-      if (polling) return;
-      polling = true;
-      const seen = writes;
-      try {
-        const s = await request('GET', path);
-        if (seen === writes) apply(s);
-        setStatus('Updated every second', 'live');
-      } catch (e) {
-        setStatus(e.message, 'down');
-      } finally {
-        polling = false;
-      }
-    }
+    const poll = poller(path, () => writes, apply, () => 'Updated every second');
 
     async function change(body, done) {
       ++writes;
@@ -1216,23 +1225,8 @@
       });
     }
 
-    let polling = false;
-    async function poll() {
-      if (polling) return;
-      polling = true;
-      const seen = writes;
-      try {
-        const data = await request('GET', apiPlc(plc) + '/loops');
-        if (seen === writes) {
-          apply(data);
-          setStatus('Updated every second · simulated time ' + fmtNumber(data.simulated_s, 1) + ' s', 'live');
-        }
-      } catch (e) {
-        setStatus(e.message, 'down');
-      } finally {
-        polling = false;
-      }
-    }
+    const poll = poller(apiPlc(plc) + '/loops', () => writes, apply,
+      (data) => 'Updated every second · simulated time ' + fmtNumber(data.simulated_s, 1) + ' s');
 
     async function write(input) {
       const card = cardOf(input);
