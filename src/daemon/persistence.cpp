@@ -86,30 +86,34 @@ void SyncThread::run() {
             lock.unlock();
             const int error = file->sync() ? 0 : errno;
             lock.lock();
-            synced(*file, error);
+            // Found again: remove() of another file may have moved it meanwhile.
+            it = std::find_if(entries_.begin(), entries_.end(),
+                              [id](const Entry& e) { return e.id == id; });
+            if (it != entries_.end()) synced(*it, error);
             syncing_ = 0;
             cv_.notify_all();
         }
     }
 }
 
-// Counts a sync (`error`: 0, or the errno it failed with); a failure is logged when an episode of
-// them begins, and the recovery when it ends, so that a failing disk cannot fill the log.
-void SyncThread::synced(const image::StateFile& file, int error) {
+// Counts a sync (`error`: 0, or the errno it failed with); a file's failure is logged when an
+// episode of them begins, and its recovery when it ends, so that a failing disk cannot fill the
+// log. Each file keeps its own episode: one that fails does not make another's sync news.
+void SyncThread::synced(Entry& e, int error) {
     if (error == 0) {
         census_.syncs.fetch_add(1, std::memory_order_relaxed);
-        if (failing_) spdlog::info("persistence: {}: syncing again", file.path());
-        failing_ = false;
+        if (e.failing) spdlog::info("persistence: {}: syncing again", e.file->path());
+        e.failing = false;
         return;
     }
     census_.sync_failures.fetch_add(1, std::memory_order_relaxed);
-    if (!failing_) {
+    if (!e.failing) {
         spdlog::error(
             "persistence: {}: sync failed ({}); the state stays in memory and is "
             "synced again every period",
-            file.path(), std::strerror(error));
+            e.file->path(), std::strerror(error));
     }
-    failing_ = true;
+    e.failing = true;
 }
 
 }  // namespace plcemu::daemon

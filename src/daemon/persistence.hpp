@@ -46,9 +46,10 @@ private:
         image::StateFile* file;
         std::chrono::milliseconds period;
         Clock::time_point due;
+        bool failing = false;  // its last sync failed: the next failure is not logged again
     };
     void run();
-    void synced(const image::StateFile& file, int error);
+    void synced(Entry& e, int error);
 
     std::mutex mutex_;
     std::condition_variable cv_;
@@ -58,7 +59,6 @@ private:
     bool changed_ = false;
     bool stop_ = false;
     listener::Census& census_;
-    bool failing_ = false;  // the last sync failed: the next failure is not logged again
     std::thread thread_;
 };
 

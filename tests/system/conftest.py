@@ -5,6 +5,8 @@ API (used by every tests/system/test_*.py):
       function; `name` reuses tmp_path/<name>.yaml, so a restart keeps the same state file;
       `popen` goes to subprocess.Popen, e.g. preexec_fn, or stderr to replace the log file)
   Daemon: .port .proc .config_path .log_text() .client(**kw) .stop() -> exit code
+  spawn_plcs(tmp_path, text, ports) -> Daemon  a `plcs:` config (no --port), every port open;
+      the fixture start_plcs(text, ports) stops them at teardown
   BASE_CONFIG   minimal config text listening on 127.0.0.1
   free_port()   a TCP port nobody listens on right now
   PLCEMUD       path of the binary (env PLCEMUD, default build-test/plcemud)
@@ -154,6 +156,45 @@ def start_plcemud(tmp_path):
 
     def start(config_yaml: str = BASE_CONFIG, *extra_args, name=None, **popen) -> Daemon:
         d = _spawn(tmp_path, len(daemons), config_yaml, extra_args, name, **popen)
+        daemons.append(d)
+        return d
+
+    yield start
+    for d in daemons:
+        d.stop()
+
+
+def spawn_plcs(tmp_path: Path, text: str, ports, host="127.0.0.1", name="plant") -> Daemon:
+    """plcemud on a `plcs:` config written to tmp_path/<name>.yaml (no --port: each PLC names
+    its own), once every one of `ports` listens on `host`. The caller stops it."""
+    config_path = tmp_path / f"{name}.yaml"
+    config_path.write_text(text)
+    log_path = tmp_path / f"plcemud-{time.monotonic_ns()}.log"
+    env = dict(os.environ)
+    env.pop("STATE_DIRECTORY", None)
+    with open(log_path, "wb") as log:
+        proc = subprocess.Popen(
+            [PLCEMUD, "-c", str(config_path)],
+            stdin=subprocess.DEVNULL, stdout=log, stderr=log, env=env, cwd=tmp_path,
+        )
+    d = Daemon(proc, ports[0], config_path, log_path)
+    deadline = time.monotonic() + START_TIMEOUT_S
+    while not all(port_open(p, host) for p in ports):
+        if proc.poll() is not None or time.monotonic() > deadline:
+            d.stop(signal.SIGKILL)
+            pytest.fail(f"plcemud did not listen on {ports}\n{d.log_text()}")
+        time.sleep(0.05)
+    return d
+
+
+@pytest.fixture
+def start_plcs(tmp_path):
+    """Returns start(text, ports, **kw) -> Daemon for a `plcs:` config (spawn_plcs); every
+    daemon is stopped at teardown."""
+    daemons = []
+
+    def start(text, ports, **kw):
+        d = spawn_plcs(tmp_path, text, ports, **kw)
         daemons.append(d)
         return d
 

@@ -4,17 +4,15 @@ state file and program, on a listener of its own or shared with others (stations
 line, stations behind one TCP port); one event loop serves them all."""
 
 import contextlib
-import os
 import signal
 import socket
-import subprocess
 import time
 from pathlib import Path
 
 import pytest
 from pymodbus.client import ModbusTcpClient
 
-from conftest import PLCEMUD, Daemon, free_port, port_open, raw_exchange, run_plcemud
+from conftest import Daemon, free_port, port_open, raw_exchange, run_plcemud, spawn_plcs
 from rtu_pty import PtyPair, RawLine, frame as frame_of
 
 D0 = 6000  # fbs: holding 6000 is D0 (retentive by default)
@@ -46,24 +44,7 @@ plcs:
 def spawn(tmp_path: Path, text: str, ports, host="127.0.0.1") -> Daemon:
     """plcemud on a `plcs:` config (no --port: each PLC names its own), once every port listens
     on `host`."""
-    config_path = tmp_path / "plant.yaml"
-    config_path.write_text(text)
-    log_path = tmp_path / f"plcemud-{time.monotonic_ns()}.log"
-    env = dict(os.environ)
-    env.pop("STATE_DIRECTORY", None)
-    with open(log_path, "wb") as log:
-        proc = subprocess.Popen(
-            [PLCEMUD, "-c", str(config_path)],
-            stdin=subprocess.DEVNULL, stdout=log, stderr=log, env=env, cwd=tmp_path,
-        )
-    d = Daemon(proc, ports[0], config_path, log_path)
-    deadline = time.monotonic() + 10
-    while not all(port_open(p, host) for p in ports):
-        if proc.poll() is not None or time.monotonic() > deadline:
-            d.stop(signal.SIGKILL)
-            pytest.fail(f"plcemud did not listen on {ports}\n{d.log_text()}")
-        time.sleep(0.05)
-    return d
+    return spawn_plcs(tmp_path, text, ports, host)
 
 
 def client_on(d: Daemon, port: int):
