@@ -27,11 +27,11 @@ plant:        engine image
 modbus:       image
 config:       image
 profiles:     config instructions plant modbus engine image
-simulator:    profiles modbus plant engine image
-listener:     modbus plant engine image
+simulator:    profiles listener modbus plant engine image
+listener:     config modbus plant engine image
 modbus_slave: listener modbus image
 fatek:        listener engine image
-http:         listener modbus plant engine image
+http:         listener config modbus plant engine image
 daemon:       http fatek modbus_slave listener simulator profiles config modbus instructions plant engine image
 '
 

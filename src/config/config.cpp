@@ -13,6 +13,7 @@
 #include <string_view>
 #include <tuple>
 
+#include "config/comm_fault_section.hpp"
 #include "config/config_file.hpp"
 #include "config/listener_sections.hpp"
 #include "config/yaml_tree.hpp"
@@ -28,9 +29,9 @@ namespace plcemu::config {
 namespace {
 
 // The sections every profile has; a profile adds its own (Family::sections).
-constexpr std::array<std::string_view, 14> kCommonSections{
-    "profile", "model", "station", "scan_ms", "time_scale", "modbus",      "fatek",
-    "http",    "init",  "program", "plant",   "simulator",  "persistence", "log"};
+constexpr std::array<std::string_view, 15> kCommonSections{
+    "profile", "model",   "station", "scan_ms", "time_scale", "modbus",      "fatek", "http",
+    "init",    "program", "plant",   "faults",  "simulator",  "persistence", "log"};
 
 // "duplicate device 'D07' (first at line 3 as 'D7')" for a key naming what an earlier key
 // (`first`: its text and line) already named.
@@ -599,6 +600,10 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     section(r, root, "init", read_init, c.init);
     section(r, root, "program", read_program, c.program);
     section(r, root, "plant", read_plant, c.plant);
+    section(r, root, "faults", read_comm_faults, c.faults);
+    if (c.faults.devices && !layout.contains(*c.faults.devices)) {
+        r.report(root["faults"]["from"], "faults.from: " + outside(r, layout, *c.faults.devices));
+    }
     section(r, root, "simulator", read_simulator, c.simulator);
     section(r, root, "persistence", read_persistence, c.persistence);
     r.attempt([&] {

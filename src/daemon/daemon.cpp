@@ -75,7 +75,8 @@ public:
           file_station_(loaded.station),
           cfg_(std::make_shared<const config::Config>(std::move(loaded))),
           prefix_(cfg_->label.empty() ? "" : cfg_->label + ": "),
-          guard_(listeners, index, cfg_->label) {}
+          guard_(listeners, index, cfg_->label),
+          faults_(prefix_, &profiles::of(*cfg_).naming(), plc_layout(*cfg_)) {}
     // A start that failed half-way: the sync thread must not outlive the state file it syncs.
     ~Host() {
         if (sync_id_ != 0) syncs_.remove(sync_id_);
@@ -106,6 +107,7 @@ public:
         s.plant = &plc_->plant();
         s.traffic = &traffic_;
         s.history = &history_;
+        s.faults = &faults_;
         return s;
     }
 
@@ -132,6 +134,9 @@ public:
             heap_.assign(image::Image::storage_size(plc_layout(*cfg_)), std::byte{0});
         }
         plc_ = std::make_unique<Plc>(cfg_, storage(), start);
+        // The fault `stop` is RUN/STOP of whichever program runs (a reload keeps it).
+        faults_.on_stop([this](bool stop) { plc_->engine().set_running(!stop); });
+        faults_.set(cfg_->faults);
         open_master(true);
         start_scanning(false);
 
@@ -244,6 +249,8 @@ public:
         plc->engine().set_running(plc_->engine().running());
         std::unique_ptr<Plc> old = std::move(plc_);
         plc_ = std::move(plc);
+        // Faults switched at run time stay, unless the config's `faults:` changed.
+        if (!(applied->faults == cfg_->faults)) faults_.set(applied->faults);
         cfg_ = std::move(applied);
         file_station_ = file_station;
         // The new program's MBUS starts afresh on a new port; the old one's request is dropped.
@@ -293,7 +300,8 @@ private:
         // The simulator-control unit, on the same listeners as the PLC; a read-only gateway
         // keeps it read-only too unless simulator.writable says otherwise.
         sim_ = std::make_unique<simulator::SimulatorUnit>(
-            plc_->plant(), *driver_, cfg_->simulator.writable.value_or(!cfg_->modbus.read_only));
+            plc_->plant(), *driver_, cfg_->simulator.writable.value_or(!cfg_->modbus.read_only),
+            &faults_, &profiles::of(*cfg_).naming());
         // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
         driver_->on_scan([this] {
             notify_.watchdog(Notifier::Clock::now());
@@ -322,6 +330,8 @@ private:
     mutable listener::Traffic traffic_;
     // Its loops' trends, kept once the console looked at them, and across reloads.
     mutable engine::LoopHistory history_;
+    // Its communication faults, kept across reloads; the protocols judge requests by them.
+    mutable listener::CommFaults faults_;
     std::unique_ptr<MasterLink> master_;
     std::unique_ptr<ScanDriver> driver_;
     std::unique_ptr<simulator::SimulatorUnit> sim_;

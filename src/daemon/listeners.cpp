@@ -31,7 +31,10 @@ listener::TcpOptions net_options(const config::Config& c, const config::Listener
     o.idle_timeout_s = t.idle_timeout_s;
     o.frame_timeout_ms = t.frame_timeout_ms;
     o.section = std::string(l.section);
-    if (l.protocol == "http") o.log_name = "http";
+    if (l.protocol == "http") {
+        o.log_name = "http";
+        o.comm_faults = false;  // the console switches faults off: it never refuses
+    }
     o.protocol = l.protocol;
     for (const auto& a : t.allow) {
         listener::Cidr cidr;

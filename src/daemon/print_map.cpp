@@ -8,6 +8,7 @@
 #include "plcemu/fatek/device_name.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/profiles/profile.hpp"
+#include "simulator/simulator_unit.hpp"
 
 namespace plcemu::daemon {
 
@@ -131,6 +132,15 @@ std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap&
                             manual_number(Table::HoldingRegisters, f.wire, 6),
                             std::to_string(f.wire), f.what, f.writable ? rw : ro,
                             f.writable ? "read/write" : "read-only", ""});
+        }
+        // The communication faults (docs/communication-faults.md), as the unit lists them.
+        for (const auto& t : simulator::register_tags()) {
+            if (t.name.rfind("sim.comm.", 0) != 0) continue;
+            const bool w = simulator::SimulatorUnit::writable(t.wire);
+            rows.push_back({table, manual_number(Table::HoldingRegisters, t.wire, 5),
+                            manual_number(Table::HoldingRegisters, t.wire, 6),
+                            std::to_string(t.wire), t.description, w ? rw : ro,
+                            w ? "read/write" : "read-only", ""});
         }
         const Sim channel[] = {
             {0,

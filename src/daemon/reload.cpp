@@ -158,6 +158,8 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     changed_sections(a, b, out);
     const auto plant = config::plant_changes(a.plant, b.plant, profiles::of(b).naming());
     out.insert(out.end(), plant.begin(), plant.end());
+    // The faults log themselves as they switch (listener::CommFaults): one line says they will.
+    if (!(a.faults == b.faults)) out.emplace_back("faults: changed");
     cmp("simulator.unit", a.simulator.unit, b.simulator.unit);
     cmp("simulator.writable",
         a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),

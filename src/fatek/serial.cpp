@@ -12,6 +12,9 @@ FatekSerial::FatekSerial(listener::ProtocolSetup setup) {
     units_.assign(std::move(setup.seats));
     units_.set_unknown_unit(listener::UnknownUnit::Silent);
     units_.set_read_only(setup.read_only);
+    const auto& l = setup.line;
+    const int bits = 1 + l.data_bits + (l.parity == 'N' ? 0 : 1) + l.stop_bits;
+    gap_ = std::chrono::microseconds(l.baud > 0 ? 10LL * bits * 1000000 / l.baud : 10000);
 }
 
 void FatekSerial::abandon_after_gap(Clock::time_point now) noexcept {
@@ -25,6 +28,7 @@ std::span<const std::uint8_t> FatekSerial::receive(std::span<const std::uint8_t>
     abandon_after_gap(now);
     last_ = now;
     reply_size_ = 0;
+    fate_ = {};
     while (!bytes.empty()) {
         const std::size_t n = std::min(bytes.size(), buf_.size() - used_);
         std::memcpy(buf_.data() + used_, bytes.data(), n);
@@ -32,6 +36,7 @@ std::span<const std::uint8_t> FatekSerial::receive(std::span<const std::uint8_t>
         bytes = bytes.subspan(n);
         drain();
     }
+    units_.fate() = fate_;
     return {reply_.data(), reply_size_};
 }
 
@@ -42,7 +47,14 @@ void FatekSerial::drain() noexcept {
         const std::span<const std::uint8_t> piece(buf_.data(), s.size);
         if (piece.front() == kStx && piece.back() == kEtx) ++stats_.frames;
         if (reply_.size() - reply_size_ >= kMaxFrame) {
-            const std::size_t r = serve(units_, piece, std::span(reply_).subspan(reply_size_));
+            std::size_t r = serve(units_, piece, std::span(reply_).subspan(reply_size_));
+            listener::Fate f = units_.take_fate();
+            r = r == 0 ? 0 : listener::cut_or_pause(f, r, gap_);
+            fate_.delay = std::max(fate_.delay, f.delay);
+            if (fate_.gap_at == 0 && f.gap_at > 0) {
+                fate_.gap_at = reply_size_ + f.gap_at;
+                fate_.gap = f.gap;
+            }
             reply_size_ += r;
             stats_.answered += r > 0 ? 1 : 0;
         } else {

@@ -51,6 +51,9 @@ private:
     // Replies to every frame one read completed (a master waits for each, so one is usual).
     std::array<std::uint8_t, 4 * kMaxFrame> reply_{};
     std::size_t reply_size_ = 0;
+    // What becomes of those replies (communication faults): the longest hold, the first pause.
+    listener::Fate fate_{};
+    std::chrono::microseconds gap_{0};  // a garbled reply's pause: ten characters of the line
     SerialStats stats_;
 };
 

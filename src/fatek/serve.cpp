@@ -1,5 +1,6 @@
 #include "serve.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <new>
 
@@ -39,6 +40,22 @@ std::size_t execute(const listener::Seat& seat,
     return reply.finish();
 }
 
+// What the PLC's communication faults make of the request (docs/communication-faults.md). A
+// FATEK request names no device range to them: a fault scoped to devices leaves it alone.
+listener::Verdict judge(listener::UnitTable& units,
+                        const listener::Seat& seat,
+                        const Request& req) noexcept {
+    if (seat.faults == nullptr || !seat.faults->active()) return {};
+    listener::Asked a;
+    a.unit = req.station;
+    a.function = req.code.value_or(0);
+    if (const listener::Client* c = units.serving()) {
+        a.client = c->id;
+        a.carrier = c->carrier;
+    }
+    return seat.faults->judge(a);
+}
+
 }  // namespace
 
 std::size_t serve(listener::UnitTable& units,
@@ -51,14 +68,30 @@ std::size_t serve(listener::UnitTable& units,
     if (req->station == 0) {
         // Every PLC executes it; none answers (the reply is written and dropped).
         for (const listener::Seat& s : units.seats()) {
-            if (s.engine != nullptr) execute(s, *s.station, read_only, *req, out.data());
+            if (s.engine == nullptr) continue;
+            if (judge(units, s, *req).kind != listener::Verdict::Kind::Serve) continue;
+            execute(s, *s.station, read_only, *req, out.data());
         }
         units.count_broadcast();
         return 0;
     }
     const listener::Hit hit = units.find(req->station);
     if (hit.seat == nullptr || hit.simulator || hit.seat->engine == nullptr) return 0;
-    const std::size_t n = execute(*hit.seat, hit.answer_as, read_only, *req, out.data());
+    const listener::Verdict v = judge(units, *hit.seat, *req);
+    if (v.kind == listener::Verdict::Kind::Silent) return 0;
+    std::size_t n = 0;
+    if (v.kind == listener::Verdict::Kind::Exception) {
+        // FATEK's error code is one character: codes up to Fh as they are, larger ones as F.
+        Reply reply(out.data(), hit.answer_as, req->command.data());
+        reply.put(static_cast<std::uint8_t>("0123456789ABCDEF"[std::min<unsigned>(v.code, 0xF)]));
+        n = reply.finish();
+    } else {
+        n = execute(*hit.seat, hit.answer_as, read_only, *req, out.data());
+    }
+    // A wrong checksum: its first digit changed to another hex digit.
+    if (v.fate.garble == listener::Garble::Crc && n >= 3)
+        out[n - 3] = out[n - 3] == '0' ? '1' : '0';
+    units.fate() = v.fate;
     if (hit.seat->traffic != nullptr && units.serving() != nullptr) {
         // The PLC's traffic: the command and the error code of the reply (its sixth character;
         // 4E has none).
@@ -75,7 +108,7 @@ std::size_t serve(listener::UnitTable& units,
             // Answered all the same; only its line in the traffic is lost.
         }
     }
-    return n;
+    return v.drop ? 0 : n;
 }
 
 }  // namespace plcemu::fatek

@@ -43,7 +43,7 @@ Response no_such_plc(listener::UnitTable& units, std::string_view id) {
     return error(404, "no PLC '" + std::string(id) + "' here (there are: " + known + ")");
 }
 
-std::optional<Response> write_refusal(const Call& call) {
+std::optional<Response> write_refusal(const Call& call, bool with_body) {
     if (call.units.read_only()) {
         return error(403, "this console is read-only (http.read_only)");
     }
@@ -78,7 +78,7 @@ std::optional<Response> write_refusal(const Call& call) {
     }
     // Only JSON bodies: a cross-origin page can send a form without asking, never JSON.
     const std::string& ct = call.request.content_type;
-    if (ct.rfind("application/json", 0) != 0) {
+    if (with_body && ct.rfind("application/json", 0) != 0) {
         return error(415, "the body must be JSON (Content-Type: application/json)");
     }
     return std::nullopt;

@@ -38,8 +38,10 @@ Response no_such_plc(listener::UnitTable& units, std::string_view id);
 std::string hex2(unsigned v);
 
 /// Why a write may not be made through this listener (read_only, a missing or wrong bearer
-/// token, a body that is not JSON), as the answer to give; nothing when it may.
-std::optional<Response> write_refusal(const Call& call);
+/// token, a body that is not JSON), as the answer to give; nothing when it may. A write
+/// without a body (`DELETE`: a method a cross-origin page cannot send without asking) is not
+/// asked for JSON.
+std::optional<Response> write_refusal(const Call& call, bool with_body = true);
 
 /// The request's `count` parameter: `absent` without one; 1 to `max`, else `refused` is set
 /// (400 naming the range and what was given).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 
+#include "http/comm_faults.hpp"
 #include "http/console.hpp"
 #include "http/devices.hpp"
 #include "http/health.hpp"
@@ -72,6 +73,10 @@ Routed api(const Call& call) {
     if (p.size() == 5 && p[4] == "simulator") {
         if (!get && m != "PUT") return {not_allowed("GET, HEAD, PUT"), {}};
         return {simulator(call, *plc), {}};
+    }
+    if (p.size() == 5 && p[4] == "comm-faults") {
+        if (!get && m != "PUT" && m != "DELETE") return {not_allowed("GET, HEAD, PUT, DELETE"), {}};
+        return {comm_faults(call, *plc), {}};
     }
     if (p.size() == 5 && p[4] == "loops") {
         if (!get) return {not_allowed("GET, HEAD"), {}};

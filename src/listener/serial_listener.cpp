@@ -7,6 +7,9 @@
 #include <array>
 #include <cerrno>
 #include <chrono>
+#include <deque>
+#include <new>
+#include <vector>
 #include <system_error>
 
 #include "modbus/serial_line.hpp"
@@ -24,6 +27,8 @@ constexpr auto kMaxReopen = std::chrono::seconds(5);
 // A reopened device counts as back once it has delivered a byte or stayed readable this long: one
 // that opens and fails at once is the same outage, not a new "reopened"/"lost" pair.
 constexpr auto kSettle = std::chrono::seconds(1);
+// Answers held at once by communication faults (a delay) before further ones are dropped.
+constexpr std::size_t kMaxHeld = 64;
 
 }  // namespace
 
@@ -39,7 +44,8 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
           line(io),
           frame_end(io),
           reopen_timer(io),
-          client(make_client(options.device, protocol_name)) {}
+          release(io),
+          client(make_client(options.device, protocol_name, Carrier::Line)) {}
 
     void read() {
         if (stopped) return;
@@ -58,7 +64,7 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         // The silence before these bytes may have ended the previous frame even if its timer
         // has not fired yet (the loop was busy): serve that frame first.
         protocol.units().set_serving(&client);
-        write(protocol.receive({buf.data(), n}, Clock::now()));
+        answer(protocol.receive({buf.data(), n}, Clock::now()));
         protocol.units().set_serving(nullptr);
         arm();
         read();
@@ -76,8 +82,51 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
                 return;
             }
             self->protocol.units().set_serving(&self->client);
-            self->write(self->protocol.expire(Clock::now()));
+            self->answer(self->protocol.expire(Clock::now()));
             self->protocol.units().set_serving(nullptr);
+        });
+    }
+
+    // An answer, with what its communication faults make of it: held for a delay, or sent in
+    // two parts with a pause between (a garble). Answers go out in the order they were made.
+    void answer(std::span<const std::uint8_t> a) {
+        const Fate fate = protocol.units().take_fate();
+        if (a.empty()) return;
+        if (fate.delay.count() == 0 && fate.gap_at == 0 && held.empty()) {
+            write(a);
+            return;
+        }
+        // A master that floods a line whose answers are held gets no more held.
+        if (held.size() >= kMaxHeld) return;
+        const auto due = Clock::now() + fate.delay;
+        try {
+            if (fate.gap_at > 0 && fate.gap_at < a.size()) {
+                held.push_back({due, {}, {a.begin(), a.begin() + static_cast<long>(fate.gap_at)}});
+                held.push_back(
+                    {{}, fate.gap, {a.begin() + static_cast<long>(fate.gap_at), a.end()}});
+            } else {
+                held.push_back({due, {}, {a.begin(), a.end()}});
+            }
+        } catch (const std::bad_alloc&) {
+            return;  // the answer is lost, as on a line that garbled it
+        }
+        send_held();
+    }
+
+    // Sends the held answers that are due, and waits for the next.
+    void send_held() {
+        while (!held.empty() && held.front().due <= Clock::now()) {
+            write(held.front().bytes);
+            held.pop_front();
+            // The pause of a gap runs from the first part's going out.
+            if (!held.empty() && held.front().after.count() > 0)
+                held.front().due = Clock::now() + held.front().after;
+        }
+        if (held.empty()) return;
+        release.expires_at(held.front().due);
+        release.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+            if (ec || self->stopped) return;
+            self->send_held();
         });
     }
 
@@ -102,6 +151,8 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         // From Settling: the reopened device failed before proving itself; the back-off goes on.
         link = Link::Lost;
         protocol.clear();  // what came before the error is not a frame to answer
+        held.clear();      // nor is there a line for held answers
+        release.cancel();
         protocol.units().client_gone(client.id);  // the line's master is no longer heard
         frame_end.cancel();
         asio::error_code ignored;
@@ -159,6 +210,15 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     asio::steady_timer frame_end;
     // Waits between attempts to reopen a lost device, then for it to settle.
     asio::steady_timer reopen_timer;
+    // Answers held by communication faults, in order; `after`: a gap's pause behind the one
+    // before, its due time set when that one goes out.
+    struct Held {
+        Clock::time_point due;
+        std::chrono::microseconds after;
+        std::vector<std::uint8_t> bytes;
+    };
+    std::deque<Held> held;
+    asio::steady_timer release;
     std::array<std::uint8_t, 512> buf{};
     // Up: reading; Lost: closed, waiting to reopen; Settling: reopened, not yet proven.
     enum class Link { Up, Lost, Settling };
@@ -193,6 +253,7 @@ void SerialListener::stop() {
     asio::error_code ec;
     state_->frame_end.cancel();
     state_->reopen_timer.cancel();  // no reopen after stop
+    state_->release.cancel();
     state_->protocol.units().client_gone(state_->client.id);
     state_->line.cancel(ec);
     state_->line.close(ec);

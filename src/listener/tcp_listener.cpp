@@ -79,6 +79,12 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
 
     void accept();
     void accept_failed(const asio::error_code& ec);
+    /// Opens the acceptor on `bound` (at start, and when refusing ends); false when it cannot.
+    bool open_acceptor(asio::error_code& ec);
+    /// Follows the PLCs' fault refuse_connections: closes the acceptor while every PLC on the
+    /// listener refuses (connects then fail at once, as to a host with no listener), opens it
+    /// again when one no longer does.
+    void follow_refusal();
     void arm_sweep();
     void check_connections();
     /// Makes room for a new client when every slot is taken by one that is stuck or silent.
@@ -104,8 +110,11 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
     std::uint64_t accept_failures = 0;  // in the current episode of running out of descriptors
     Clock::time_point accept_failing_since{};
     Clock::duration accept_backoff{};
-    std::uint64_t accepted = 0;  // connections taken since the listener opened
-    std::uint64_t refused = 0;   // connections closed at accept
+    std::uint64_t accepted = 0;    // connections taken since the listener opened
+    std::uint64_t refused = 0;     // connections closed at accept
+    tcp::endpoint bound;           // where it listens (the port chosen when 0 was asked)
+    bool refusing = false;         // closed by the fault refuse_connections
+    bool relisten_failed = false;  // opening it again failed (said once)
     bool stopped = false;
 };
 
@@ -125,7 +134,8 @@ public:
           client_(make_client(peer_, protocol)),
           buf_(std::max(kBufferSize, 2 * max_frame)),
           last_request_(Clock::now()),
-          ticks_(socket_.get_executor()) {}
+          ticks_(socket_.get_executor()),
+          hold_(socket_.get_executor()) {}
 
     // Outlet: what a session says outside its answers.
     bool send(std::span<const std::uint8_t> bytes) override {
@@ -173,8 +183,14 @@ public:
         // The session goes first: it may hold a place in its protocol (a subscription).
         session_.reset();
         ticks_.cancel();
+        hold_.cancel();
         asio::error_code ec;
-        socket_.shutdown(tcp::socket::shutdown_both, ec);
+        if (reset_) {
+            // No FIN: a zero linger makes the close send RST.
+            socket_.set_option(asio::socket_base::linger(true, 0), ec);
+        } else {
+            socket_.shutdown(tcp::socket::shutdown_both, ec);
+        }
         socket_.close(ec);
         if (auto s = server_.lock()) {
             if (!s->stopped) s->protocol->units().client_gone(client_.id);
@@ -188,6 +204,8 @@ public:
     Clock::time_point last_request() const { return last_request_; }
     /// How long a begun request has been waiting for its last bytes (zero when none is).
     Clock::duration partial_for(Clock::time_point now) const {
+        // While an answer is held (a delay fault) the client is not read: not its fault either.
+        if (holding_) return Clock::duration{0};
         return frame_started_ == Clock::time_point{} ? Clock::duration{0} : now - frame_started_;
     }
     /// How long replies have been waiting for the client to take them (zero when none are).
@@ -207,7 +225,7 @@ private:
         // After a short read, Asio (1.22) marks the socket exhausted and queues the next read
         // without trying it first: one recv per request, issued when epoll says data is there.
         // (A wait-then-recv costs an epoll_ctl per request instead; measured with perf.)
-        if (reading_ || close_after_write_) return;
+        if (reading_ || close_after_write_ || holding_) return;
         reading_ = true;
         socket_.async_read_some(
             asio::buffer(buf_.data() + used_, buf_.size() - used_),
@@ -255,12 +273,23 @@ private:
                 }
                 continue;
             }
-            server->protocol->units().set_serving(&client_);
+            UnitTable& units = server->protocol->units();
+            units.set_serving(&client_);
             const std::size_t n = server->protocol->answer({f, frame.size}, reply_);
-            server->protocol->units().set_serving(nullptr);
-            out_.insert(out_.end(), reply_.begin(), reply_.begin() + static_cast<long>(n));
+            units.set_serving(nullptr);
+            const Fate fate = units.take_fate();
             off += frame.size;
             ++served;
+            if (fate.delay.count() > 0) {
+                // Held: later frames wait behind it, and the client is not read meanwhile.
+                hold(fate, n);
+                break;
+            }
+            out_.insert(out_.end(), reply_.begin(), reply_.begin() + static_cast<long>(n));
+            if (fate.close != Fate::Close::No) {
+                close_after_fault(fate);
+                break;
+            }
         }
         if (off > 0) {
             std::memmove(buf_.data(), buf_.data() + off, used_ - off);
@@ -331,6 +360,28 @@ private:
         next();
     }
 
+    // A communication fault closes the connection once what is queued is sent.
+    void close_after_fault(const Fate& fate) {
+        reset_ = fate.close == Fate::Close::Reset;
+        close_after_write_ = true;
+    }
+
+    // Holds an answer of `n` bytes (in reply_) for the fate's delay, then sends it.
+    void hold(const Fate& fate, std::size_t n) {
+        holding_ = true;
+        held_.assign(reply_.begin(), reply_.begin() + static_cast<long>(n));
+        hold_.expires_after(fate.delay);
+        hold_.async_wait([self = shared_from_this(), fate](const asio::error_code& ec) {
+            if (ec || self->closed_) return;
+            self->holding_ = false;
+            std::vector<std::uint8_t>& to = self->writing_ ? self->pending_ : self->out_;
+            to.insert(to.end(), self->held_.begin(), self->held_.end());
+            if (fate.close != Fate::Close::No) self->close_after_fault(fate);
+            if (self->writing_) return;  // the write under way takes it, then goes on
+            self->write();
+        });
+    }
+
     void arm_tick() {
         ticks_.expires_after(tick_period_);
         ticks_.async_wait([self = shared_from_this()](const asio::error_code& ec) {
@@ -343,7 +394,7 @@ private:
     // More whole frames buffered: the others get their turn first. Otherwise: read.
     void next() {
         auto server = server_.lock();
-        if (!server || closed_) return;
+        if (!server || closed_ || holding_) return;
         const std::span<const std::uint8_t> buffered{buf_.data(), used_};
         if ((session_ ? session_->split(buffered) : server->protocol->split(buffered)).cut !=
             Cut::Incomplete) {
@@ -369,11 +420,15 @@ private:
     std::unique_ptr<Session> session_;  // the protocol's, when it answers through sessions
     asio::steady_timer ticks_;
     std::chrono::milliseconds tick_period_{0};
+    asio::steady_timer hold_;         // an answer held by a delay fault
+    std::vector<std::uint8_t> held_;  // that answer
+    bool holding_ = false;            // one is held: nothing else is served or read
+    bool reset_ = false;              // closed with RST (a disconnect fault's `reset`)
     bool closed_ = false;
     bool reading_ = false;            // a read is under way
     bool writing_ = false;            // an asynchronous write is under way
     bool serving_ = false;            // inside serve(): it writes when done
-    bool close_after_write_ = false;  // the session asked to close once its answer is sent
+    bool close_after_write_ = false;  // close once what is queued is sent (session, fault)
 };
 
 void TcpListener::State::accept() {
@@ -395,6 +450,14 @@ void TcpListener::State::accept() {
         asio::error_code pec;
         const auto ep = s.remote_endpoint(pec);
         const std::string peer = pec ? std::string("?") : peer_name(ep);
+        if (self->options.comm_faults && self->protocol->units().refusing()) {
+            // Accepted before the fault could close the acceptor: reset, and close it now.
+            s.set_option(asio::socket_base::linger(true, 0), pec);
+            s.close(pec);
+            ++self->refused;
+            self->follow_refusal();
+            return;
+        }
         bool allowed = self->options.allow.empty();
         for (const auto& c : self->options.allow)
             allowed = allowed || (!pec && c.contains(ep.address()));
@@ -502,15 +565,63 @@ void TcpListener::State::check_connections() {
         }
     }
     for (const auto& [c, why] : doomed) c->close(why.c_str());
+    if (options.comm_faults) follow_refusal();
     limiter.flush_to_log(now, options.log_name + ": ");
+}
+
+bool TcpListener::State::open_acceptor(asio::error_code& ec) {
+    acceptor.open(bound.protocol(), ec);
+    if (!ec) acceptor.set_option(tcp::acceptor::reuse_address(true), ec);
+    if (!ec) acceptor.bind(bound, ec);
+    if (!ec) acceptor.listen(asio::socket_base::max_listen_connections, ec);
+    if (!ec) bound = acceptor.local_endpoint(ec);
+    if (ec) {
+        asio::error_code ignored;
+        acceptor.close(ignored);
+        return false;
+    }
+    return true;
+}
+
+void TcpListener::State::follow_refusal() {
+    if (stopped) return;
+    const bool refuse = protocol->units().refusing();
+    if (refuse == refusing) return;
+    asio::error_code ec;
+    if (refuse) {
+        acceptor.close(ec);
+        refusing = true;
+        arm_sweep();  // from now on at the refusing period: the socket opens soon after
+        spdlog::info(
+            "{}: {}: refusing new connections (communication fault "
+            "refuse_connections)",
+            options.log_name, peer_name(bound));
+        return;
+    }
+    if (!open_acceptor(ec)) {
+        // Taken meanwhile by another process: tried again at every sweep, said once.
+        if (!relisten_failed) {
+            spdlog::warn("{}: {}: cannot listen again: {}; trying on", options.log_name,
+                         peer_name(bound), ec.message());
+        }
+        relisten_failed = true;
+        return;
+    }
+    refusing = false;
+    relisten_failed = false;
+    arm_sweep();  // back to the usual period
+    spdlog::info("{}: {}: accepting connections again", options.log_name, peer_name(bound));
+    accept();
 }
 
 void TcpListener::State::arm_sweep() {
     if (stopped) return;
     // Fine enough for the frame deadline; a few hundred checks a second cost nothing.
-    const auto period =
-        std::clamp<Clock::duration>(std::chrono::milliseconds(options.frame_timeout_ms) / 4,
-                                    std::chrono::milliseconds(50), std::chrono::seconds(1));
+    // While refusing, often enough that the listener opens soon after the fault clears.
+    const auto period = refusing ? Clock::duration(std::chrono::milliseconds(50))
+                                 : std::clamp<Clock::duration>(
+                                       std::chrono::milliseconds(options.frame_timeout_ms) / 4,
+                                       std::chrono::milliseconds(50), std::chrono::seconds(1));
     sweep.expires_after(period);
     sweep.async_wait([self = shared_from_this()](const asio::error_code& ec) {
         if (ec || self->stopped) return;
@@ -527,27 +638,17 @@ TcpListener::TcpListener(asio::io_context& io, StreamProtocol& protocol, TcpOpti
     asio::error_code ec;
     const auto addr = asio::ip::make_address(state_->options.bind, ec);
     if (ec) throw std::system_error(ec, where);
-    const tcp::endpoint ep(addr, state_->options.port);
-    state_->acceptor.open(ep.protocol(), ec);
-    if (!ec) state_->acceptor.set_option(tcp::acceptor::reuse_address(true), ec);
-    if (!ec) state_->acceptor.bind(ep, ec);
-    if (!ec) state_->acceptor.listen(asio::socket_base::max_listen_connections, ec);
-    if (ec) throw std::system_error(ec, where);
+    state_->bound = tcp::endpoint(addr, state_->options.port);
+    if (!state_->open_acceptor(ec)) throw std::system_error(ec, where);
     state_->accept();
     state_->arm_sweep();
 }
 
 TcpListener::~TcpListener() { stop(); }
 
-std::uint16_t TcpListener::port() const {
-    asio::error_code ec;
-    return state_->acceptor.local_endpoint(ec).port();
-}
+std::uint16_t TcpListener::port() const { return state_->bound.port(); }
 
-std::string TcpListener::endpoint() const {
-    asio::error_code ec;
-    return peer_name(state_->acceptor.local_endpoint(ec));
-}
+std::string TcpListener::endpoint() const { return peer_name(state_->bound); }
 
 std::size_t TcpListener::connections() const { return state_->connections.size(); }
 

@@ -28,6 +28,9 @@ struct TcpOptions {
     std::string section = "modbus.tcp";  ///< the config section, as log lines name its keys
     std::string log_name = "tcp";        ///< what starts its log lines: "tcp", "http"
     std::string_view protocol = "";      ///< the protocol's name, as its clients are listed
+    /// The PLCs' communication fault `refuse_connections` closes it (the console's listener
+    /// stays open whatever the PLCs suffer, so faults can always be switched off).
+    bool comm_faults = true;
 };
 
 /// The TCP listener and its connections.

@@ -4,9 +4,9 @@
 
 namespace plcemu::listener {
 
-Client make_client(std::string peer, std::string_view protocol) {
+Client make_client(std::string peer, std::string_view protocol, Carrier carrier) {
     static std::uint64_t next = 0;
-    return {++next, std::move(peer), protocol};
+    return {++next, std::move(peer), protocol, carrier};
 }
 
 void Traffic::record(const Client& client, const Exchange& e) {

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <new>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 #include "modbus/log_limiter.hpp"
 
@@ -24,6 +27,8 @@ constexpr std::chrono::seconds kLogWindow{10};
 // most recently are kept, and one silent this long is no longer listed.
 constexpr std::size_t kPeers = 16;
 constexpr std::chrono::seconds kPeerSilence{60};
+// Answers held at once by a delay fault; beyond it more are dropped.
+constexpr std::size_t kMaxHeld = 256;
 
 std::string peer_name(const udp::endpoint& ep) {
     return ep.address().to_string() + ":" + std::to_string(ep.port());
@@ -62,11 +67,37 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
         protocol.units().set_serving(&client_of(sender));
         const std::size_t size = protocol.answer(std::span(in.data(), n), std::span(out));
         protocol.units().set_serving(nullptr);
+        const Fate fate = protocol.units().take_fate();
         if (size == 0) return;
+        if (fate.delay.count() > 0) {
+            hold(fate.delay, size);
+            return;
+        }
         // A datagram socket's send does not wait for the peer; should the kernel's buffer be
         // full, the reply is lost as on a real network and the master asks again.
         asio::error_code ec;
         socket.send_to(asio::buffer(out.data(), size), sender, 0, ec);
+    }
+
+    // Sends an answer of `size` bytes (in out) to the sender after `delay` (a communication
+    // fault), without holding up the datagrams of others. A flood meanwhile is not all held.
+    void hold(std::chrono::milliseconds delay, std::size_t size) noexcept {
+        if (held >= kMaxHeld) return;
+        try {
+            auto timer = std::make_shared<asio::steady_timer>(socket.get_executor(), delay);
+            auto bytes = std::make_shared<std::vector<std::uint8_t>>(
+                out.begin(), out.begin() + static_cast<long>(size));
+            ++held;
+            timer->async_wait(
+                [self = shared_from_this(), timer, bytes, to = sender](const asio::error_code& ec) {
+                    --self->held;
+                    if (ec || !self->socket.is_open()) return;
+                    asio::error_code ignored;
+                    self->socket.send_to(asio::buffer(*bytes), to, 0, ignored);
+                });
+        } catch (const std::bad_alloc&) {
+            // Lost, as a datagram may be.
+        }
     }
 
     // The client a peer is listed as; peers silent too long, or the least recent beyond kPeers,
@@ -90,7 +121,8 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
                 protocol.units().client_gone(oldest->client.id);
                 peers.erase(oldest);
             }
-            peers.push_back({ep, make_client(peer_name(ep), options.protocol), now});
+            peers.push_back(
+                {ep, make_client(peer_name(ep), options.protocol, Carrier::Datagram), now});
             hit = &peers.back();
         }
         hit->last = now;
@@ -119,6 +151,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
         std::chrono::steady_clock::time_point last;
     };
     std::vector<Peer> peers;  // the peers listed as clients
+    std::size_t held = 0;     // answers waiting out a delay fault
 };
 
 UdpListener::UdpListener(asio::io_context& io, StreamProtocol& protocol, UdpOptions options)

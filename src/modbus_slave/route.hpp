@@ -3,11 +3,13 @@
 // simulator unit) has the unit ID, that PLC's dispatcher answers. The one place that applies the
 // unknown-unit policy and builds its exception.
 
+#include <array>
 #include <cstdint>
 #include <span>
 
 #include "plcemu/listener/unit_table.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
+#include "plcemu/modbus/unit.hpp"
 
 namespace plcemu::modbus_slave {
 
@@ -16,6 +18,16 @@ enum class Addressing : std::uint8_t {
     Tcp,  ///< 0 and 255 name "the device itself" (Modbus TCP implementation guide §4.4.1.2)
     Rtu,  ///< 0 is a broadcast: served by every PLC on the line, answered by none
 };
+
+/// The data a request reaches: `count` elements of `table` from `address` (count 0: none).
+struct Reach {
+    modbus::Table table = modbus::Table::HoldingRegisters;
+    std::uint16_t address = 0;
+    std::uint16_t count = 0;
+};
+
+/// What `pdu` reads or writes: its one range, or for 17h its read range then its write range.
+std::array<Reach, 2> reach(std::span<const std::uint8_t> pdu) noexcept;
 
 /// Answers `pdu` (at least its function code) for `unit` into `out`; returns the reply PDU's
 /// size, 0 when nothing is to be sent.

@@ -63,7 +63,14 @@ std::span<const std::uint8_t> ModbusRtu::serve(const modbus::RtuFrame& f) noexce
     const std::size_t n =
         route(units_, Addressing::Rtu, modbus::rtu_address(f.bytes), modbus::rtu_pdu(f.bytes), pdu);
     if (n == 0) return {};
-    return {reply_.data(), modbus::frame_rtu(modbus::rtu_address(f.bytes), n, reply_)};
+    const std::size_t size = modbus::frame_rtu(modbus::rtu_address(f.bytes), n, reply_);
+    listener::Fate& fate = units_.fate();
+    if (fate.garble == listener::Garble::Crc) reply_[size - 1] ^= 0xFF;
+    // A pause between t1.5 and t3.5: the frame is broken, yet not two frames (Modbus over
+    // serial line, 2.5.1.1).
+    const modbus::RtuTiming& t = framer_.timing();
+    const auto gap = std::chrono::duration_cast<std::chrono::microseconds>((t.t15 + t.t35) / 2);
+    return {reply_.data(), listener::cut_or_pause(fate, size, gap)};
 }
 
 std::string ModbusRtu::summary() const {

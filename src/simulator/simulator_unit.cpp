@@ -31,10 +31,16 @@ std::uint16_t fault_bits(const Faults& f) {
 
 }  // namespace
 
-SimulatorUnit::SimulatorUnit(plant::Plant& plant, engine::TimeControl& time, bool writable)
+SimulatorUnit::SimulatorUnit(plant::Plant& plant,
+                             engine::TimeControl& time,
+                             bool writable,
+                             listener::CommFaults* faults,
+                             const image::Naming* naming)
     : plant_(plant),
       time_(time),
-      writable_(writable) {
+      writable_(writable),
+      faults_(faults),
+      naming_(naming) {
     refresh();
 }
 
@@ -47,6 +53,42 @@ std::vector<RegisterTag> register_tags() {
         {sim::kSimSecondsLo, "sim.time_low", "simulator: simulated time, s, low word"},
         {sim::kSimSecondsHi, "sim.time_high", "simulator: simulated time, s, high word"},
     };
+    static constexpr struct {
+        sim::CommOffset offset;
+        const char* name;
+        const char* what;
+    } kComm[] = {
+        {sim::kDelayMin, "delay_min_ms", "delay_ms, or its lower bound, ms"},
+        {sim::kDelayMax, "delay_max_ms", "delay_ms upper bound, ms (below the lower: fixed)"},
+        {sim::kDropEvery, "drop_every", "drop every Nth request (0 off)"},
+        {sim::kDropProbability, "drop_probability", "drop probability, 1/10000"},
+        {sim::kSeed, "seed", "seed of delays and drops"},
+        {sim::kException, "exception", "exception code (0 off)"},
+        {sim::kOffline, "offline", "offline, 1 = on"},
+        {sim::kRefuse, "refuse_connections", "refuse new TCP connections, 1 = on"},
+        {sim::kDisconnect, "disconnect", "disconnect: 0 off, 1 FIN, 2 RST"},
+        {sim::kDisconnectAfter, "disconnect_after", "disconnect after N requests (0 at once)"},
+        {sim::kGarble, "garble", "garble: 0 none, 1 crc, 2 short, 3 gap"},
+        {sim::kStop, "stop", "stop, 1 = the PLC leaves RUN"},
+        {sim::kScopeUnit, "unit", "scope: unit ID (0 any)"},
+        {sim::kScopeFunction, "function", "scope: function code (0 any)"},
+        {sim::kScopeFrom, "from_1", "scope: from, characters 1-2 (ASCII)"},
+        {static_cast<sim::CommOffset>(sim::kScopeFrom + 1), "from_2",
+         "scope: from, characters 3-4"},
+        {static_cast<sim::CommOffset>(sim::kScopeFrom + 2), "from_3",
+         "scope: from, characters 5-6"},
+        {static_cast<sim::CommOffset>(sim::kScopeFrom + 3), "from_4",
+         "scope: from, characters 7-8"},
+        {sim::kScopeCount, "count", "scope: count of devices from `from` (0: 1)"},
+        {sim::kClear, "clear", "write 1: every communication fault off"},
+        {sim::kCommStatus, "status", "b0 a fault is on, b1 the last write was refused"},
+    };
+    for (const auto& f : kComm) {
+        t.push_back({static_cast<std::uint16_t>(sim::kCommBase + f.offset),
+                     std::string("sim.comm.") + f.name,
+                     std::string("simulator: comm.") + f.name + ": communication fault " + f.what,
+                     false});
+    }
     struct Field {
         sim::Offset offset;
         const char* name;
@@ -77,11 +119,14 @@ std::vector<RegisterTag> register_tags() {
 }
 
 bool SimulatorUnit::mapped(std::uint16_t addr) {
-    return addr <= sim::kSimSecondsHi || (addr >= sim::kChannelBase && addr < sim::kEnd);
+    return addr <= sim::kSimSecondsHi || (addr >= sim::kCommBase && addr < sim::kCommEnd) ||
+           (addr >= sim::kChannelBase && addr < sim::kEnd);
 }
 
 bool SimulatorUnit::writable(std::uint16_t addr) {
     if (addr <= sim::kStep) return true;
+    if (addr >= sim::kCommBase && addr < sim::kCommEnd)
+        return addr != sim::kCommBase + sim::kCommStatus;
     if (addr < sim::kChannelBase || addr >= sim::kEnd) return false;
     const int off = (addr - sim::kChannelBase) % sim::kChannelStride;
     return off <= sim::kNoise || off == sim::kLeadResistance;
@@ -98,6 +143,7 @@ void SimulatorUnit::refresh() noexcept {
         std::chrono::duration_cast<std::chrono::seconds>(time_.simulated_time()).count());
     regs_[sim::kSimSecondsLo] = static_cast<std::uint16_t>(secs & 0xFFFF);
     regs_[sim::kSimSecondsHi] = static_cast<std::uint16_t>(secs >> 16);
+    refresh_comm_faults();
     for (int c = 0; c < kChannels; ++c) {
         std::uint16_t* w =
             regs_.data() + sim::kChannelBase + std::ptrdiff_t{sim::kChannelStride} * c;
@@ -137,7 +183,97 @@ Window SimulatorUnit::resolve(Table table,
     return w;
 }
 
+void SimulatorUnit::refresh_comm_faults() noexcept {
+    std::uint16_t* w = regs_.data() + sim::kCommBase;
+    std::fill(w, w + (sim::kCommEnd - sim::kCommBase), std::uint16_t{0});
+    w[sim::kCommStatus] = comm_refused_ ? 2 : 0;
+    if (faults_ == nullptr) return;
+    const config::CommFaultSettings& f = faults_->settings();
+    w[sim::kDelayMin] = static_cast<std::uint16_t>(f.delay_min_ms);
+    w[sim::kDelayMax] = static_cast<std::uint16_t>(f.delay_max_ms);
+    w[sim::kDropEvery] = static_cast<std::uint16_t>(f.drop_every);
+    w[sim::kDropProbability] = unsigned_word(f.drop_probability * 10000.0);
+    w[sim::kSeed] = static_cast<std::uint16_t>(f.seed);
+    w[sim::kException] = f.exception;
+    w[sim::kOffline] = f.offline ? 1 : 0;
+    w[sim::kRefuse] = f.refuse_connections ? 1 : 0;
+    w[sim::kDisconnect] = !f.disconnect_after ? 0 : f.reset ? 2 : 1;
+    w[sim::kDisconnectAfter] = static_cast<std::uint16_t>(f.disconnect_after.value_or(0));
+    w[sim::kGarble] = static_cast<std::uint16_t>(f.garble);
+    w[sim::kStop] = f.stop ? 1 : 0;
+    w[sim::kScopeUnit] = f.unit;
+    w[sim::kScopeFunction] = f.function;
+    if (f.devices && naming_ != nullptr) {
+        // The first device's name, two characters a word, high byte first.
+        const std::string name = naming_->format_device(f.devices->area, f.devices->start);
+        for (std::size_t i = 0; i < name.size() && i < 8; ++i) {
+            const auto c = static_cast<std::uint8_t>(name[i]);
+            std::uint16_t& word = w[sim::kScopeFrom + i / 2];
+            word = static_cast<std::uint16_t>(word | (i % 2 == 0 ? c << 8 : c));
+        }
+        w[sim::kScopeCount] =
+            static_cast<std::uint16_t>(std::min<std::uint32_t>(f.devices->count, 0xFFFF));
+    }
+    if (faults_->active())
+        w[sim::kCommStatus] = static_cast<std::uint16_t>(w[sim::kCommStatus] | 1u);
+}
+
+void SimulatorUnit::apply_comm_faults(bool clear) noexcept {
+    if (faults_ == nullptr) return;
+    if (clear) {
+        comm_refused_ = false;
+        faults_->clear();
+        return;
+    }
+    const std::uint16_t* w = regs_.data() + sim::kCommBase;
+    config::CommFaultSettings s;
+    // Clamped to the table's ranges, as every register of the unit is: the reply is already
+    // on the wire. What cannot be clamped (a name that is no device) refuses the whole write.
+    s.delay_min_ms = std::min<std::uint32_t>(w[sim::kDelayMin], config::kMaxCommDelayMs);
+    s.delay_max_ms = std::max(s.delay_min_ms,
+                              std::min<std::uint32_t>(w[sim::kDelayMax], config::kMaxCommDelayMs));
+    if (w[sim::kDelayMax] < w[sim::kDelayMin]) s.delay_max_ms = s.delay_min_ms;
+    s.drop_every = w[sim::kDropEvery];
+    s.drop_probability = std::min<double>(w[sim::kDropProbability], 10000) / 10000.0;
+    s.seed = w[sim::kSeed];
+    s.exception = static_cast<std::uint8_t>(std::min<std::uint16_t>(w[sim::kException], 255));
+    s.offline = w[sim::kOffline] != 0;
+    s.refuse_connections = w[sim::kRefuse] != 0;
+    if (w[sim::kDisconnect] != 0) {
+        s.disconnect_after = w[sim::kDisconnectAfter];
+        s.reset = w[sim::kDisconnect] >= 2;
+    }
+    s.garble =
+        w[sim::kGarble] <= 3 ? static_cast<config::Garble>(w[sim::kGarble]) : config::Garble::None;
+    s.stop = w[sim::kStop] != 0;
+    s.unit = static_cast<std::uint8_t>(std::min<std::uint16_t>(w[sim::kScopeUnit], 255));
+    s.function = static_cast<std::uint8_t>(std::min<std::uint16_t>(w[sim::kScopeFunction], 255));
+    std::string from;
+    for (int i = 0; i < 8; ++i) {
+        const std::uint16_t word = w[sim::kScopeFrom + i / 2];
+        const auto c = static_cast<char>(i % 2 == 0 ? word >> 8 : word & 0xFF);
+        if (c == '\0') break;
+        if (c != ' ') from += c;
+    }
+    comm_refused_ = false;
+    if (!from.empty()) {
+        const std::uint32_t count = std::max<std::uint32_t>(w[sim::kScopeCount], 1);
+        s.devices =
+            naming_ != nullptr ? config::comm_fault_range(*naming_, from, count) : std::nullopt;
+        if (!s.devices) {
+            comm_refused_ = true;
+            return;
+        }
+    }
+    if (!faults_->refusal(s).empty()) {
+        comm_refused_ = true;
+        return;
+    }
+    faults_->set(s);
+}
+
 void SimulatorUnit::apply(std::uint16_t addr, std::uint16_t v) noexcept {
+    if (addr >= sim::kCommBase && addr < sim::kCommEnd) return;  // the block goes as one
     if (addr == sim::kTimeScale) {
         time_.set_time_scale(std::clamp<double>(v, 1.0, 10000.0));
         return;
@@ -198,6 +334,11 @@ void SimulatorUnit::written(Table table, std::uint16_t addr, std::uint16_t qty) 
     const std::uint32_t end = std::min<std::uint32_t>(std::uint32_t{addr} + qty, sim::kEnd);
     for (std::uint32_t a = addr; a < end; ++a) {
         apply(static_cast<std::uint16_t>(a), regs_[a]);
+    }
+    // The fault block as one: a write of several of its words switches once, logged once.
+    if (addr < sim::kCommEnd && end > sim::kCommBase) {
+        const std::uint16_t clear = sim::kCommBase + sim::kClear;
+        apply_comm_faults(addr <= clear && clear < end && regs_[clear] != 0);
     }
     refresh();
 }

@@ -120,9 +120,10 @@ def by_name(plc, tag):
 
 
 def sim_field(tag):
-    """(field, channel) of a simulator unit tag: sim.time_scale, sim.ch3.ambient."""
+    """(field, channel) of a simulator unit tag: sim.time_scale, sim.ch3.ambient,
+    sim.comm.offline (field "comm.offline", as the kit names it)."""
     name = tag["name"].removeprefix(f"{tag['plc']}.") if "plc" in tag else tag["name"]
-    m = re.fullmatch(r"sim\.(?:ch(\d+)\.)?(\w+)", name)
+    m = re.fullmatch(r"sim\.(?:ch(\d+)\.)?((?:comm\.)?\w+)", name)
     assert m, tag
     return m.group(2), None if m.group(1) is None else int(m.group(1))
 
@@ -154,8 +155,8 @@ def test_csv_and_json_agree(plcemud, name):
         assert text in names[device], (device, names[device])
     for device in ABSENT.get(name, []):
         assert device not in names
-    # The simulator unit: 5 registers and 8 per channel of 32.
-    assert sum(r["unit"] == 247 for r in rows) == 5 + 8 * 32
+    # The simulator unit: 5 registers, 21 of communication faults and 8 per channel of 32.
+    assert sum(r["unit"] == 247 for r in rows) == 5 + 21 + 8 * 32
     # Every device of a FATEK family has its FATEK name (a 32-bit counter's at its low word);
     # the simulator unit's registers have none.
     for r in rows if fatek else ():

@@ -296,8 +296,10 @@ def test_print_map_lists_the_simulator_unit(start_plcemud, tmp_path):
     cfg.write_text(CONFIG + "simulator: {unit: 200}\n")
     out = run_plcemud("--print-map", "-c", cfg).stdout
     rows = [line for line in out.splitlines() if "(unit 200)" in line]
-    assert len(rows) == 15
+    assert len(rows) == 5 + 21 + 10  # time control, communication faults, a channel's ten words
     assert any("106+10c" in r and "read-only" in r for r in rows)
+    assert any("comm.status" in r and "read-only" in r for r in rows)
+    assert sum("comm." in r and "read/write" in r for r in rows) == 20
 
 
 def test_reload_keeps_process_temperatures_and_freeze(start_plcemud):

@@ -207,9 +207,10 @@ TEST(ExportTags, NamesAreUnique) {
             EXPECT_EQ(r.name, r.device);
         }
     }
-    EXPECT_EQ(sim, 5u + 8u * 32u);
-    for (const char* n : {"Y30", "Y39", "M100", "R100", "R149", "R300", "R4012", "R5000", "R5005",
-                          "sim.time_scale", "sim.ch0.ambient", "sim.ch31.heater_power"}) {
+    EXPECT_EQ(sim, 5u + 21u + 8u * 32u);  // time, communication faults, channels
+    for (const char* n :
+         {"Y30", "Y39", "M100", "R100", "R149", "R300", "R4012", "R5000", "R5005", "sim.time_scale",
+          "sim.comm.delay_min_ms", "sim.comm.status", "sim.ch0.ambient", "sim.ch31.heater_power"}) {
         EXPECT_EQ(names.count(n), 1u) << n;
     }
     EXPECT_EQ(names.size(), e.rows.size());

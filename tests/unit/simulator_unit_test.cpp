@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "simulator/simulator_unit.hpp"
+
+#include "plcemu/listener/comm_faults.hpp"
 #include "support/profiles.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/time_control.hpp"
@@ -42,7 +44,8 @@ public:
 // Unit 247 on its own (kept here: no PLC behind it, only the simulator unit and a fake time).
 struct Rig {
     explicit Rig(bool writable = true)
-        : image(testing::fbs_layout()) {
+        : image(testing::fbs_layout()),
+          faults("", &testing::fbs_naming(), testing::fbs_layout()) {
         engine::EngineOptions o;
         o.scan_period = std::chrono::milliseconds(10);
         engine = std::make_unique<engine::Engine>(image, o, engine::Program{});
@@ -51,7 +54,8 @@ struct Rig {
         plant = p.get();
         engine->add_subsystem(std::move(p));
         time = std::make_unique<FakeTime>(*engine);
-        unit = std::make_unique<SimulatorUnit>(*plant, *time, writable);
+        unit = std::make_unique<SimulatorUnit>(*plant, *time, writable, &faults,
+                                               &testing::fbs_naming());
         dispatcher = std::make_unique<modbus::Dispatcher>(modbus::Identity{});
         wire = std::make_unique<testing::Wire>(*dispatcher, plc, station, unit.get(), kSim);
     }
@@ -68,6 +72,7 @@ struct Rig {
     }
 
     image::Image image;
+    listener::CommFaults faults;
     std::unique_ptr<engine::Engine> engine;
     plant::Plant* plant = nullptr;
     std::unique_ptr<FakeTime> time;
@@ -252,6 +257,74 @@ TEST(SimulatorUnit, TrueTemperatureAndHeaterPowerAreLive) {
     rig.write(2, 1000);           // 10 s
     EXPECT_EQ(rig.read(ch(0, 7), 1)[0], 1000);
     EXPECT_GT(static_cast<std::int16_t>(rig.read(ch(0, 6), 1)[0]), 250);
+}
+
+// Communication faults (docs/communication-faults.md, "On the simulator-control unit"): the
+// block at 20-40, written as one.
+TEST(SimulatorUnit, CommFaultBlockSwitchesTheFaultsAsOne) {
+    Rig rig;
+    // delay 100-300, exception 6, scope R100 x10 ("R1" "00").
+    std::vector<std::uint16_t> block(19, 0);
+    block[0] = 100;
+    block[1] = 300;
+    block[4] = 9;
+    block[5] = 6;
+    block[8] = 2;   // disconnect with RST ...
+    block[9] = 5;   // ... after 5
+    block[10] = 1;  // garble crc
+    block[14] = 0x5231;
+    block[15] = 0x3030;
+    block[18] = 10;
+    EXPECT_EQ(rig.write_many(20, block), 0);
+    const config::CommFaultSettings& s = rig.faults.settings();
+    EXPECT_EQ(s.delay_min_ms, 100u);
+    EXPECT_EQ(s.delay_max_ms, 300u);
+    EXPECT_EQ(s.seed, 9u);
+    EXPECT_EQ(s.exception, 6);
+    EXPECT_EQ(s.disconnect_after, 5u);
+    EXPECT_TRUE(s.reset);
+    EXPECT_EQ(s.garble, config::Garble::Crc);
+    EXPECT_EQ(s.devices, (image::Range{Area::R, 100, 10}));
+    // It reads back as written, with b0 of the status: a fault is on.
+    const auto r = rig.read(20, 21);
+    EXPECT_EQ(std::vector<std::uint16_t>(r.begin(), r.begin() + 19), block);
+    EXPECT_EQ(r[20], 1);
+    // One register alone switches from what the block held.
+    EXPECT_EQ(rig.write(25, 0), 0);
+    EXPECT_EQ(rig.faults.settings().exception, 0);
+    EXPECT_EQ(rig.faults.settings().delay_max_ms, 300u);
+    // Clear: everything off, status 0.
+    EXPECT_EQ(rig.write(39, 1), 0);
+    EXPECT_FALSE(rig.faults.active());
+    EXPECT_FALSE(rig.faults.settings().devices);
+    EXPECT_EQ(rig.read(39, 2), (std::vector<std::uint16_t>{0, 0}));
+}
+
+TEST(SimulatorUnit, CommFaultWriteThatMakesNoSenseIsRefusedAsAWhole) {
+    Rig rig;
+    EXPECT_EQ(rig.write(26, 1), 0);  // offline
+    EXPECT_TRUE(rig.faults.settings().offline);
+    // "Q5": no device of the PLC. Nothing changes, status b1 says so.
+    EXPECT_EQ(rig.write_many(34, {0x5135, 0, 0, 0}), 0);
+    EXPECT_TRUE(rig.faults.settings().offline);
+    EXPECT_FALSE(rig.faults.settings().devices);
+    EXPECT_EQ(rig.read(40, 1)[0], 3);
+    // "R9000": a name, but beyond the PLC's R area (R0-R8071 on an FBs).
+    EXPECT_EQ(rig.write_many(34, {0x5239, 0x3030, 0x3000, 0}), 0);
+    EXPECT_FALSE(rig.faults.settings().devices);
+    EXPECT_EQ(rig.read(40, 1)[0], 3);
+    // Both drops at once: refused too.
+    EXPECT_EQ(rig.write_many(34, {0, 0, 0, 0}), 0);
+    EXPECT_EQ(rig.read(40, 1)[0], 1);
+    EXPECT_EQ(rig.write_many(22, {2, 5000}), 0);
+    EXPECT_EQ(rig.read(40, 1)[0], 3);
+    EXPECT_EQ(rig.faults.settings().drop_every, 0u);
+    // Clamped like every register: 70000 ms is out of a word, 65535 clamps to 60000.
+    EXPECT_EQ(rig.write_many(20, {65535, 0}), 0);
+    EXPECT_EQ(rig.faults.settings().delay_min_ms, 60000u);
+    EXPECT_EQ(rig.faults.settings().delay_max_ms, 60000u);
+    // The status word is read-only.
+    EXPECT_EQ(rig.write(40, 0), 2);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "plcemu/config/comm_faults.hpp"
 #include "plcemu/config/node.hpp"
 #include "plcemu/config/reader.hpp"
 #include "plcemu/image/area.hpp"
@@ -198,6 +199,7 @@ struct Config {
     /// without the loader, or for a family without sections.
     std::shared_ptr<const ProfileSettings> settings;
     PlantConfig plant;              ///< thermal plant
+    CommFaultSettings faults;       ///< communication faults from start-up (`faults:`)
     SimulatorConfig simulator;      ///< simulator-control unit
     PersistenceConfig persistence;  ///< retentive state file
     LogConfig log;                  ///< logging

@@ -16,15 +16,23 @@
 
 namespace plcemu::listener {
 
+/// What carries a client's requests.
+enum class Carrier : std::uint8_t {
+    Stream,    ///< a TCP connection
+    Datagram,  ///< UDP datagrams from one peer
+    Line,      ///< a serial line
+};
+
 /// A client of a listener: a TCP connection, a UDP peer, a serial line.
 struct Client {
-    std::uint64_t id = 0;         ///< unique in the process
-    std::string peer;             ///< "192.0.2.7:50312", "/dev/ttyUSB0"
-    std::string_view protocol{};  ///< "modbus-tcp", "fatek"
+    std::uint64_t id = 0;               ///< unique in the process
+    std::string peer;                   ///< "192.0.2.7:50312", "/dev/ttyUSB0"
+    std::string_view protocol{};        ///< "modbus-tcp", "fatek"
+    Carrier carrier = Carrier::Stream;  ///< what carries its requests
 };
 
 /// A client numbered for this process (one loop thread makes them).
-Client make_client(std::string peer, std::string_view protocol);
+Client make_client(std::string peer, std::string_view protocol, Carrier carrier = Carrier::Stream);
 
 /// One request a protocol answered.
 struct Exchange {

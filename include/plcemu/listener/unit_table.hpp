@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plcemu/engine/engine.hpp"
@@ -13,6 +14,7 @@
 #include "plcemu/image/area.hpp"
 #include "plcemu/image/naming.hpp"
 #include "plcemu/listener/census.hpp"
+#include "plcemu/listener/comm_faults.hpp"
 #include "plcemu/listener/traffic.hpp"
 #include "plcemu/plant/plant.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
@@ -48,6 +50,7 @@ struct Seat {
     plant::Plant* plant = nullptr;           ///< its simulated process
     Traffic* traffic = nullptr;              ///< what its clients asked of it (null: not kept)
     engine::LoopHistory* history = nullptr;  ///< its loops' recent past (null: not kept)
+    CommFaults* faults = nullptr;            ///< its communication faults (null: none)
 };
 
 /// What a listener does with a unit ID no PLC on it has: answer it with the protocol's refusal
@@ -110,7 +113,21 @@ public:
     void client_gone(std::uint64_t client) noexcept {
         for (const Seat& s : seats_) {
             if (s.traffic != nullptr) s.traffic->gone(client);
+            if (s.faults != nullptr) s.faults->client_gone(client);
         }
+    }
+    /// What becomes of the answer being made (a protocol says it as it judges the request,
+    /// and may add to it as it frames the answer; the listener takes it with the answer).
+    Fate& fate() noexcept { return fate_; }
+    /// Takes the answer's fate, leaving none for the next.
+    Fate take_fate() noexcept { return std::exchange(fate_, Fate{}); }
+    /// True when the listener is to refuse new connections: every PLC on it has the fault
+    /// `refuse_connections` (a shared listener keeps accepting for the others).
+    bool refusing() const noexcept {
+        for (const Seat& s : seats_) {
+            if (s.faults == nullptr || !s.faults->refuses_connections()) return false;
+        }
+        return !seats_.empty();
     }
     /// The process's figures beside its PLCs' (null: not kept), for views that show them.
     void set_census(const Census* census) noexcept { census_ = census; }
@@ -129,6 +146,7 @@ private:
     std::string token_;
     std::vector<std::string> hosts_;
     const Client* serving_ = nullptr;
+    Fate fate_{};
     const Census* census_ = nullptr;
     UnitTableStats stats_;
 };
