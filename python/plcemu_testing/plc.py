@@ -28,6 +28,16 @@ MAX_BITS = 1960
 MAX_STEP = 60000  # scans per write of the step register
 FAULT_BITS = {"sensor_broken": 0, "heater_open": 1, "heater_shorted": 2, "reading_frozen": 3}
 # plant() keyword -> (simulator field, register counts per config unit, signed)
+# comm_fault() keyword -> the simulator unit's register (docs/communication-faults.md); the
+# block runs from comm.delay_min_ms to comm.count and is written in one request.
+COMM_FIELDS = ("delay_min_ms", "delay_max_ms", "drop_every", "drop_probability", "seed",
+               "exception", "offline", "refuse_connections", "disconnect", "disconnect_after",
+               "garble", "stop", "unit", "function", "from_1", "from_2", "from_3", "from_4",
+               "count")
+COMM_KEYS = {"delay_ms", "drop_every", "drop_probability", "seed", "exception", "offline",
+             "refuse_connections", "disconnect_after", "reset", "garble", "stop", "unit",
+             "function", "from", "count"}
+GARBLES = ("none", "crc", "short", "gap")
 PLANT_PARAMS = {"ambient": ("ambient", 10, True), "k": ("k", 10, False),
                 "tau": ("tau", 1, False), "dead_time": ("dead_time", 1, False),
                 "noise": ("noise", 100, False), "lead_resistance": ("lead_resistance", 100, False)}
@@ -341,17 +351,37 @@ class PlcApi:
             raise ValueError(f"channel {channel}: the plant has channels 0-{self.map.channels - 1}")
         return first + stride * channel
 
+    _sim = None
+
+    @property
+    def _sim_client(self):
+        # A connection of its own: a communication fault that closes the PLC's connections
+        # (disconnect_after) counts only requests to the PLC, so this one stays to switch it off.
+        if self._sim is None:
+            if self.client is None:
+                return None
+            self._sim = connect(self.port)
+        return self._sim
+
+    def _close_sim(self):
+        if self._sim is not None:
+            self._sim.close()
+            self._sim = None
+
+    def _sim_call(self, operation, what, name, *args):
+        client = self._sim_client
+        return self._call(operation, what, getattr(client, name) if client else None, *args,
+                          unit=self.map.sim_unit)
+
     def _sim_read(self, field, channel=None, n=1):
         wire = self._sim_wire(field, channel)
         what = f"simulator {field}" + ("" if channel is None else f" of channel {channel}")
-        return self._call("read", what, self.client.read_holding_registers, wire, n,
-                          unit=self.map.sim_unit).registers
+        return self._sim_call("read", what, "read_holding_registers", wire, n).registers
 
     def _sim_write(self, field, value, channel=None):
         wire = self._sim_wire(field, channel)
         what = f"simulator {field}" + ("" if channel is None else f" of channel {channel}")
-        self._call("write", what, self.client.write_register, wire, value & 0xFFFF,
-                   unit=self.map.sim_unit)
+        self._sim_call("write", what, "write_register", wire, value & 0xFFFF)
 
     def freeze(self):
         """Stops the scans (requests are still served); run() steps them."""
@@ -441,6 +471,73 @@ class PlcApi:
             out[name] = (_to_signed(v, 16) if is_signed else v) / scale
         return out
 
+    # --- communication faults (docs/communication-faults.md) ------------------------------
+
+    def comm_fault(self, **fields):
+        """Switches the PLC's communication faults to `fields` (the config's `faults:` names:
+        delay_ms=300 or (100, 300), drop_every, drop_probability, seed, exception, offline,
+        refuse_connections, disconnect_after, reset, garble="crc"|"short"|"gap", stop, and the
+        scope unit, function, **{"from": "R100"}, count); a field left out is off. Returns a
+        context manager that switches them all off on exit:
+
+            with plc.comm_fault(delay_ms=300, **{"from": "R100", "count": 10}):
+                ...
+        """
+        unknown = set(fields) - COMM_KEYS
+        if unknown:
+            raise TypeError(f"unknown communication faults {sorted(unknown)}; known: "
+                            f"{sorted(COMM_KEYS)}")
+        words = dict.fromkeys(COMM_FIELDS, 0)
+        delay = fields.get("delay_ms", 0)
+        lo, hi = (delay, delay) if isinstance(delay, (int, float)) else tuple(delay)
+        words["delay_min_ms"], words["delay_max_ms"] = int(lo), int(hi)
+        p = fields.get("drop_probability", 0)
+        if not 0 <= p <= 1:
+            raise ValueError(f"drop_probability {p}: expected 0 to 1")
+        words["drop_probability"] = round(p * 10000)
+        for k in ("drop_every", "seed", "exception", "unit", "function"):
+            words[k] = int(fields.get(k, 0 if k != "seed" else 1))
+        for k in ("offline", "refuse_connections", "stop"):
+            words[k] = 1 if fields.get(k) else 0
+        if fields.get("disconnect_after") is not None:
+            words["disconnect"] = 2 if fields.get("reset") else 1
+            words["disconnect_after"] = int(fields["disconnect_after"])
+        elif fields.get("reset"):
+            raise ValueError("reset: says how disconnect_after closes; give disconnect_after")
+        garble = fields.get("garble") or "none"
+        if garble not in GARBLES:
+            raise ValueError(f"garble {garble!r}: expected one of {GARBLES}")
+        words["garble"] = GARBLES.index(garble)
+        name = str(fields.get("from") or "").upper().encode("ascii")
+        if len(name) > 8:
+            raise ValueError(f"from {fields['from']!r}: at most 8 characters")
+        name = name.ljust(8, b"\0")
+        for i in range(4):
+            words[f"from_{i + 1}"] = name[2 * i] << 8 | name[2 * i + 1]
+        if "count" in fields and not fields.get("from"):
+            raise ValueError("count: counts devices from `from`; give from")
+        words["count"] = int(fields.get("count", 1 if fields.get("from") else 0))
+        for k in ("delay_min_ms", "delay_max_ms", "drop_every", "seed", "exception", "unit",
+                  "function", "disconnect_after", "count"):
+            if not 0 <= words[k] <= 0xFFFF:
+                raise ValueError(f"{k} {words[k]}: expected 0 to 65535")
+        first = self._sim_wire("comm.delay_min_ms")
+        self._sim_call("write", "communication faults", "write_registers", first,
+                       [words[k] for k in COMM_FIELDS])
+        if self._sim_read("comm.status")[0] & 2:
+            raise DeviceError("communication faults", f"refused {fields} (see the daemon's "
+                              "log and docs/communication-faults.md)")
+        return _CommFaults(self)
+
+    def clear_comm_faults(self):
+        """Switches every communication fault off."""
+        self._sim_write("comm.clear", 1)
+
+    @property
+    def comm_faults_on(self):
+        """True while a communication fault is on."""
+        return bool(self._sim_read("comm.status")[0] & 1)
+
     def true_temperature(self, channel):
         """The process temperature of a plant channel, °C (what the sensor would read)."""
         return _to_signed(self._sim_read("true_temperature", channel)[0], 16) / 10
@@ -448,6 +545,20 @@ class PlcApi:
     def heater_power(self, channel):
         """The power the plant received on a channel, %, mean of the last 8 s."""
         return self._sim_read("heater_power", channel)[0] / 10
+
+
+class _CommFaults:
+    """What comm_fault() returns: with it, the faults are switched off on leaving the block."""
+
+    def __init__(self, plc):
+        self._plc = plc
+
+    def __enter__(self):
+        return self._plc
+
+    def __exit__(self, *exc):
+        self._plc.clear_comm_faults()
+        return False
 
 
 class Plc(Process, PlcApi):
@@ -492,6 +603,7 @@ class Plc(Process, PlcApi):
 
     def _disconnect(self):
         self._close_fatek()
+        self._close_sim()
         if self.client is not None:
             self.client.close()
             self.client = None

@@ -176,6 +176,7 @@ class Plcs(Process):
     def _disconnect(self):
         for p in getattr(self, "plcs", ()):
             p._close_fatek()
+            p._close_sim()
         for c in self._clients:
             if c is not None:
                 c.close()

@@ -164,6 +164,10 @@ class WireMap:
         if c:
             self.channels = int(c.group(1)) + 1
         text = re.sub(r"^(simulator|channel c( \([^)]*\))?): ", "", label)
+        comm = re.match(r"comm\.(\w+):", text)
+        if comm:
+            self.sim["comm." + comm.group(1)] = (int(m.group(1)), 0)
+            return
         for prefix, field in SIM_FIELDS:
             if text.startswith(prefix):
                 self.sim[field] = (int(m.group(1)), int(m.group(2) or 0))

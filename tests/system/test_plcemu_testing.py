@@ -1,10 +1,13 @@
 """The pytest plugin plcemu_testing (python/, docs/testing.md) on real scenarios: its `plcemud`
 fixture runs the daemon, device names go through the daemon's own map, the simulator unit runs
-the plant in simulated time, faults, restart, reload and errors that name the device."""
+the plant in simulated time, plant and communication faults, restart, reload and errors that
+name the device."""
 
+import inspect
 import math
 import os
 import re
+import socket
 import subprocess
 import sys
 import time
@@ -12,7 +15,7 @@ import time
 import pytest
 import yaml
 
-from conftest import REPO
+from conftest import REPO, raw_exchange
 from plcemu_testing import DaemonError, DeviceError, ModbusError, Plc, Plcs
 
 DEFAULT = REPO / "config" / "default.yaml"
@@ -308,3 +311,230 @@ def test_plcs_restart_and_reload_keep_each_plcs_state(plcemud):
 def test_a_single_plc_config_still_gives_a_plc(plcemud):
     plc = plcemud({"profile": "fbs"})
     assert type(plc) is Plc and plc.tag("R4136")["name"] == "R4136"
+
+
+# ------------------------------------------------------------- communication faults (the kit)
+# docs/communication-faults.md through plc.comm_fault(), plc.clear_comm_faults() and
+# plc.comm_faults_on. The kit's own client waits 5 s for an answer; where an answer is meant to
+# be missing, the test asks on a raw connection of its own with a short timeout (conftest's
+# raw_exchange: None when nothing came).
+
+FC03_R100 = bytes([0x03, 0x00, 100, 0x00, 0x01])  # read R100 (fbs: holding register 100)
+
+
+def fc06_r100(value):
+    return bytes([0x06, 0x00, 100]) + value.to_bytes(2, "big")
+
+
+def raw_connection(plc, timeout=0.25):
+    s = socket.create_connection(("127.0.0.1", plc.port), timeout=timeout)
+    s.settimeout(timeout)
+    return s
+
+
+def timed(fn, *args):
+    t = time.monotonic()
+    out = fn(*args)
+    return out, time.monotonic() - t
+
+
+def wait_until(predicate, timeout=2.0):
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.01)
+    return True
+
+
+def test_comm_fault_delay_holds_each_answer(plcemud):
+    plc = plcemud({"profile": "fbs", "init": {"R100": 7}})
+    with plc.comm_fault(delay_ms=100):
+        assert plc.comm_faults_on  # the simulator unit is never delayed
+        for _ in range(3):
+            value, took = timed(plc.read, "R100")
+            assert value == [7] and 0.08 <= took <= 0.12, took
+        _, took = timed(lambda: plc.comm_faults_on)
+        assert took < 0.02, took
+    assert not plc.comm_faults_on
+    _, took = timed(plc.read, "R100")
+    assert took < 0.02, took
+    assert "comm fault on: delay 100 ms (every request)" in plc.log
+    assert "comm fault off: delay 100 ms" in plc.log
+
+
+def test_comm_fault_drop_every_loses_every_nth_answer_but_serves_it(plcemud):
+    plc = plcemud({"profile": "fbs", "init": {"R100": 7}})
+    s = raw_connection(plc)
+    try:
+        with plc.comm_fault(drop_every=3):
+            replies = [raw_exchange(s, FC03_R100, tid=1), raw_exchange(s, FC03_R100, tid=2),
+                       raw_exchange(s, fc06_r100(42), tid=3),  # the 3rd: dropped
+                       raw_exchange(s, FC03_R100, tid=4), raw_exchange(s, FC03_R100, tid=5),
+                       raw_exchange(s, FC03_R100, tid=6)]  # the 6th: dropped
+            assert [r is None for r in replies] == [False, False, True, False, False, True]
+            # The dropped write was served, its answer lost (a line that loses the reply).
+            assert replies[3] == bytes([0x03, 0x02, 0x00, 42])
+        # The connection stays usable, and no late answer of a dropped request turns up on it:
+        # raw_exchange checks the transaction ID.
+        assert raw_exchange(s, FC03_R100, tid=7) == bytes([0x03, 0x02, 0x00, 42])
+    finally:
+        s.close()
+    assert plc.read("R100") == [42]
+
+
+def test_comm_fault_exception_answers_the_code_and_changes_nothing(plcemud):
+    plc = plcemud({"profile": "fbs", "init": {"R100": 7}})
+    plc.comm_fault(exception=4)
+    with pytest.raises(ModbusError, match=r"read R100: Modbus exception 04h "
+                                          r"\(server device failure\)") as e:
+        plc.read("R100")
+    assert e.value.code == 4
+    with pytest.raises(ModbusError) as e:
+        plc.write("R100", 99)
+    assert e.value.code == 4
+    with pytest.raises(ModbusError) as e:
+        plc.write_bits("Y0", 1)
+    assert e.value.code == 4
+    plc.comm_fault(exception=6)  # replaces what was on
+    with pytest.raises(ModbusError, match="06h"):
+        plc.read("R100")
+    plc.clear_comm_faults()
+    assert plc.read("R100") == [7] and plc.read_bits("Y0") == [0]  # nothing was written
+
+
+def test_comm_fault_offline_and_back(plcemud):
+    plc = plcemud({"profile": "fbs", "init": {"R100": 7}})
+    s = raw_connection(plc)
+    try:
+        assert raw_exchange(s, FC03_R100, tid=1) == bytes([0x03, 0x02, 0x00, 7])
+        plc.comm_fault(offline=True)
+        assert plc.comm_faults_on  # the simulator unit still answers
+        assert raw_exchange(s, FC03_R100, tid=2) is None
+        assert raw_exchange(s, fc06_r100(99), tid=3) is None  # not served either
+        # A new connection is accepted (only refuse_connections refuses) and gets no answer.
+        with raw_connection(plc) as other:
+            assert raw_exchange(other, FC03_R100, tid=1) is None
+        plc.clear_comm_faults()
+        # Back, on the connection that stayed open: the next request is answered, and the
+        # write sent while offline changed nothing.
+        assert raw_exchange(s, FC03_R100, tid=4) == bytes([0x03, 0x02, 0x00, 7])
+    finally:
+        s.close()
+    assert plc.read("R100") == [7]
+
+
+def test_comm_fault_disconnect_after_closes_the_kits_connection(plcemud):
+    """The daemon closes the kit's connection after its 2nd answer: the kit's next request
+    finds it closed and raises ModbusError; the one after opens a new connection (pymodbus
+    reconnects by itself), which is again closed after 2 answers. The kit's switch has a
+    connection of its own and is never closed."""
+    plc = plcemud({"profile": "fbs", "init": {"R100": 7}})
+    with plc.comm_fault(disconnect_after=2):
+        assert plc.read("R100") == [7] and plc.read("R100") == [7]
+        with pytest.raises(ModbusError, match="read R100: .*[Cc]onnection"):
+            plc.read("R100")
+        assert plc.comm_faults_on
+        assert plc.read("R100") == [7] and plc.read("R100") == [7]  # a new connection
+        with pytest.raises(ModbusError, match="read R100: .*[Cc]onnection"):
+            plc.read("R100")
+    assert not plc.comm_faults_on
+    assert plc.read("R100") == [7] and plc.read("R100") == [7] and plc.read("R100") == [7]
+    assert plc.log.count("disconnected (closed after its answer)") == 2
+    assert "comm fault on: disconnect after 2 request(s) (FIN)" in plc.log
+
+
+def test_comm_fault_stop_leaves_run(plcemud):
+    """docs/profile-fbs.md: M1926 is the RUN relay (always ON while running); a STOP turns it
+    OFF and the Y outputs off. Requests are still served while stopped."""
+    plc = plcemud({"profile": "fbs"})
+    plc.write_bits("Y0", 1)
+    assert plc.read_bits("M1926") == [1]
+    with plc.comm_fault(stop=True):
+        assert wait_until(lambda: plc.read_bits("M1926") == [0]), plc.log
+        assert plc.read_bits("Y0") == [0]
+    assert wait_until(lambda: plc.read_bits("M1926") == [1]), plc.log
+
+
+def test_comm_fault_scope_from_and_count(plcemud):
+    plc = plcemud({"profile": "fbs", "init": {"R0": 1, "R100": list(range(100, 112))}})
+    with plc.comm_fault(exception=4, **{"from": "R100", "count": 10}):
+        assert plc.read("R0") == [1] and plc.read("R99") == [0] and plc.read("R110") == [110]
+        for dev, n in (("R100", 1), ("R109", 1), ("R95", 10), ("R109", 2)):
+            with pytest.raises(ModbusError) as e:
+                plc.read(dev, n)  # any request that reaches one of R100-R109
+            assert e.value.code == 4, dev
+        plc.write("R0", 2)  # R0 is served: a write outside the scope lands
+    assert plc.read("R0") == [2]
+    with plc.comm_fault(delay_ms=60, **{"from": "R100", "count": 10}):
+        _, took = timed(plc.read, "R105")
+        assert 0.04 <= took <= 0.08, took
+        _, took = timed(plc.read, "R0")
+        assert took < 0.02, took
+    assert "comm fault on: delay 60 ms (R100-R109)" in plc.log
+
+
+def test_comm_fault_block_clears_on_exit_even_when_it_raises(plcemud):
+    plc = plcemud({"profile": "fbs", "init": {"R100": 7}})
+    with pytest.raises(ModbusError):
+        with plc.comm_fault(exception=4) as inside:
+            assert inside is plc and plc.comm_faults_on
+            plc.read("R100")  # raises, and the block is left through its exception
+    assert not plc.comm_faults_on
+    assert plc.read("R100") == [7]
+    with pytest.raises(KeyError):
+        with plc.comm_fault(delay_ms=50):
+            raise KeyError("the test's own failure")
+    assert not plc.comm_faults_on
+
+
+def test_comm_fault_refuses_an_unknown_keyword(plcemud):
+    plc = plcemud({"profile": "fbs"})
+    with pytest.raises(TypeError, match=r"unknown communication faults \['latency_ms'\]"):
+        plc.comm_fault(latency_ms=100)
+    assert not plc.comm_faults_on  # nothing was written
+
+
+def test_comm_fault_from_no_device_is_refused_by_the_daemon(plcemud):
+    """`from` is parsed by the daemon; a name that is no device of the PLC is refused as a
+    whole (comm.status b1), which the kit raises: what was on before stays on."""
+    plc = plcemud({"profile": "fbs", "init": {"R100": 7}})
+    plc.comm_fault(exception=4)
+    with pytest.raises(DeviceError, match="communication faults: refused"):
+        plc.comm_fault(delay_ms=10, **{"from": "Q5"})  # no Q area in an FBs
+    assert plc.comm_faults_on
+    with pytest.raises(ModbusError, match="04h"):
+        plc.read("R100")  # the exception is still on, not the refused delay
+    plc.clear_comm_faults()
+    assert plc.read("R100") == [7]
+
+
+def test_comm_fault_from_outside_the_area_is_refused(plcemud):
+    """R99999 has the form of a device but is none of this FBs (its R area is R0-R8071): the
+    config (`faults.from: R99999 is outside this PLC's R area`) and the REST API refuse it,
+    and so must the simulator unit."""
+    plc = plcemud({"profile": "fbs"})
+    for name in ("R99999", "D9999"):
+        with pytest.raises(DeviceError, match="communication faults: refused"):
+            plc.comm_fault(delay_ms=10, **{"from": name})
+        assert not plc.comm_faults_on, name
+
+
+def test_the_comm_loss_example_of_testing_md(plcemud):
+    """The worked example of docs/testing.md, "Communication faults", run as it stands: its
+    code block is compiled with the page's line numbers (a failure points into the page) and
+    each test_ function in it is called with this test's `plcemud` fixture."""
+    page = REPO / "docs" / "testing.md"
+    text = page.read_text()
+    section = re.search(r"^## Communication faults\n(.*?)(?=^## )", text, re.S | re.M)
+    assert section, "docs/testing.md has no '## Communication faults' section"
+    block = re.search(r"```python\n(.*?)```", section.group(1), re.S)
+    assert block and "def test_" in block.group(1), "the section has no pytest example"
+    first_line = text[:section.start(1) + block.start(1)].count("\n")
+    namespace = {}
+    exec(compile("\n" * first_line + block.group(1), str(page), "exec"), namespace)
+    tests = [f for name, f in namespace.items() if name.startswith("test_") and callable(f)]
+    assert tests
+    for test in tests:
+        assert list(inspect.signature(test).parameters) == ["plcemud"], test.__name__
+        test(plcemud)
