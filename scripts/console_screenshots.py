@@ -181,6 +181,16 @@ def main():
                 target = OUT / f"console-{name}.png"
                 driver.save_screenshot(str(target))
                 print(target.relative_to(REPO))
+            # The plant page's communication faults, one lit: a delay on R100-R109.
+            api(base, "/api/v1/plcs/0/comm-faults",
+                {"delay_ms": 300, "from": "R100", "count": 10})
+            driver.get(base + "/plcs/0/plant")
+            WebDriverWait(driver, 10).until(lambda d: d.find_elements(
+                By.CSS_SELECTOR, 'button[data-comm-fault="delay"][aria-pressed="true"]'))
+            time.sleep(0.3)
+            target = OUT / "console-comm-faults.png"
+            driver.find_element(By.ID, "comm").screenshot(str(target))
+            print(target.relative_to(REPO))
         finally:
             if driver is not None:
                 driver.quit()

@@ -9,6 +9,7 @@ import os
 import re
 import shutil
 import signal
+import socket
 import subprocess
 import time
 import urllib.error
@@ -298,6 +299,167 @@ def test_a_fault_button_switches_the_fault_as_the_simulator_unit(browser, start_
     css(browser, "#frozen").click()
     wait(browser, lambda dr: css(dr, "#frozen").get_attribute("aria-pressed") == "true")
     assert api(base, "/api/v1/plcs/0/simulator")[1]["frozen"] is True
+
+
+def comm_button(driver, key):
+    return css(driver, f'button[data-comm-fault="{key}"]')
+
+
+def pressed(element):
+    return element.get_attribute("aria-pressed") == "true"
+
+
+def timed_read_r0(d):
+    """How long a pymodbus read of R0 (holding register 0) takes, in s, on a new connection."""
+    c = d.client()
+    start = time.monotonic()
+    r = c.read_holding_registers(0, 1, slave=1)
+    took = time.monotonic() - start
+    assert not r.isError(), r
+    c.close()
+    return took
+
+
+def refused_soon(port, within=1.0):
+    """Whether a connect to `port` is refused within `within` s. The listener closes its socket
+    at its next sweep, or at the first connection it accepts meanwhile (which it resets)."""
+    deadline = time.monotonic() + within
+    while time.monotonic() < deadline:
+        try:
+            socket.create_connection(("127.0.0.1", port), timeout=1).close()
+        except ConnectionRefusedError:
+            return True
+        except ConnectionResetError:
+            pass
+        time.sleep(0.02)
+    return False
+
+
+def open_plant(driver, base):
+    driver.get(f"{base}/plcs/0/plant")
+    wait(driver, lambda dr: dr.find_elements(By.CSS_SELECTOR, 'button[data-comm-fault="delay"]'))
+    wait(driver, lambda dr: "live" in css(dr, "#status").get_attribute("class").split())
+    wait(driver, lambda dr: css(dr, '#comm-summary [data-field="scope"]').text != "—",
+         what="the communication faults were not read")
+    driver.execute_script("window.plcemuNotReloaded = true;")
+
+
+def test_the_comm_fault_buttons_switch_the_faults(browser, start_plcemud):
+    d, base = start_console(start_plcemud)
+    open_plant(browser, base)
+    keys = [b.get_attribute("data-comm-fault")
+            for b in browser.find_elements(By.CSS_SELECTOR, "#comm-buttons button")]
+    assert keys == ["delay", "drop", "exception", "offline", "refuse", "disconnect", "garble",
+                    "stop"]
+    assert not any(pressed(comm_button(browser, k)) for k in keys)
+    assert css(browser, '#comm-summary [data-field="faults"]').text == "none"
+    assert css(browser, '#comm-summary [data-field="scope"]').text == "every request"
+    assert timed_read_r0(d) < 0.05
+
+    delay = comm_button(browser, "delay")
+    assert delay.text == "Delay 300 ms"
+    delay.click()
+    wait(browser, lambda _: pressed(delay), what="the delay button is not lit")
+    assert api(base, "/api/v1/plcs/0/comm-faults")[1]["delay_ms"] == 300
+    assert timed_read_r0(d) >= 0.28
+    assert css(browser, '#comm-summary [data-field="faults"]').text == "delay 300 ms"
+    assert "ok" in message(browser)[1]
+    # A second fault keeps the first: the page PUTs the whole set it wants.
+    comm_button(browser, "drop").click()
+    wait(browser, lambda dr: pressed(comm_button(dr, "drop")))
+    state = api(base, "/api/v1/plcs/0/comm-faults")[1]
+    assert (state["delay_ms"], state["drop_every"]) == (300, 2), state
+    assert pressed(delay)
+    comm_button(browser, "drop").click()
+    wait(browser, lambda dr: not pressed(comm_button(dr, "drop")))
+
+    css(browser, "#comm-clear").click()
+    wait(browser, lambda _: not pressed(delay), what="the delay button is still lit")
+    assert timed_read_r0(d) < 0.05
+    assert api(base, "/api/v1/plcs/0/comm-faults")[1]["active"] is False
+    assert css(browser, '#comm-summary [data-field="faults"]').text == "none"
+
+    # Refuse connections: the PLC as switched off, new connections refused and those open
+    # answered nothing (Offline lights too); switched off, both go.
+    comm_button(browser, "refuse").click()
+    wait(browser, lambda dr: pressed(comm_button(dr, "refuse")))
+    assert pressed(comm_button(browser, "offline"))
+    state = api(base, "/api/v1/plcs/0/comm-faults")[1]
+    assert (state["refuse_connections"], state["offline"]) == (True, True), state
+    assert refused_soon(d.port), "new connections are not refused"
+    comm_button(browser, "refuse").click()
+    wait(browser, lambda dr: not pressed(comm_button(dr, "refuse")))
+    assert not pressed(comm_button(browser, "offline"))
+    # The listener opens its socket again at its next sweep.
+    deadline = time.monotonic() + 2
+    while not port_open(d.port):
+        assert time.monotonic() < deadline, "the listener does not accept connections again"
+        time.sleep(0.02)
+    assert timed_read_r0(d) < 0.05
+
+    # A fault switched elsewhere lights its button at the next refresh (once a second).
+    status, _ = api(base, "/api/v1/plcs/0/comm-faults", "PUT",
+                    {"exception": 4, "from": "R100", "count": 10})
+    assert status == 200
+    wait(browser, lambda dr: pressed(comm_button(dr, "exception")), timeout=3,
+         what="a fault set through the API does not light its button")
+    assert comm_button(browser, "exception").text == "Exception 04"
+    assert css(browser, '#comm-summary [data-field="faults"]').text == "exception 04h"
+    assert css(browser, '#comm-summary [data-field="scope"]').text == "R100-R109"
+    assert css(browser, "#comm-from").get_attribute("value") == "R100"
+    assert css(browser, "#comm-count").get_attribute("value") == "10"
+    # Switched off from the page, the scope it had is kept.
+    comm_button(browser, "exception").click()
+    wait(browser, lambda dr: not pressed(comm_button(dr, "exception")))
+    state = api(base, "/api/v1/plcs/0/comm-faults")[1]
+    assert (state["exception"], state["from"], state["count"]) == (0, "R100", 10), state
+    assert not_reloaded(browser)
+
+
+def test_a_bad_comm_fault_scope_shows_the_refusal_as_text(browser, start_plcemud):
+    _, base = start_console(start_plcemud)
+    name = "<script>alert(1)</script>"
+    status, expected = api(base, "/api/v1/plcs/0/comm-faults", "PUT", {"from": name})
+    assert status == 400, expected
+    open_plant(browser, base)
+    field = css(browser, "#comm-from")
+    field.send_keys(name)
+    css(browser, "#comm-apply").click()
+    wait(browser, lambda dr: "error" in message(dr)[1], what="no refusal shown")
+    text, _, shown = message(browser)
+    assert shown and name in text and text == expected["error"]
+    assert browser.find_elements(By.CSS_SELECTOR, "#message *") == []
+    assert browser.find_elements(By.CSS_SELECTOR, "main script, main img") == []
+    with pytest.raises(NoAlertPresentException):
+        browser.switch_to.alert.text  # noqa: B018 - raises when there is no alert
+    # What was typed stays to be corrected, over the refreshes; nothing was switched.
+    time.sleep(1.2)
+    assert field.get_attribute("value") == name
+    assert api(base, "/api/v1/plcs/0/comm-faults")[1]["active"] is False
+    # A fault button with that scope is refused the same way and stays unlit.
+    browser.execute_script("document.getElementById('message').textContent = '';")
+    comm_button(browser, "offline").click()
+    wait(browser, lambda dr: message(dr)[0] == expected["error"], what="no refusal shown")
+    assert not pressed(comm_button(browser, "offline"))
+    assert api(base, "/api/v1/plcs/0/comm-faults")[1]["offline"] is False
+    assert not_reloaded(browser)
+
+
+def test_the_comm_fault_buttons_need_the_token(browser, start_plcemud):
+    _, base = start_console(start_plcemud, http=", token: s3cret")
+    open_plant(browser, base)
+    comm_button(browser, "stop").click()
+    wait(browser, lambda dr: "error" in message(dr)[1], what="no refusal shown")
+    assert "token" in message(browser)[0]
+    assert api(base, "/api/v1/plcs/0/comm-faults")[1]["stop"] is False
+    css(browser, "#token").send_keys("s3cret")
+    comm_button(browser, "stop").click()
+    wait(browser, lambda dr: pressed(comm_button(dr, "stop")), what="the write with the token")
+    assert api(base, "/api/v1/plcs/0/comm-faults")[1]["stop"] is True
+    # Clear all (a DELETE, without a body) sends the token too.
+    css(browser, "#comm-clear").click()
+    wait(browser, lambda dr: not pressed(comm_button(dr, "stop")), what="Clear all with the token")
+    assert api(base, "/api/v1/plcs/0/comm-faults")[1]["active"] is False
 
 
 # ---- Traffic ---------------------------------------------------------------------------------

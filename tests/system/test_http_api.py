@@ -38,6 +38,7 @@ CONTRACT_PATHS = [
     "/api/v1/plcs/{plc}",
     "/api/v1/plcs/{plc}/devices/{device}",
     "/api/v1/plcs/{plc}/simulator",
+    "/api/v1/plcs/{plc}/comm-faults",
     "/api/v1/plcs/{plc}/events",
     "/api/v1/plcs/{plc}/traffic",
     "/api/v1/plcs/{plc}/loops",
@@ -775,6 +776,8 @@ def test_bad_percent_encoding_is_400(fbs, target):
         ("POST", "/api/v1/plcs/0/devices/R100", "GET, HEAD, PUT"),
         ("OPTIONS", "/api/v1/plcs/0/devices/R100", "GET, HEAD, PUT"),
         ("PATCH", "/api/v1/plcs/0/simulator", "GET, HEAD, PUT"),
+        ("POST", "/api/v1/plcs/0/comm-faults", "GET, HEAD, PUT, DELETE"),
+        ("PATCH", "/api/v1/plcs/0/comm-faults", "GET, HEAD, PUT, DELETE"),
         ("POST", "/api/v1/plcs/0/events", "GET, HEAD"),
         ("PUT", "/api/v1/plcs/0/traffic", "GET, HEAD"),
         ("PUT", "/api/v1/plcs/0/loops", "GET, HEAD"),
@@ -1046,6 +1049,253 @@ def test_simulator_body_must_be_a_json_object(fbs):
         r = request(fbs.http, "PUT", "/api/v1/plcs/0/simulator", body=body,
                     headers={"Content-Type": "application/json"})
         assert_error(r, 400, "not a JSON object")
+
+
+# --- Communication faults ---------------------------------------------------------------------
+
+COMM = "/api/v1/plcs/0/comm-faults"
+# Every key of a GET (docs/communication-faults.md): the fields, `active`, `summary`, `figures`.
+COMM_KEYS = {"active", "delay_ms", "drop_every", "drop_probability", "seed", "exception",
+             "offline", "refuse_connections", "disconnect_after", "reset", "garble", "stop",
+             "unit", "function", "from", "count", "summary", "figures"}
+COMM_FIGURES = {"delayed", "dropped", "refused", "silenced", "disconnected", "garbled"}
+COMM_OFF = {"active": False, "delay_ms": 0, "drop_every": 0, "drop_probability": 0, "seed": 1,
+            "exception": 0, "offline": False, "refuse_connections": False,
+            "disconnect_after": None, "reset": False, "garble": "none", "stop": False, "unit": 0,
+            "function": 0, "from": None, "count": 0,
+            "summary": {"faults": [], "scope": "every request"}}
+
+
+def comm(port):
+    r = get(port, COMM)
+    assert r.status == 200, r
+    return r.json()
+
+
+def comm_put(port, body, **kw):
+    return put(port, COMM, body, **kw)
+
+
+def comm_delete(port, headers=None):
+    """A DELETE as a script sends it: no body, no Content-Type."""
+    return request(port, "DELETE", COMM, headers=headers)
+
+
+def fields(state):
+    """A GET's answer without what the faults did (the figures grow as requests come)."""
+    return {k: v for k, v in state.items() if k != "figures"}
+
+
+def read_r(client, address):
+    """A pymodbus read of one holding register (R`address`) -> (response, seconds it took)."""
+    start = time.monotonic()
+    r = client.read_holding_registers(address, 1, slave=1)
+    return r, time.monotonic() - start
+
+
+def test_comm_faults_get_says_every_field_off(fbs):
+    s = comm(fbs.http)
+    assert set(s) == COMM_KEYS, s
+    assert fields(s) == COMM_OFF, s
+    assert set(s["figures"]) == COMM_FIGURES, s
+    assert all(isinstance(v, int) and v >= 0 for v in s["figures"].values()), s
+    head = request(fbs.http, "HEAD", COMM)
+    assert head.status == 200 and head.body == b"", head
+    assert int(head.header("Content-Length")) == len(get(fbs.http, COMM).body)
+
+
+def test_comm_faults_put_then_get_and_the_get_put_back(start_http):
+    plc = start_http()
+    body = {"delay_ms": [100, 300], "drop_probability": 0.25, "seed": 7, "exception": 6,
+            "offline": True, "refuse_connections": True, "disconnect_after": 3, "reset": True,
+            "garble": "crc", "stop": True, "unit": 1, "function": 3, "from": "R100",
+            "count": 10}
+    r = comm_put(plc.http, body)
+    assert r.status == 200, r
+    put_answer = r.json()
+    s = comm(plc.http)
+    assert fields(put_answer) == fields(s)
+    assert {k: s[k] for k in body} == body, s
+    assert s["active"] is True
+    assert s["drop_every"] == 0
+    assert s["summary"] == {
+        "faults": ["delay 100-300 ms (seed 7)", "drop with probability 0.25 (seed 7)",
+                   "exception 06h", "offline", "refuse connections",
+                   "disconnect after 3 request(s) (reset)", "garble crc", "stop"],
+        "scope": "unit 1, function 03h, R100-R109"}, s["summary"]
+    # What a GET said is taken back as it is (active, summary and figures are ignored).
+    r = comm_put(plc.http, s)
+    assert r.status == 200, r
+    assert fields(r.json()) == fields(s)
+    # A PUT replaces the whole set: what it leaves out is off.
+    r = comm_put(plc.http, {"delay_ms": 300, "from": "R5"})
+    assert r.status == 200, r
+    s = r.json()
+    assert fields(s) == {**COMM_OFF, "active": True, "delay_ms": 300, "from": "R5", "count": 1,
+                         "summary": {"faults": ["delay 300 ms"], "scope": "R5"}}, s
+    r = comm_put(plc.http, s)
+    assert r.status == 200 and fields(r.json()) == fields(s), r
+    # The GET of no fault goes back too; {} and DELETE switch everything off.
+    assert comm_put(plc.http, {}).json()["active"] is False
+    r = comm_put(plc.http, comm(plc.http))
+    assert r.status == 200 and fields(r.json()) == COMM_OFF, r
+    assert comm_put(plc.http, {"drop_every": 2, "disconnect_after": 0}).status == 200
+    r = comm_delete(plc.http)
+    assert r.status == 200 and fields(r.json()) == COMM_OFF, r
+    assert fields(comm(plc.http)) == COMM_OFF
+    log = plc.daemon.log_text()
+    assert "comm fault on: delay 100-300 ms (seed 7) (unit 1, function 03h, R100-R109)" in log
+    assert "comm fault off: drop every 2nd request" in log
+
+
+def test_comm_faults_count_without_from_is_ignored(fbs):
+    try:
+        for body in ({"count": 5}, {"count": 0}, {"count": 5, "from": None}):
+            r = comm_put(fbs.http, body)
+            assert r.status == 200, (body, r)
+            assert fields(r.json()) == COMM_OFF, (body, r)
+        r = comm_put(fbs.http, {"from": "R200", "count": 5, "unit": 1})
+        assert r.status == 200, r
+        assert (r.json()["from"], r.json()["count"]) == ("R200", 5)
+        assert r.json()["summary"]["scope"] == "unit 1, R200-R204"
+        assert r.json()["active"] is False  # a scope alone is no fault
+    finally:
+        assert comm_delete(fbs.http).status == 200
+
+
+@pytest.mark.parametrize(
+    "body,needles",
+    [
+        ({"bogus": 1, "delay_ms": 5}, ["bogus", "unknown key", "delay_ms"]),
+        ({"delay": 300}, ["delay", "unknown key"]),
+        ({"delay_ms": [300, 100]}, ["delay_ms", "min at most max"]),
+        ({"delay_ms": -1}, ["delay_ms", "0 to 60000"]),
+        ({"delay_ms": "x"}, ["delay_ms", "0 to 60000"]),
+        ({"delay_ms": 60001}, ["delay_ms", "60000"]),
+        ({"delay_ms": 1.5}, ["delay_ms"]),
+        ({"delay_ms": [1, 2, 3]}, ["delay_ms", "[min, max]"]),
+        ({"drop_every": 2, "drop_probability": 0.5}, ["drop_every", "drop_probability"]),
+        ({"drop_probability": 1.5}, ["drop_probability", "0 to 1"]),
+        ({"drop_every": 65536}, ["drop_every", "65535"]),
+        ({"exception": 256}, ["exception", "255"]),
+        ({"exception": "04"}, ["exception"]),
+        ({"offline": 1}, ["offline", "true or false"]),
+        ({"reset": True}, ["reset", "disconnect_after"]),
+        ({"garble": "foo"}, ["garble", "crc", "short", "gap"]),
+        ({"garble": True}, ["garble"]),
+        ({"from": "Q5"}, ["from", "Q5", "R100"]),
+        ({"from": "R99999"}, ["from", "R99999"]),
+        ({"from": "R4167", "count": 2}, ["from", "R4167-R4168", "outside"]),
+        ({"from": "R100", "count": 0}, ["count", "1 to 65535"]),
+        ({"from": ""}, ["from"]),
+        ({"from": 100}, ["from"]),
+        ({"unit": 256}, ["unit", "255"]),
+        ({"function": -1}, ["function"]),
+        ({"seed": 4294967296}, ["seed"]),
+    ],
+)
+def test_comm_fault_refusals_are_400_and_change_nothing(fbs, body, needles):
+    # A fault on a register no other test reads, to see that a refused PUT leaves it.
+    r = comm_put(fbs.http, {"delay_ms": 5, "from": "R4000"})
+    assert r.status == 200, r
+    try:
+        before = fields(r.json())
+        assert_error(comm_put(fbs.http, body), 400, *needles)
+        assert fields(comm(fbs.http)) == before
+    finally:
+        assert comm_delete(fbs.http).status == 200
+
+
+def test_comm_faults_body_must_be_a_json_object(fbs):
+    for body in ["[]", "{", '"offline"', "null", ""]:
+        r = request(fbs.http, "PUT", COMM, body=body, headers={"Content-Type": "application/json"})
+        assert_error(r, 400, "not a JSON object")
+    assert fields(comm(fbs.http)) == COMM_OFF
+
+
+@pytest.mark.parametrize("content_type", [None, "text/plain", "application/x-www-form-urlencoded",
+                                          "text/json"])
+def test_a_comm_fault_put_that_is_not_json_is_415(fbs, content_type):
+    headers = {} if content_type is None else {"Content-Type": content_type}
+    r = request(fbs.http, "PUT", COMM, body='{"offline": true}', headers=headers)
+    assert_error(r, 415, "Content-Type: application/json")
+    assert comm(fbs.http)["offline"] is False
+
+
+def test_a_comm_fault_delete_needs_no_body_nor_content_type(fbs):
+    try:
+        assert comm_put(fbs.http, {"delay_ms": 5, "from": "R4001"}).json()["active"] is True
+        with connect(fbs.http) as s:
+            s.sendall(b"DELETE " + COMM.encode() + b" HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+            r = recv_response(s)
+        assert r.status == 200 and fields(r.json()) == COMM_OFF, r
+        # A DELETE of nothing on is answered the same.
+        r = comm_delete(fbs.http)
+        assert r.status == 200 and fields(r.json()) == COMM_OFF, r
+    finally:
+        comm_delete(fbs.http)
+
+
+def test_comm_fault_writes_need_the_token(start_http):
+    plc = start_http(http_extra=", token: s3cret")
+    for r in (comm_put(plc.http, {"offline": True}), comm_delete(plc.http)):
+        assert_error(r, 401, "Authorization: Bearer")
+        assert r.header("WWW-Authenticate") == "Bearer", r
+    for auth in ["Bearer nope", "Basic czNjcmV0", "s3cret"]:
+        assert_error(comm_put(plc.http, {"offline": True}, headers={"Authorization": auth}), 401,
+                     "token")
+        assert_error(comm_delete(plc.http, headers={"Authorization": auth}), 401, "token")
+    assert comm(plc.http)["offline"] is False  # reads need no token
+    auth = {"Authorization": "Bearer s3cret"}
+    r = comm_put(plc.http, {"offline": True}, headers=auth)
+    assert r.status == 200 and r.json()["offline"] is True, r
+    assert_error(comm_delete(plc.http), 401, "Authorization: Bearer")
+    assert comm(plc.http)["offline"] is True
+    r = comm_delete(plc.http, headers=auth)
+    assert r.status == 200 and r.json()["offline"] is False, r
+
+
+def test_a_read_only_console_refuses_comm_fault_writes_with_403(start_http):
+    plc = start_http(http_extra=", read_only: true")
+    assert_error(comm_put(plc.http, {"offline": True}), 403, "read-only", "http.read_only")
+    assert_error(comm_delete(plc.http), 403, "read-only")
+    assert fields(comm(plc.http)) == COMM_OFF
+
+
+def test_comm_faults_put_through_the_api_reach_modbus(start_http):
+    plc = start_http(extra="init: {R0: 11, R100: 22}\n")
+    c = plc.client()
+    assert holding(c, 0) == [11]
+    # Exception 04 on every request; DELETE answers again.
+    r = comm_put(plc.http, {"exception": 4})
+    assert r.status == 200 and r.json()["summary"]["faults"] == ["exception 04h"], r
+    rr, _ = read_r(c, 0)
+    assert rr.isError() and rr.exception_code == 4, rr
+    assert comm(plc.http)["figures"]["refused"] >= 1
+    # The simulator unit is never subject, and says a fault is on (comm.status b0, register
+    # 40; comm.exception, register 25).
+    assert holding(c, 40, unit=SIM_UNIT)[0] & 1 == 1
+    assert holding(c, 25, unit=SIM_UNIT) == [4]
+    assert comm_delete(plc.http).status == 200
+    assert holding(c, 0) == [11]
+    assert holding(c, 40, unit=SIM_UNIT)[0] & 1 == 0
+    # A scope: R100-R109 answer 300 ms late, R0 at once; the figures count the delays.
+    assert comm_put(plc.http, {"delay_ms": 300, "from": "R100", "count": 10}).status == 200
+    rr, took = read_r(c, 100)
+    assert not rr.isError() and rr.registers == [22] and took >= 0.28, (rr, took)
+    rr, took = read_r(c, 0)
+    assert not rr.isError() and took < 0.1, (rr, took)
+    assert comm(plc.http)["figures"]["delayed"] >= 1
+    # Switched through the simulator unit, the API says so (FC06 on comm.exception).
+    assert not c.write_register(25, 6, slave=SIM_UNIT).isError()
+    s = wait_for(lambda: (lambda j: j if j["exception"] == 6 else None)(comm(plc.http)),
+                 what="exception 6 in the API")
+    assert (s["delay_ms"], s["from"], s["count"]) == (300, "R100", 10), s
+    rr, _ = read_r(c, 105)
+    assert rr.isError() and rr.exception_code == 6, rr
+    assert comm_delete(plc.http).status == 200
+    rr, took = read_r(c, 100)
+    assert not rr.isError() and took < 0.1, (rr, took)
 
 
 # --- Events -----------------------------------------------------------------------------------

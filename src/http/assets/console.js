@@ -18,6 +18,68 @@
     ['heater_shorted', 'heater shorted'],
     ['reading_frozen', 'reading frozen'],
   ];
+  // Communication faults (docs/communication-faults.md): the fields a PUT takes. A PUT replaces
+  // the whole set (a field left out is off), so the plant page sends every field it wants.
+  const COMM_FIELDS = ['delay_ms', 'drop_every', 'drop_probability', 'seed', 'exception', 'offline',
+    'refuse_connections', 'disconnect_after', 'reset', 'garble', 'stop', 'unit', 'function', 'from', 'count'];
+  const COMM_FIGURES = ['delayed', 'dropped', 'refused', 'silenced', 'disconnected', 'garbled'];
+  // 300 -> "300", [100, 300] -> "100-300".
+  const fmtDelay = (d) => (Array.isArray(d) ? d.join('-') : String(d));
+  const delayOn = (s) => (Array.isArray(s.delay_ms) ? s.delay_ms[1] > 0 : Number(s.delay_ms) > 0);
+  const exceptionOn = (s) => Number(s.exception) > 0;
+  // The plant page's buttons, a preset each: label(form) its text (the delay and the code come
+  // from the form), lit(state) whether the fault is on, set(body, form, on) switches it.
+  const COMM_FAULTS = [
+    {key: 'delay', label: (f) => 'Delay ' + (f.delay === null ? 'N' : fmtDelay(f.delay)) + ' ms',
+      title: 'Every reply held this long (the Delay field), on its connection only',
+      lit: delayOn,
+      set: (b, f, on) => {
+        b.delay_ms = on ? f.delay : 0;
+      }},
+    {key: 'drop', label: () => 'Drop every 2nd', title: 'Every 2nd request gets no answer (it is served; its answer is lost)',
+      lit: (s) => Number(s.drop_every) > 0 || Number(s.drop_probability) > 0,
+      set: (b, f, on) => {
+        b.drop_every = on ? 2 : 0;
+        b.drop_probability = 0;
+      }},
+    {key: 'exception', label: (f) => 'Exception ' + (f.exception === null ? 'N' : hex2(f.exception)),
+      title: 'Answered with this exception code (the Exception field), nothing read or written',
+      lit: exceptionOn,
+      set: (b, f, on) => {
+        b.exception = on ? f.exception : 0;
+      }},
+    {key: 'offline', label: () => 'Offline', title: 'Nothing answered, nothing served; TCP connections stay open',
+      lit: (s) => !!s.offline,
+      set: (b, f, on) => {
+        b.offline = on;
+      }},
+    {key: 'refuse', label: () => 'Refuse connections', title: 'New TCP connections refused, and those open answered nothing (offline too): a PLC switched off',
+      lit: (s) => !!s.refuse_connections,
+      set: (b, f, on) => {
+        b.refuse_connections = on;
+        b.offline = on;
+      }},
+    {key: 'disconnect', label: () => 'Disconnect', title: 'A TCP connection is closed at its next request, without an answer',
+      lit: (s) => s.disconnect_after !== null && s.disconnect_after !== undefined,
+      set: (b, f, on) => {
+        if (on) {
+          b.disconnect_after = 0;
+        } else {
+          delete b.disconnect_after;
+          b.reset = false;
+        }
+      }},
+    {key: 'garble', label: () => 'Garble CRC', title: 'Serial lines: replies with a wrong checksum (TCP and UDP replies are never garbled)',
+      lit: (s) => !!s.garble && s.garble !== 'none',
+      set: (b, f, on) => {
+        b.garble = on ? 'crc' : 'none';
+      }},
+    {key: 'stop', label: () => 'Stop', title: 'The PLC leaves RUN: the program stops, outputs go off',
+      lit: (s) => !!s.stop,
+      set: (b, f, on) => {
+        b.stop = on;
+      }},
+  ];
 
   // ---- Small helpers ------------------------------------------------------------------------
 
@@ -160,15 +222,18 @@
     });
   }
 
-  // GET when body is undefined; otherwise a write: JSON body, and the token when there is one.
+  // A GET, or a write (PUT, DELETE): the token when there is one, and `body` as JSON when given
+  // (a DELETE has none).
   async function request(method, path, body) {
     const headers = {Accept: 'application/json'};
     const init = {method, headers, cache: 'no-store', credentials: 'same-origin'};
-    if (body !== undefined) {
-      headers['Content-Type'] = 'application/json';
+    if (method !== 'GET' && method !== 'HEAD') {
       const field = byId('token');
       const t = field ? field.value.trim() : token();
       if (t) headers.Authorization = 'Bearer ' + t;
+    }
+    if (body !== undefined) {
+      headers['Content-Type'] = 'application/json';
       init.body = JSON.stringify(body);
     }
     let res;
@@ -320,6 +385,7 @@
 
   const signed16 = (v) => (v >= 0x8000 ? v - 0x10000 : v);
   const hex16 = (v) => '0x' + v.toString(16).toUpperCase().padStart(4, '0');
+  const hex2 = (v) => v.toString(16).toUpperCase().padStart(2, '0');
   const bits16 = (v) => v.toString(2).padStart(16, '0').replace(/(\d{4})(?=\d)/g, '$1 ');
 
   // "1234", "-5", "+7", "0x1F", "-0x10" -> a number; anything else -> null.
@@ -750,17 +816,196 @@
       });
     });
 
+    const comm = commFaults();
     request('GET', path)
       .then((s) => {
         apply(s);
         setStatus('Updated every second', 'live');
-        setInterval(poll, 1000);
+        setInterval(() => {
+          poll();
+          comm.poll();
+        }, 1000);
       })
       .catch((e) => {
         setStatus('', '');
         say(e.message, 'error');
       });
     loadPlcHeading();
+  }
+
+  // The plant page's communication faults: a button a fault, lit while it is on; the form's
+  // delay, exception code and scope; Clear all. Every change PUTs the whole set the page wants
+  // (the state last read, the one fault switched, the scope of the form); Clear all DELETEs.
+  // Returns {poll}, called with the page's refresh.
+  function commFaults() {
+    const path = apiPlc(plc) + '/comm-faults';
+    const section = byId('comm');
+    const box = byId('comm-buttons');
+    const delayInput = byId('comm-delay');
+    const exceptionInput = byId('comm-exception');
+    const fromInput = byId('comm-from');
+    const countInput = byId('comm-count');
+    const inputs = [delayInput, exceptionInput, fromInput, countInput];
+    const summary = byId('comm-summary');
+    const faultsText = summary.querySelector('[data-field="faults"]');
+    const scopeText = summary.querySelector('[data-field="scope"]');
+    const figures = byId('comm-figures');
+    const buttons = new Map();
+    let state = null;
+    let writes = 0; // a poll begun before a write may show the state from before it
+    let busy = false;
+    let gone = false;
+
+    for (const fault of COMM_FAULTS) {
+      const b = el('button', {dataset: {commFault: fault.key}, attrs: {type: 'button', 'aria-pressed': 'false', title: fault.title}});
+      buttons.set(fault.key, b);
+      box.append(b);
+    }
+
+    // The form as values: null where a field says nothing that makes sense.
+    function form() {
+      const d = delayInput.value.trim();
+      let delay = null;
+      let m = /^(\d+)$/.exec(d);
+      if (m) delay = Number(m[1]);
+      m = /^(\d+)\s*-\s*(\d+)$/.exec(d);
+      if (m) delay = [Number(m[1]), Number(m[2])];
+      const x = parseValue(exceptionInput.value);
+      const c = countInput.value.trim();
+      return {
+        delay,
+        exception: x !== null && x >= 1 && x <= 255 ? x : null,
+        from: fromInput.value.trim(),
+        count: c === '' ? undefined : /^\d+$/.test(c) ? Number(c) : null,
+      };
+    }
+
+    function labels() {
+      const f = form();
+      for (const fault of COMM_FAULTS) setText(buttons.get(fault.key), fault.label(f));
+    }
+
+    // A field keeps what is typed in it (until a write succeeds); else it shows the server's.
+    function showField(input, text) {
+      if (document.activeElement !== input && !input.classList.contains('edited')) input.value = text;
+    }
+
+    function show(s) {
+      state = s;
+      for (const fault of COMM_FAULTS) buttons.get(fault.key).setAttribute('aria-pressed', fault.lit(s) ? 'true' : 'false');
+      if (delayOn(s)) showField(delayInput, fmtDelay(s.delay_ms));
+      if (exceptionOn(s)) showField(exceptionInput, String(s.exception));
+      showField(fromInput, s.from ? String(s.from) : '');
+      showField(countInput, s.from ? String(s.count) : '');
+      labels();
+      const sum = s.summary || {};
+      const list = Array.isArray(sum.faults) ? sum.faults : [];
+      setText(faultsText, list.length ? list.join(', ') : 'none');
+      setText(scopeText, sum.scope || '—');
+      summary.classList.toggle('on', !!s.active);
+      const n = s.figures || {};
+      setText(figures, 'So far: ' + COMM_FIGURES.map((k) => k + ' ' + (n[k] !== undefined ? n[k] : '—')).join(', '));
+    }
+
+    async function poll() {
+      if (busy || gone) return;
+      busy = true;
+      const seen = writes;
+      try {
+        const s = await request('GET', path);
+        if (seen === writes) show(s);
+      } catch (e) {
+        if (e.status === 404) {
+          // No communication faults here: no panel.
+          gone = true;
+          section.hidden = true;
+        }
+      } finally {
+        busy = false;
+      }
+    }
+
+    // The body that keeps the faults on now, with the form's scope; null (and said why) when
+    // the form's scope is not a number.
+    function body(f) {
+      const b = {};
+      for (const k of COMM_FIELDS) {
+        if (state && state[k] !== undefined && state[k] !== null) b[k] = state[k];
+      }
+      delete b.from;
+      delete b.count;
+      if (f.count === null) {
+        say('Count: expected a number of devices from 1 to 65535', 'error');
+        return null;
+      }
+      if (f.from) {
+        b.from = f.from;
+        if (f.count !== undefined) b.count = f.count;
+      }
+      return b;
+    }
+
+    async function change(method, b) {
+      ++writes;
+      try {
+        const s = await request(method, path, b);
+        ++writes;
+        for (const input of inputs) input.classList.remove('edited');
+        show(s);
+        const list = s.summary && Array.isArray(s.summary.faults) ? s.summary.faults : [];
+        say('Communication faults: ' + (list.length ? list.join(', ') + ' (' + (s.summary.scope || '') + ')' : 'none'), 'ok');
+      } catch (e) {
+        say(e.message, 'error');
+      }
+    }
+
+    const badDelay = 'Delay: expected ms from 0 to 60000, or min-max such as 100-300';
+    const badException = 'Exception: expected a code from 1 to 255 (4, or 0x0B)';
+
+    box.addEventListener('click', (ev) => {
+      const button = ev.target instanceof Element ? ev.target.closest('button[data-comm-fault]') : null;
+      if (!button) return;
+      const fault = COMM_FAULTS.find((x) => x.key === button.dataset.commFault);
+      const on = button.getAttribute('aria-pressed') !== 'true';
+      const f = form();
+      const why = !on ? '' : fault.key === 'delay' && f.delay === null ? badDelay :
+        fault.key === 'exception' && f.exception === null ? badException : '';
+      if (why) {
+        say(why, 'error');
+        return;
+      }
+      const b = body(f);
+      if (!b) return;
+      fault.set(b, f, on);
+      change('PUT', b);
+    });
+    byId('comm-form').addEventListener('submit', (ev) => {
+      ev.preventDefault();
+      const f = form();
+      const b = body(f);
+      if (!b) return;
+      const delay = state !== null && delayOn(state);
+      const exception = state !== null && exceptionOn(state);
+      const why = delay && f.delay === null ? badDelay : exception && f.exception === null ? badException : '';
+      if (why) {
+        say(why, 'error');
+        return;
+      }
+      if (delay) b.delay_ms = f.delay;
+      if (exception) b.exception = f.exception;
+      change('PUT', b);
+    });
+    byId('comm-clear').addEventListener('click', () => change('DELETE'));
+    for (const input of inputs) {
+      input.addEventListener('input', () => {
+        input.classList.add('edited');
+        labels();
+      });
+    }
+
+    labels();
+    poll();
+    return {poll};
   }
 
   // ---- Traffic ------------------------------------------------------------------------------
