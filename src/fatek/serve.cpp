@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "frame.hpp"
+#include "reach.hpp"
 #include "request.hpp"
 
 namespace plcemu::fatek {
@@ -40,8 +41,7 @@ std::size_t execute(const listener::Seat& seat,
     return reply.finish();
 }
 
-// What the PLC's communication faults make of the request (docs/communication-faults.md). A
-// FATEK request names no device range to them: a fault scoped to devices leaves it alone.
+// What the PLC's communication faults make of the request (docs/communication-faults.md).
 listener::Verdict judge(listener::UnitTable& units,
                         const listener::Seat& seat,
                         const Request& req) noexcept {
@@ -49,6 +49,9 @@ listener::Verdict judge(listener::UnitTable& units,
     listener::Asked a;
     a.unit = req.station;
     a.function = req.code.value_or(0);
+    if (const auto& scope = seat.faults->settings().devices; scope && req.code) {
+        a.devices = reach_within(*req.code, req.data, seat.engine->image().layout(), *scope);
+    }
     if (const listener::Client* c = units.serving()) {
         a.client = c->id;
         a.carrier = c->carrier;

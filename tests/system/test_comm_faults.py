@@ -940,3 +940,23 @@ def test_fatek_offline_gives_no_reply(start_plcemud):
         # The same connection answers again, and the write while offline never landed.
         reply = f.exchange(fatek_frame(1, 0x46, "01R00000"), timeout=1.0)
         assert reply is not None and fatek_parse(reply) == (1, 0x46, "004D2"), reply
+
+
+def test_fatek_requests_are_scoped_by_the_devices_they_name(start_plcemud):
+    # from: R100, count: 10 reaches a FATEK request that names one of R100-R109: 46's run, 47's,
+    # 48's items; R0 and 40 (which names no device) are served.
+    d, fp = start_fatek(start_plcemud)
+    sim = Sim(d)
+    sim.switch(exception=4, **{"from": "R100", "count": 10})
+    with Fatek.tcp(fp, timeout=NO_REPLY_S) as f:
+        assert f.request(0x46, "01R00000") == (0, "04D2")
+        assert f.request(0x40)[0] == 0
+        assert f.request(0x46, "01R00100")[0] == 4
+        assert f.request(0x46, "02R00099")[0] == 4  # R99-R100: reaches R100
+        assert f.request(0x46, "02R00098")[0] == 0  # R98-R99: does not
+        assert f.request(0x47, "01R001090007")[0] == 4
+        assert f.request(0x48, "02R00000R00105")[0] == 4  # one item of two inside
+        assert f.request(0x48, "02R00000R00110")[0] == 0
+        assert f.request(0x44, "01M0000")[0] == 0  # another area
+        sim.clear()
+        assert f.request(0x46, "01R00100")[0] == 0
