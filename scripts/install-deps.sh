@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs, from Debian's packages, whatever the build and the tests need and is missing.
-# Usage: scripts/install-deps.sh [run|kit|test|package|style|bench|fuzz|plot|trace]...
+# Usage: scripts/install-deps.sh [run|kit|test|package|style|bench|fuzz|plot|trace|container]...
 #        (default: run)
 set -euo pipefail
 
@@ -23,13 +23,15 @@ for what in "${@:-run}"; do
         # (tests/system/test_trace.py).
         # python3-venv, -setuptools and -wheel: tests/system/test_newcomer.py installs python/
         # in a venv. chromium, chromium-driver and python3-selenium: the console's browser
-        # tests (tests/system/test_console_browser.py).
+        # tests (tests/system/test_console_browser.py). podman-compose (with podman) and
+        # python3-kubernetes: compose.yaml and deploy/kubernetes/ (test_containers.py).
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
                      python3-serial python3-yaml python3-matplotlib mbpoll socat clang-14
                      python3-venv python3-setuptools python3-wheel
                      libclang-rt-14-dev systemd
                      iproute2 util-linux man-db groff-base ccache
-                     chromium chromium-driver python3-selenium) ;;
+                     chromium chromium-driver python3-selenium
+                     podman podman-compose python3-kubernetes) ;;
         # CPack's DEB generator needs dpkg-shlibdeps (dpkg-dev) and file; lintian checks the result.
         package) want+=(dpkg-dev file lintian) ;;
         # scripts/style.sh: the versions CI checks style with.
@@ -39,6 +41,14 @@ for what in "${@:-run}"; do
         fuzz) want+=(clang-14 libclang-rt-14-dev) ;;
         plot) want+=(python3-matplotlib) ;;
         trace) want+=(python3-pymodbus python3-serial-asyncio python3-yaml) ;;
+        # scripts/container.sh: podman and buildah build the image (crun runs its build step;
+        # uidmap, fuse-overlayfs and slirp4netns for rootless use), mmdebstrap makes its Debian
+        # base from Debian's packages (with the archive's keyring), podman-compose reads
+        # compose.yaml and python3-kubernetes checks deploy/kubernetes/
+        # (tests/system/test_containers.py).
+        container) want+=(podman buildah crun mmdebstrap debian-archive-keyring podman-compose
+                          python3-kubernetes uidmap fuse-overlayfs slirp4netns
+                          python3-pymodbus python3-serial-asyncio python3-pytest python3-yaml) ;;
         *) echo "install-deps: unknown set '$what'" >&2; exit 2 ;;
     esac
 done
