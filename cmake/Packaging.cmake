@@ -36,8 +36,8 @@ endforeach()
 # /var/lib/plcemu/plcemud.state ($STATE_DIRECTORY from StateDirectory=plcemu).
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_src}/config/default.yaml)
 file(READ ${_src}/config/default.yaml _text)
-string(REPLACE "# Run it:  scripts/run.sh        (Modbus TCP on 127.0.0.1:5020, station 1)\n" ""
-               _text "${_text}")
+# The source tree's "Run it:" lines (the first and any indented continuation) mean nothing there.
+string(REGEX REPLACE "# Run it:[^\n]*\n(#   +[^\n]*\n)?" "" _text "${_text}")
 string(REPLACE "# See config/example.yaml for every key with its default.\n" "" _text "${_text}")
 set(_header [=[
 # /etc/plcemu/plcemud.yaml: the configuration of plcemud.service, installed by the plcemu

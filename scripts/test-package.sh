@@ -92,6 +92,8 @@ if command -v man >/dev/null; then
 fi
 /usr/bin/plcemud --version
 /usr/bin/plcemud -c /etc/plcemu/plcemud.yaml --check-config || fail "the packaged config is invalid"
+# Its header speaks of the installed file: a source tree's commands are not in it.
+grep -q 'scripts/run.sh' /etc/plcemu/plcemud.yaml && fail "/etc/plcemu/plcemud.yaml names scripts/run.sh"
 
 # Runs the PLC from the packaged configuration (as plcemud.service would, state directory
 # included), checks Modbus writes and reads, stops it. $1: the D1000 value to expect at first.
