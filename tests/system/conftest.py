@@ -7,6 +7,7 @@ API (used by every tests/system/test_*.py):
   Daemon: .port .proc .config_path .log_text() .client(**kw) .stop() -> exit code
   spawn_plcs(tmp_path, text, ports) -> Daemon  a `plcs:` config (no --port), every port open;
       the fixture start_plcs(text, ports) stops them at teardown
+  pty           fixture: a socat pty pair for RTU (rtu_pty.PtyPair), stopped at teardown
   BASE_CONFIG   minimal config text listening on 127.0.0.1
   free_port()   a TCP port nobody listens on right now
   PLCEMUD       path of the binary (env PLCEMUD, default build-test/plcemud)
@@ -201,6 +202,16 @@ def start_plcs(tmp_path):
     yield start
     for d in daemons:
         d.stop()
+
+
+@pytest.fixture
+def pty(tmp_path):
+    """A socat pty pair (rtu_pty.PtyPair): plcemud opens `.slave`, the test talks on `.master`."""
+    from rtu_pty import PtyPair
+
+    pair = PtyPair(tmp_path)
+    yield pair
+    pair.stop()
 
 
 @pytest.fixture

@@ -27,7 +27,7 @@ from plcemu_testing.fatek import frame as fatek_frame
 from plcemu_testing.fatek import parse as fatek_parse
 from pymodbus.client import ModbusSerialClient
 from pymodbus.pdu import ExceptionResponse
-from rtu_pty import PtyPair, RawLine, crc16, rtu_config
+from rtu_pty import RawLine, crc16, rtu_config
 from rtu_pty import frame as rtu_frame
 
 SIM = 247  # the simulator-control unit
@@ -260,13 +260,6 @@ def start_with_http(start_plcemud, extra=""):
 
 
 # --------------------------------------------------------------------------- RTU over a pty
-
-
-@pytest.fixture
-def pty(tmp_path):
-    pair = PtyPair(tmp_path)
-    yield pair
-    pair.stop()
 
 
 @pytest.fixture

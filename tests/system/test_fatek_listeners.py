@@ -11,10 +11,8 @@ import socket
 import time
 from pathlib import Path
 
-import pytest
 from conftest import free_port, run_plcemud
 from plcemu_testing.fatek import Fatek, frame
-from rtu_pty import PtyPair
 
 GIST = frame(1, 0x40)  # gist status of station 1
 RUNNING = frame(1, 0x40, "0010000")  # its reply: RUN
@@ -93,13 +91,6 @@ def test_a_half_open_client_holds_up_nobody(start_plcemud):
 
 
 # --- a serial line
-
-
-@pytest.fixture
-def pty(tmp_path):
-    pair = PtyPair(tmp_path)
-    yield pair
-    pair.stop()
 
 
 def test_serial_line_abandons_a_partial_frame_after_1_s(start_plcemud, pty):

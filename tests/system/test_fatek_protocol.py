@@ -9,10 +9,8 @@ Frames are written as in the manual: `<STX>` is the byte 02h, `<ETX>` 03h, the r
 import threading
 import time
 
-import pytest
 from conftest import free_port
 from plcemu_testing.fatek import Fatek, checksum, frame, parse
-from rtu_pty import PtyPair
 
 NO_REPLY_S = 0.5  # what "no reply" waits, as a master's timeout would
 
@@ -147,13 +145,6 @@ def test_scenarios_over_udp(start_plcemud):
     freeze(d)
     with Fatek.udp(port) as fatek:
         run_scenarios(fatek)
-
-
-@pytest.fixture
-def pty(tmp_path):
-    pair = PtyPair(tmp_path)
-    yield pair
-    pair.stop()
 
 
 def answering(fatek, timeout=5.0):

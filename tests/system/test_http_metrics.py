@@ -8,12 +8,10 @@ import socket
 import time
 from pathlib import Path
 
-import pytest
 from plcemu_testing.fatek import Fatek, frame
 from pymodbus.client import ModbusSerialClient
 
 from conftest import free_port
-from rtu_pty import PtyPair
 from test_http_api import get, parse_metrics, wait_for, wait_listening
 
 
@@ -33,13 +31,6 @@ def start(start_plcemud, body, modbus="modbus: {tcp: {bind: 127.0.0.1}}\n"):
 
 def count(m, name, **labels):
     return m.get((name, tuple(sorted(labels.items()))), 0)
-
-
-@pytest.fixture
-def pty(tmp_path):
-    pair = PtyPair(tmp_path)
-    yield pair
-    pair.stop()
 
 
 def test_requests_and_errors_are_counted_by_protocol_function_and_code(start_plcemud):

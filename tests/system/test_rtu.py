@@ -25,13 +25,6 @@ USER_MAPS = "init:\n  R3972: [0, 100, 16]\n  R3975: [0, 200, 8]\n"
 
 
 @pytest.fixture
-def pty(tmp_path):
-    pair = PtyPair(tmp_path)
-    yield pair
-    pair.stop()
-
-
-@pytest.fixture
 def start_rtu(start_plcemud, pty):
     """start_rtu(extra_rtu="", extra="") -> Daemon serving RTU on pty.slave (and TCP)."""
 
