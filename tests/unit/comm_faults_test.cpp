@@ -246,7 +246,8 @@ TEST(CommFaultSettings, RefusalsNameTheField) {
     s = {};
     s.drop_every = 2;
     s.drop_probability = 0.5;
-    EXPECT_NE(comm_fault_refusal(s).find("drop_every and drop_probability"), std::string::npos);
+    EXPECT_NE(comm_fault_refusal(s).find("drop_probability: drop_every is set too"),
+              std::string::npos);
     s = {};
     s.drop_probability = 1.5;
     EXPECT_NE(comm_fault_refusal(s).find("drop_probability"), std::string::npos);
