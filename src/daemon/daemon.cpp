@@ -63,7 +63,6 @@ public:
          ScanTimer& timer,
          StepRounds& rounds,
          SyncThread& syncs,
-         Notifier& notify,
          const Listeners& listeners,
          std::size_t index,
          config::Config loaded)
@@ -71,7 +70,6 @@ public:
           timer_(timer),
           rounds_(rounds),
           syncs_(syncs),
-          notify_(notify),
           file_station_(loaded.station),
           cfg_(std::make_shared<const config::Config>(std::move(loaded))),
           prefix_(cfg_->label.empty() ? "" : cfg_->label + ": "),
@@ -113,13 +111,12 @@ public:
 
     // Opens the state file, builds the Plc and its master port and starts scanning; throws when
     // one cannot. The Runtime opens the listeners.
-    void open() {
+    // `opened`: its state file, as open_state_files() opened it.
+    void open(OpenedState opened) {
         Start start = Start::Fresh;
         if (cfg_->persistence.enabled) {
-            const char* dir = std::getenv("STATE_DIRECTORY");
-            const std::string path = config::state_file_path(*cfg_, dir ? dir : "");
-            state_ =
-                std::make_unique<image::StateFile>(path, plc_layout(*cfg_), std::time(nullptr));
+            if (opened.error) std::rethrow_exception(opened.error);
+            state_ = std::move(opened.file);
             for (const auto& n : state_->notes()) {
                 if (n.warning) {
                     spdlog::warn("{}{}", prefix_, n.text);
@@ -302,11 +299,7 @@ private:
         sim_ = std::make_unique<simulator::SimulatorUnit>(
             plc_->plant(), *driver_, cfg_->simulator.writable.value_or(!cfg_->modbus.read_only),
             &faults_, &profiles::of(*cfg_).naming());
-        // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
-        driver_->on_scan([this] {
-            notify_.watchdog(Notifier::Clock::now());
-            history_.after_scan(plc_->engine());
-        });
+        driver_->record_loops(history_);
         // R4055: a station another unit on the PLC's listeners answers is refused.
         driver_->on_station_request([this](std::uint8_t s) { return !guard_.taken(s); });
         if (now) driver_->start();
@@ -317,7 +310,6 @@ private:
     ScanTimer& timer_;
     StepRounds& rounds_;
     SyncThread& syncs_;
-    Notifier& notify_;
     std::uint8_t file_station_;  // the station the config file gave at the last start or reload
     std::shared_ptr<const config::Config> cfg_;  // shared with the running Plc
     std::string prefix_;                         // "plcs[1] (kiln): " in log lines
@@ -357,10 +349,15 @@ public:
         // Everything the config can get wrong, found before any file or port is touched.
         probe_all(loaded);
         for (auto& c : loaded) {
-            hosts_.push_back(std::make_unique<Host>(io_, scan_timer_, step_rounds_, syncs_, notify_,
+            hosts_.push_back(std::make_unique<Host>(io_, scan_timer_, step_rounds_, syncs_,
                                                     listeners_, hosts_.size(), std::move(c)));
         }
-        for (auto& h : hosts_) h->open();
+        std::vector<const config::Config*> configs;
+        for (const auto& h : hosts_) configs.push_back(&h->config());
+        const char* state_directory = std::getenv("STATE_DIRECTORY");
+        std::vector<OpenedState> opened =
+            open_state_files(configs, state_directory ? state_directory : "", std::time(nullptr));
+        for (std::size_t i = 0; i < hosts_.size(); ++i) hosts_[i]->open(std::move(opened[i]));
         listeners_.open(members());
         // PLCs start their scans spread over the scan period in slots of 1 ms, as PLCs powered
         // up one by one drift apart: 500 PLCs of 10 ms scans then wake the loop ten times a
@@ -374,6 +371,8 @@ public:
             hosts_[i]->start(now + period * (static_cast<std::int64_t>(i) % slots) / slots);
         }
 
+        // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
+        scan_timer_.on_fired([this](Notifier::Clock::time_point at) { notify_.watchdog(at); });
         arm_signals();
         arm_watchdog_timer();
         notify_.ready(status_line());
@@ -439,8 +438,10 @@ private:
 
     std::string status_line() const {
         std::string s;
+        const std::vector<std::string> described = listeners_.describe_all();
         for (std::size_t i = 0; i < hosts_.size(); ++i) {
-            s += (s.empty() ? "" : "; ") + hosts_[i]->status_line(listeners_.describe(i));
+            s += (s.empty() ? "" : "; ") +
+                 hosts_[i]->status_line(i < described.size() ? described[i] : std::string());
         }
         return s;
     }

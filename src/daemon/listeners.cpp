@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
+#include <unordered_map>
 #include <utility>
 
 #include "daemon/fd_limit.hpp"
@@ -85,9 +87,13 @@ struct Group {
 const config::Config& config_of(const config::Config& c) { return c; }
 const config::Config& config_of(const ListenerMember& m) { return *m.config; }
 
+// Every step below is linear in the PLCs (a map from key, from PLC): a config of 5,000 PLCs is
+// grouped, refused and staged at a reload on the loop, where a quadratic step would hold every
+// client for seconds.
 template <typename Plcs>
 std::vector<Group> group(const Plcs& plcs, std::initializer_list<Carrier> carriers) {
     std::vector<Group> out;
+    std::unordered_map<std::string, std::size_t> at;  // key -> its group in `out`
     for (std::size_t i = 0; i < plcs.size(); ++i) {
         for (const auto& l : config::listeners_of(config_of(plcs[i]))) {
             if (std::find(carriers.begin(), carriers.end(), l.carrier) == carriers.end()) continue;
@@ -102,12 +108,11 @@ std::vector<Group> group(const Plcs& plcs, std::initializer_list<Carrier> carrie
             } else {
                 k = config::listener_key(l);
             }
-            auto it =
-                std::find_if(out.begin(), out.end(), [&](const Group& g) { return g.key == k; });
-            if (it == out.end()) {
-                out.push_back({k, l.protocol, l.section, l.carrier, {i}});
+            const auto [it, fresh] = at.try_emplace(k, out.size());
+            if (fresh) {
+                out.push_back({std::move(k), l.protocol, l.section, l.carrier, {i}});
             } else {
-                it->members.push_back(i);
+                out[it->second].members.push_back(i);
             }
         }
     }
@@ -116,16 +121,27 @@ std::vector<Group> group(const Plcs& plcs, std::initializer_list<Carrier> carrie
 
 constexpr std::initializer_list<Carrier> kAll{Carrier::Tcp, Carrier::Udp, Carrier::Serial};
 
-std::vector<std::size_t> members_with(const std::vector<Group>& groups,
-                                      std::size_t plc,
-                                      std::string_view section) {
-    for (const auto& g : groups) {
-        if (g.section == section &&
-            std::find(g.members.begin(), g.members.end(), plc) != g.members.end()) {
-            return g.members;
+// For each PLC, the groups (indexes into `groups`) it is a member of.
+std::vector<std::vector<std::size_t>> groups_of(const std::vector<Group>& groups,
+                                                std::size_t plcs) {
+    std::vector<std::vector<std::size_t>> out(plcs);
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+        for (const std::size_t i : groups[g].members) {
+            if (i < plcs) out[i].push_back(g);
         }
     }
-    return {};
+    return out;
+}
+
+// The members of the group of `section` that `plc` is in (its entry of groups_of()), or none.
+const std::vector<std::size_t>& members_with(const std::vector<Group>& groups,
+                                             const std::vector<std::size_t>& of_plc,
+                                             std::string_view section) {
+    static const std::vector<std::size_t> kNone;
+    for (const std::size_t g : of_plc) {
+        if (groups[g].section == section) return groups[g].members;
+    }
+    return kNone;
 }
 
 listener::UnknownUnit policy(const config::Config& c, std::string_view section) {
@@ -322,11 +338,13 @@ std::vector<listener::ConnectionFigures> Listeners::connections() const {
 
 void Listeners::describe_seats() {
     // What the console shows of each PLC: its listeners, once every one is open.
+    std::vector<std::string> described;
     for (auto& t : tcp_) {
         if (by_unit(t->protocol)) continue;
+        if (described.empty()) described = describe_all();
         std::vector<listener::Seat> seated = t->units().seats();
         for (std::size_t k = 0; k < seated.size(); ++k) {
-            const std::string d = describe(t->members[k]);
+            const std::string& d = described[t->members[k]];
             seated[k].listeners = d.size() > 2 ? d.substr(2) : d;
         }
         t->units().assign(std::move(seated));
@@ -349,12 +367,15 @@ std::string Listeners::refusal(const std::vector<config::Config>& next) const {
         }
     }
     const std::vector<Group> after = group(next, kAll);
+    const auto before_of = groups_of(before, next.size());
+    const auto after_of = groups_of(after, next.size());
     for (std::size_t i = 0; i < next.size(); ++i) {
-        for (const std::vector<Group>* groups : std::array{&std::as_const(before), &after}) {
-            for (const auto& g : *groups) {
-                if (std::find(g.members.begin(), g.members.end(), i) == g.members.end()) continue;
-                const auto was = members_with(before, i, g.section);
-                const auto now = members_with(after, i, g.section);
+        for (const auto& [groups, of] :
+             {std::pair{&std::as_const(before), &before_of}, std::pair{&after, &after_of}}) {
+            for (const std::size_t k : (*of)[i]) {
+                const Group& g = (*groups)[k];
+                const auto& was = members_with(before, before_of[i], g.section);
+                const auto& now = members_with(after, after_of[i], g.section);
                 if ((was.size() > 1 || now.size() > 1) && was != now) {
                     const char* what = g.carrier == Carrier::Serial ? "serial line"
                                        : g.carrier == Carrier::Udp  ? "udp listener"
@@ -372,13 +393,20 @@ std::string Listeners::refusal(const std::vector<config::Config>& next) const {
 bool Listeners::stage(const std::vector<config::Config>& next) {
     staged_.clear();
     stopped_for_stage_.clear();
+    // The running TCP listener of each PLC and section.
+    std::map<std::pair<std::size_t, std::string_view>, std::size_t> running_of;
+    for (std::size_t t = 0; t < tcp_.size(); ++t) {
+        for (const std::size_t i : tcp_[t]->members)
+            running_of.try_emplace({i, tcp_[t]->section}, t);
+    }
     for (const auto& g : group(next, {Carrier::Tcp})) {
         // The running listener of the same PLCs, if any (refusal() made sure the members are
         // the same ones when shared).
         const std::size_t first = g.members.front();
-        auto running = std::find_if(tcp_.begin(), tcp_.end(), [&](const auto& t) {
-            return t->section == g.section && t->has(first);
-        });
+        const auto found = running_of.find({first, g.section});
+        auto running = found == running_of.end()
+                           ? tcp_.end()
+                           : tcp_.begin() + static_cast<std::ptrdiff_t>(found->second);
         Staged s;
         if (running != tcp_.end() && (*running)->key == g.key) {
             s.kept = static_cast<std::size_t>(running - tcp_.begin());
@@ -561,6 +589,20 @@ std::string Listeners::describe(std::size_t index) const {
         }
     }
     return s;
+}
+
+std::vector<std::string> Listeners::describe_all() const {
+    std::vector<std::string> out(plcs_.size());
+    for (const auto* list : {&tcp_, &reopened_}) {
+        for (const auto& l : *list) {
+            if (!l->open()) continue;
+            const std::string words = ", " + l->what() + " " + l->where();
+            for (const std::size_t i : l->members) {
+                if (i < out.size()) out[i] += words;
+            }
+        }
+    }
+    return out;
 }
 
 }  // namespace plcemu::daemon

@@ -74,6 +74,8 @@ public:
     /// ", tcp ADDR:PORT, rtu DEVICE, fatek tcp ADDR:PORT ..." for the PLC at `index`, for the
     /// status line.
     std::string describe(std::size_t index) const;
+    /// describe() of every PLC, in one pass over the listeners.
+    std::vector<std::string> describe_all() const;
 
     struct Listener;
 

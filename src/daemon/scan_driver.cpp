@@ -111,13 +111,21 @@ void ScanDriver::cancel_steps() noexcept {
 
 bool ScanDriver::step_once() noexcept {
     if (schedule_.pending_steps() == 0) return false;
-    run_one(schedule_.next_sim());
+    run_one(schedule_.next_sim(), Clock::now());
     schedule_.stepped(Clock::now());
     return schedule_.pending_steps() > 0;
 }
 
-void ScanDriver::run_one(engine::Duration sim) {
-    const auto wall = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+// The wall clock is read once a second, not once a scan: until the steady clock reaches the
+// moment the wall clock's next second begins, the calendar stands. A wall clock set back or
+// forward is seen at that moment, at most a second late.
+void ScanDriver::update_calendar(Clock::time_point now) {
+    if (now < next_second_) return;
+    const auto wall_now = std::chrono::system_clock::now();
+    const auto wall = std::chrono::system_clock::to_time_t(wall_now);
+    const auto into = wall_now - std::chrono::system_clock::from_time_t(wall);
+    next_second_ =
+        now + std::chrono::duration_cast<Clock::duration>(std::chrono::seconds(1) - into);
     if (wall != calendar_second_) {
         calendar_second_ = wall;
         std::tm tm{};
@@ -125,12 +133,17 @@ void ScanDriver::run_one(engine::Duration sim) {
         calendar_ = {tm.tm_sec,     tm.tm_min,         tm.tm_hour, tm.tm_mday,
                      tm.tm_mon + 1, tm.tm_year + 1900, tm.tm_wday};
     }
+}
+
+void ScanDriver::run_one(engine::Duration sim, Clock::time_point now) {
+    update_calendar(now);
     // The station a master asked for is the daemon's to grant, after the scan and before any
     // request is read: a read right after the scan sees the station in force.
     if (const auto wanted = engine_.step(sim, calendar_)) {
         if (!grant_ || grant_(*wanted)) engine_.set_station(*wanted);
     }
-    if (on_scan_) on_scan_();
+    if (history_ != nullptr) history_->after_scan(engine_);
+    if (on_scan_) on_scan_(now);
 }
 
 void ScanDriver::arm() {
@@ -138,17 +151,27 @@ void ScanDriver::arm() {
     timer_.schedule(slot_, schedule_.deadline(schedule_.next_sim()));
 }
 
-void ScanDriver::due() {
-    if (running_ && !schedule_.frozen()) tick();
+// Stage 0: the engine object and the trends; then the engine's own stages.
+void ScanDriver::prefetch(int stage) const noexcept {
+    static_assert(Scheduled::kPrefetchStages == engine::Engine::kPrefetchStages + 1);
+    if (stage == 0) {
+        __builtin_prefetch(&engine_);
+        __builtin_prefetch(history_);
+        return;
+    }
+    engine_.prefetch(stage - 1);
 }
 
-void ScanDriver::tick() {
-    const auto start = Clock::now();
+ScanDriver::Clock::time_point ScanDriver::due(Clock::time_point now) {
+    return running_ && !schedule_.frozen() ? tick(now) : now;
+}
+
+ScanDriver::Clock::time_point ScanDriver::tick(Clock::time_point start) {
     auto now = start;
     for (auto d = schedule_.due(now); d.scans > 0; d = schedule_.due(now)) {
         lateness_.record(now - d.next_deadline);
         const auto began = now;
-        run_one(schedule_.next_sim());
+        run_one(schedule_.next_sim(), now);
         schedule_.ran();
         now = Clock::now();
         duration_.record(now - began);
@@ -162,6 +185,7 @@ void ScanDriver::tick() {
             schedule_.time_scale());
     }
     arm();
+    return now;
 }
 
 bool ScanDriver::on_schedule() const noexcept {

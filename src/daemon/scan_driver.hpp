@@ -12,6 +12,7 @@
 #include <string>
 
 #include "plcemu/engine/engine.hpp"
+#include "plcemu/engine/loop_history.hpp"
 #include "plcemu/engine/time_control.hpp"
 #include "scan_schedule.hpp"
 #include "scan_timer.hpp"
@@ -89,8 +90,11 @@ public:
         return static_cast<std::uint64_t>(
             std::chrono::duration_cast<std::chrono::microseconds>(lateness_.max).count());
     }
-    /// Called after every scan (e.g. the systemd watchdog).
-    void on_scan(std::function<void()> f) { on_scan_ = std::move(f); }
+    /// Called after every scan, with the real time the scan began.
+    void on_scan(std::function<void(Clock::time_point)> f) { on_scan_ = std::move(f); }
+    /// Hands every scan to `history` (the console's trends), which must outlive the driver. A
+    /// pointer, not an on_scan() function: thousands of PLCs call it 100 times a second each.
+    void record_loops(engine::LoopHistory& history) noexcept { history_ = &history; }
     /// Asked, after a scan in which a master asked for another station (R4055), whether the PLC
     /// may have it: true grants it (engine::Engine::set_station). Unset, every request is granted.
     void on_station_request(std::function<bool(std::uint8_t)> f) { grant_ = std::move(f); }
@@ -102,10 +106,12 @@ public:
 
 private:
     void arm();
-    void due() override;
-    void tick();
+    Clock::time_point due(Clock::time_point now) override;
+    void prefetch(int stage) const noexcept override;
+    Clock::time_point tick(Clock::time_point start);
     bool step_once() noexcept override;
-    void run_one(engine::Duration sim);
+    void run_one(engine::Duration sim, Clock::time_point now);
+    void update_calendar(Clock::time_point now);
 
     ScanTimer& timer_;
     ScanTimer::Slot slot_;
@@ -116,7 +122,9 @@ private:
     bool running_ = false;
     engine::Calendar calendar_{};
     std::time_t calendar_second_ = -1;
-    std::function<void()> on_scan_;
+    Clock::time_point next_second_{};  // when the wall clock's next second begins (steady time)
+    std::function<void(Clock::time_point)> on_scan_;
+    engine::LoopHistory* history_ = nullptr;
     std::function<bool(std::uint8_t)> grant_;
     LatenessStats lateness_;
     engine::DurationHistogram duration_;  // how long the scans took

@@ -77,7 +77,7 @@ void ScanTimer::arm() {
 
 void ScanTimer::fire() {
     armed_ = Clock::time_point::max();
-    const auto now = Clock::now();
+    auto now = Clock::now();
     // Every driver due now runs once, in deadline order; one that is still behind afterwards
     // scheduled a past deadline and runs again after the I/O waiting on the loop.
     firing_.clear();
@@ -91,14 +91,29 @@ void ScanTimer::fire() {
         firing_.push_back(e);
     }
     firing_now_ = true;
-    for (const Entry& e : firing_) {
-        // An earlier driver's scan may have cancelled or removed this one: only one whose
-        // deadline still stands runs.
-        const Member& m = members_[e.slot];
-        if (m.scheduled != nullptr && m.generation == e.generation) m.scheduled->due();
+    constexpr auto kStages = static_cast<std::size_t>(Scheduled::kPrefetchStages);
+    for (std::size_t i = 0; i < firing_.size(); ++i) {
+        // The drivers next in line are warmed while this one runs: one memory latency per
+        // stage, hidden behind a scan (docs/performance.md, "Many PLCs").
+        if (const Scheduled* p = firing_member(i + kStages + 1)) __builtin_prefetch(p);
+        for (std::size_t s = 0; s < kStages; ++s) {
+            if (const Scheduled* p = firing_member(i + kStages - s))
+                p->prefetch(static_cast<int>(s));
+        }
+        if (Scheduled* d = firing_member(i)) now = d->due(now);
     }
     firing_now_ = false;
+    if (on_fired_ && !firing_.empty()) on_fired_(now);
     arm();
+}
+
+// An earlier driver's scan may have cancelled or removed this one: only one whose deadline still
+// stands runs. Null past the end.
+Scheduled* ScanTimer::firing_member(std::size_t k) const noexcept {
+    if (k >= firing_.size()) return nullptr;
+    const Entry& e = firing_[k];
+    const Member& m = members_[e.slot];
+    return m.scheduled != nullptr && m.generation == e.generation ? m.scheduled : nullptr;
 }
 
 void ScanTimer::stop() noexcept {

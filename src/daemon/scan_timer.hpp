@@ -6,6 +6,7 @@
 #include <asio.hpp>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace plcemu::daemon {
@@ -13,8 +14,17 @@ namespace plcemu::daemon {
 /// What the scan timer runs when a deadline has come (a ScanDriver).
 class Scheduled {
 public:
-    /// Runs what is due; the driver schedules its next deadline itself.
-    virtual void due() = 0;
+    using Clock = std::chrono::steady_clock;
+    /// Runs what is due; the driver schedules its next deadline itself. `now` is a clock read
+    /// taken just before; it returns the last clock read it took (or `now`), which the next
+    /// driver starts from: one read per scan, however many PLCs a wake-up runs.
+    virtual Clock::time_point due(Clock::time_point now) = 0;
+    /// Stages of prefetch().
+    static constexpr int kPrefetchStages = 3;
+    /// Warms, without waiting for memory, what due() will read: the timer calls stage 0, 1, …
+    /// on the drivers due after the one running, each stage one driver nearer its turn, so
+    /// each stage may read what the stage before it asked for.
+    virtual void prefetch(int stage) const noexcept { (void)stage; }
 
 protected:
     ~Scheduled() = default;
@@ -42,6 +52,9 @@ public:
     void cancel(Slot slot) noexcept;
     /// Stops the timer for good (the loop is ending).
     void stop() noexcept;
+    /// Called after each wake-up that ran drivers, with the last clock read they took (the
+    /// systemd watchdog: once a wake-up, not once a scan).
+    void on_fired(std::function<void(Clock::time_point)> f) { on_fired_ = std::move(f); }
 
 private:
     struct Entry {
@@ -61,6 +74,7 @@ private:
         return m.scheduled != nullptr && m.pending && m.generation == e.generation;
     }
     void push(Entry e);
+    Scheduled* firing_member(std::size_t k) const noexcept;
     void arm();
     void fire();
     void compact();
@@ -74,6 +88,7 @@ private:
     Clock::time_point armed_ = Clock::time_point::max();
     std::size_t pending_ = 0;
     bool stopped_ = false;
+    std::function<void(Clock::time_point)> on_fired_;
 };
 
 }  // namespace plcemu::daemon

@@ -82,6 +82,17 @@ std::optional<std::uint8_t> Engine::step(Duration now, const Calendar& calendar)
     return wanted;
 }
 
+void Engine::prefetch(int stage) const noexcept {
+    if (stage == 0) {
+        __builtin_prefetch(program_.data());
+        __builtin_prefetch(subsystems_.data());
+        __builtin_prefetch(specials_.get());
+        return;
+    }
+    for (const auto& s : subsystems_) __builtin_prefetch(s.get());
+    for (const auto& i : program_) __builtin_prefetch(i.get());
+}
+
 void Engine::outputs_off() noexcept {
     const std::uint32_t n = image_.layout().size_of(image::Area::Y);
     std::uint8_t* y = image_.bits(image::Area::Y);

@@ -1,6 +1,7 @@
 #include "plcemu/plant/thermal_plant.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <numbers>
@@ -123,6 +124,7 @@ ThermalPlant::ThermalPlant(const PlantSetup& setup)
         c.drive = cs.drive;
         c.t = c.p.ambient_c;
         c.last = c.t;
+        if (c.drive.kind != Drive::Kind::None) driven_ |= 1u << i;
     }
 }
 
@@ -135,13 +137,13 @@ double ThermalPlant::read_drive(const image::Image& img, const Channel& c) const
     return std::clamp(v / c.drive.full_scale, 0.0, 1.0);
 }
 
-void ThermalPlant::advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcept {
+bool ThermalPlant::advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcept {
     // Faults act on the power actually applied: open = no power, shorted = full power.
     const double u = c.faults.heater_open ? 0.0 : (c.faults.heater_shorted ? 1.0 : c.u);
     const std::int64_t theta = to_ns(c.p.dead_time_s);
     // At rest (no power now or within the dead time, at ambient): nothing would change. The
     // histories then keep a gap, which they read as zero power.
-    if (u == 0.0 && c.powered_until <= t0 - theta && c.t == c.p.ambient_c) return;
+    if (u == 0.0 && c.powered_until <= t0 - theta && c.t == c.p.ambient_c) return false;
     if (u != 0.0) c.powered_until = t1;
     c.delay.add(t0, t1, u);
     c.window.add(t0, t1, u);
@@ -161,6 +163,7 @@ void ThermalPlant::advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcep
     if (ud == 0.0 && std::abs(c.t - target) < 1e-6) c.t = target;
     c.delay.forget_before(t1 - theta);
     c.window.forget_before(t1 - kPowerWindowNs);
+    return true;
 }
 
 void ThermalPlant::inputs(engine::ScanContext& ctx) noexcept {
@@ -171,12 +174,21 @@ void ThermalPlant::inputs(engine::ScanContext& ctx) noexcept {
         return;
     }
     if (now <= now_ns_) return;
-    for (auto& c : ch_) advance(c, now_ns_, now);
+    for (std::uint32_t m = awake_; m != 0; m &= m - 1) {
+        const auto i = std::countr_zero(m);
+        if (!advance(ch_[static_cast<std::size_t>(i)], now_ns_, now)) awake_ &= ~(1u << i);
+    }
     now_ns_ = now;
 }
 
 void ThermalPlant::outputs(engine::ScanContext& ctx) noexcept {
-    for (auto& c : ch_) c.u = read_drive(ctx.image, c);
+    for (std::uint32_t m = driven_ | released_; m != 0; m &= m - 1) {
+        const auto i = std::countr_zero(m);
+        Channel& c = ch_[static_cast<std::size_t>(i)];
+        c.u = read_drive(ctx.image, c);
+        if (c.u != 0.0) wake(i);
+    }
+    released_ = 0;
 }
 
 double ThermalPlant::noise(int channel, std::uint64_t n) const noexcept {
@@ -225,7 +237,9 @@ Faults ThermalPlant::faults(int channel) const noexcept {
 }
 
 void ThermalPlant::set_faults(int channel, const Faults& f) noexcept {
-    if (valid(channel)) ch_[static_cast<std::size_t>(channel)].faults = f;
+    if (!valid(channel)) return;
+    ch_[static_cast<std::size_t>(channel)].faults = f;
+    wake(channel);
 }
 
 const ChannelParams& ThermalPlant::params(int channel) const noexcept {
@@ -239,10 +253,13 @@ void ThermalPlant::set_params(int channel, const ChannelParams& p) noexcept {
     // A longer dead time looks further back than was kept: that stretch counts as the power
     // applied when it was forgotten (History::mean).
     c.p = np;
+    wake(channel);
 }
 
 void ThermalPlant::set_temperature(int channel, double celsius) noexcept {
-    if (valid(channel)) ch_[static_cast<std::size_t>(channel)].t = celsius;
+    if (!valid(channel)) return;
+    ch_[static_cast<std::size_t>(channel)].t = celsius;
+    wake(channel);
 }
 
 PlantState ThermalPlant::state() const noexcept {
@@ -256,6 +273,7 @@ void ThermalPlant::restore(const PlantState& state) noexcept {
         ch_[i].t = state[i].process_c;
         ch_[i].last = state[i].reading_c;
     }
+    awake_ = ~0u;
 }
 
 const Drive& ThermalPlant::drive(int channel) const noexcept {
@@ -263,7 +281,17 @@ const Drive& ThermalPlant::drive(int channel) const noexcept {
 }
 
 void ThermalPlant::set_drive(int channel, const Drive& d) noexcept {
-    if (valid(channel)) ch_[static_cast<std::size_t>(channel)].drive = d;
+    if (!valid(channel)) return;
+    ch_[static_cast<std::size_t>(channel)].drive = d;
+    const std::uint32_t bit = 1u << channel;
+    if (d.kind == Drive::Kind::None) {
+        // Its latched drive goes to 0 at the next outputs(), as every undriven channel's.
+        if (driven_ & bit) released_ |= bit;
+        driven_ &= ~bit;
+    } else {
+        driven_ |= bit;
+        released_ &= ~bit;
+    }
 }
 
 }  // namespace plcemu::plant

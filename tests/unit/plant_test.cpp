@@ -384,6 +384,55 @@ TEST(Plant, ChangingDeadTimeAtRunTimeKeepsThePowerInFlight) {
     EXPECT_EQ(rig.plant->params(0).tau_s, 0.1);
 }
 
+// A channel at rest (no power, none within the dead time, at ambient) is not visited by the
+// scans; each way of disturbing it must wake it, or it would stay where it was left.
+TEST(Plant, ARestingChannelWakesForEveryChangeThatMovesIt) {
+    Rig rig(no_dead_time());  // channel 0 driven by R200; channels 1-31 undriven
+    rig.run_seconds(10);      // everything at rest
+    ASSERT_EQ(rig.plant->true_temperature(1), 25.0);
+
+    rig.plant->set_temperature(1, 100.0);  // a process set hot cools back
+    rig.run_seconds(60);
+    EXPECT_LT(rig.plant->true_temperature(1), 95.0);
+    EXPECT_GT(rig.plant->true_temperature(1), 25.0);
+
+    rig.plant->set_faults(2, {.heater_shorted = true});  // a shorted heater heats, undriven
+    rig.run_seconds(60);
+    EXPECT_GT(rig.plant->true_temperature(2), 100.0);
+
+    ChannelParams warm = rig.plant->params(3);
+    warm.ambient_c = 40.0;  // a new ambient pulls the process towards it
+    rig.plant->set_params(3, warm);
+    rig.run_seconds(60);
+    EXPECT_GT(rig.plant->true_temperature(3), 30.0);
+
+    PlantState s = rig.plant->state();
+    s[4].process_c = 200.0;  // a restored process goes on from where it was
+    rig.plant->restore(s);
+    rig.run_seconds(60);
+    EXPECT_LT(rig.plant->true_temperature(4), 190.0);
+}
+
+TEST(Plant, ADriveAddedOrRemovedAtRunTimeTakesEffectAtTheNextScan) {
+    Rig rig(no_dead_time());
+    rig.image.set_word(Area::R, 201, 16383);
+    rig.run_seconds(10);
+    EXPECT_EQ(rig.plant->true_temperature(5), 25.0);  // undriven: R201 means nothing to it
+
+    rig.plant->set_drive(5, Drive{Drive::Kind::Register, {Area::R, 201, false}, 16383});
+    rig.run_seconds(60);
+    EXPECT_GT(rig.plant->true_temperature(5), 100.0);
+    EXPECT_NEAR(rig.plant->drive_now(5), 1.0, 1e-9);
+
+    // Removed while at full power: the power it had latched goes to 0 with the next scan.
+    rig.plant->set_drive(5, Drive{});
+    rig.run_seconds(0.02);
+    EXPECT_EQ(rig.plant->drive_now(5), 0.0);
+    const double hot = rig.plant->true_temperature(5);
+    rig.run_seconds(60);
+    EXPECT_LT(rig.plant->true_temperature(5), hot);
+}
+
 TEST(History, ExactMeansOfAPiecewiseConstantSignal) {
     History h;
     h.add(0, 10, 1.0);

@@ -54,7 +54,7 @@ protected:
 
     std::unique_ptr<ScanDriver> driver(double scale = 1.0) {
         auto d = std::make_unique<ScanDriver>(timer_, rounds_, *engine_, scale);
-        d->on_scan([this] { ++on_scan_calls_; });
+        d->on_scan([this](ScanDriver::Clock::time_point) { ++on_scan_calls_; });
         return d;
     }
 

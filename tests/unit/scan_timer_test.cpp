@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <asio.hpp>
 #include <chrono>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,12 +26,13 @@ struct Driver final : Scheduled {
           log(l) {
         slot = timer.add(*this);
     }
-    void due() override {
+    Clock::time_point due(Clock::time_point now) override {
         log.push_back(name);
         if (repeats > 0) {
             --repeats;
             timer.schedule(slot, Clock::now() + again);
         }
+        return now;
     }
     ScanTimer& timer;
     std::string name;
@@ -97,6 +99,60 @@ TEST_F(ScanTimerTest, ARemovedDriverNeverRunsAndItsSlotServesTheNextOne) {
     io_.run_for(40ms);
     EXPECT_TRUE(log_.empty());
     EXPECT_EQ(other, (std::vector<std::string>{"next"}));
+}
+
+// Drivers due at one wake-up: each is warmed stage by stage while the ones before it run, each
+// starts from the clock read the one before it ended with, and the wake-up is reported once.
+struct Chained final : Scheduled {
+    Chained(ScanTimer& t, int i, std::vector<std::string>& l)
+        : index(i),
+          log(l) {
+        slot = t.add(*this);
+    }
+    Clock::time_point due(Clock::time_point now) override {
+        log.push_back(std::to_string(index) + " due");
+        began = now;
+        ended = now + std::chrono::microseconds(index + 1);  // as if its scan took that long
+        return ended;
+    }
+    void prefetch(int stage) const noexcept override {
+        log.push_back(std::to_string(index) + " warm" + std::to_string(stage));
+    }
+    int index;
+    std::vector<std::string>& log;
+    ScanTimer::Slot slot = 0;
+    Clock::time_point began{}, ended{};
+};
+
+TEST_F(ScanTimerTest, DriversOfOneWakeUpAreWarmedAheadAndChainTheirClockReads) {
+    std::vector<std::unique_ptr<Chained>> d;
+    for (int i = 0; i < 6; ++i) d.push_back(std::make_unique<Chained>(timer_, i, log_));
+    const auto at = Clock::now() + 5ms;
+    for (int i = 0; i < 6; ++i) {
+        // Distinct deadlines a nanosecond apart fix the order; all are due at one wake-up.
+        timer_.schedule(d[static_cast<std::size_t>(i)]->slot, at + std::chrono::nanoseconds(i));
+    }
+    int fired = 0;
+    Clock::time_point reported{};
+    timer_.on_fired([&](Clock::time_point now) {
+        ++fired;
+        reported = now;
+    });
+    io_.run_for(30ms);
+    ASSERT_EQ(fired, 1);
+    for (int i = 1; i < 6; ++i) {
+        EXPECT_EQ(d[static_cast<std::size_t>(i)]->began, d[static_cast<std::size_t>(i - 1)]->ended);
+    }
+    EXPECT_EQ(reported, d[5]->ended);
+    // Driver 5: warmed in stages 0, 1, 2 while drivers 2, 3 and 4 ran, then run.
+    std::vector<std::string> five;
+    for (const auto& e : log_)
+        if (e.rfind("5 ", 0) == 0) five.push_back(e);
+    EXPECT_EQ(five, (std::vector<std::string>{"5 warm0", "5 warm1", "5 warm2", "5 due"}));
+    const auto pos = [&](const std::string& e) { return std::find(log_.begin(), log_.end(), e); };
+    EXPECT_LT(pos("2 due"), pos("5 warm1"));
+    EXPECT_LT(pos("5 warm2"), pos("4 due"));
+    EXPECT_LT(pos("4 due"), pos("5 due"));
 }
 
 }  // namespace

@@ -153,6 +153,14 @@ public:
     /// The program (read-only).
     const Program& program() const { return program_; }
 
+    /// Stages of prefetch().
+    static constexpr int kPrefetchStages = 2;
+    /// Asks the cache for what step() reads first, without waiting for it: stage 0 the arrays of
+    /// parts, stage 1 (at least a memory latency later) the parts themselves. A process scanning
+    /// thousands of PLCs finds each PLC's objects cold; warming the next PLC's while this one
+    /// scans hides most of that latency (docs/performance.md, "Many PLCs").
+    void prefetch(int stage) const noexcept;
+
 private:
     void outputs_off() noexcept;
 

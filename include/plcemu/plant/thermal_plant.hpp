@@ -91,29 +91,41 @@ public:
     engine::Duration now() const { return engine::Duration{now_ns_}; }
 
 private:
+    // The fields outputs() and a resting channel's check read come first, in one cache line:
+    // 5,000 PLCs scanning every 10 ms touch a plant 500,000 times a second, each in a cold cache.
     struct Channel {
-        ChannelParams p;
-        Faults faults;
         Drive drive;
-        double t = 25.0;             // true temperature, °C
-        double u = 0.0;              // drive latched by the last outputs(), after faults
+        double u = 0.0;   // drive latched by the last outputs(), after faults
+        double t = 25.0;  // true temperature, °C
+        std::int64_t powered_until = INT64_MIN;  // end of the last step with power applied
+        Faults faults;
+        ChannelParams p;
         History delay;               // applied power, for the dead time
         History window;              // applied power, for heater_power()
         std::optional<double> held;  // reading kept while the reading is frozen
         double last = 25.0;          // last sensed value
         std::uint64_t samples = 0;   // sensor samples taken, for the noise sequence
-        std::int64_t powered_until = INT64_MIN;  // end of the last step with power applied
-        double decay_dt = -1.0;  // step length (s) and τ the cached decay was computed for
+        double decay_dt = -1.0;      // step length (s) and τ the cached decay was computed for
         double decay_tau = -1.0;
         double decay = 1.0;  // exp(−dt/τ)
     };
+    static_assert(kChannels <= 32, "the channel masks are 32 bits");
 
     static bool valid(int channel) { return channel >= 0 && channel < kChannels; }
     double read_drive(const image::Image& img, const Channel& c) const noexcept;
-    void advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcept;
+    /// Advances one channel; false when it is at rest (nothing changed, nor will until a drive,
+    /// a fault, a temperature or a parameter does).
+    bool advance(Channel& c, std::int64_t t0, std::int64_t t1) noexcept;
+    void wake(int channel) noexcept { awake_ |= 1u << channel; }
     double noise(int channel, std::uint64_t n) const noexcept;
 
     std::array<Channel, kChannels> ch_;
+    // Only what can change is visited each scan, which is what lets thousands of PLCs idle
+    // cheaply; a channel left out behaves exactly as the full loop would (advance() returns at
+    // once at rest, and an undriven channel's drive is 0).
+    std::uint32_t awake_ = ~0u;   // channels inputs() advances: the others are at rest
+    std::uint32_t driven_ = 0;    // channels with a drive, which outputs() reads
+    std::uint32_t released_ = 0;  // channels whose drive was removed: outputs() zeroes them once
     std::uint64_t seed_;
     std::int64_t now_ns_ = 0;
     bool started_ = false;

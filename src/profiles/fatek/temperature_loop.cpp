@@ -86,7 +86,10 @@ void TemperatureLoop::stop(image::Image& img) {
     for (int i = 0; i < b_.points; ++i) {
         set_y(img, i, false);
         set_word(img, b_.out, i, 0);
-        points_[static_cast<std::size_t>(i)].reset();
+    }
+    // Only run() changes the points: stopped, they are still as the last stop left them.
+    if (running_) {
+        for (auto& p : points_) p.reset();
     }
     for (std::uint32_t w = 0; w < kLoopStatusWords; ++w)
         img.set_word(b_.status.area, b_.status.index + w, 0);

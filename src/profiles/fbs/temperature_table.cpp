@@ -165,6 +165,8 @@ void TemperatureTable::restart(const image::Image& img, std::int64_t now) noexce
     total_ = 0;
     mismatch_ = 0;
     ch_ = {};
+    read_ = 0;
+    broken_ = 0;
     start_ns_ = now;
     code_ = kIdle;
     if (!marker_ok_) return;
@@ -218,12 +220,13 @@ void TemperatureTable::convert(engine::ScanContext& ctx, ModuleState& m) noexcep
     while (m.done < due) {
         const int g = m.first + m.current;
         ChannelState& c = ch_[static_cast<std::size_t>(g)];
-        c.read = true;
+        const std::uint32_t bit = 1u << g;
+        read_ |= bit;
         std::uint16_t value = 0;
         const std::uint16_t installed = r[sp::kSensorInstalled + (g < 16 ? 0 : 1)];
         if (((installed >> (g % 16)) & 1u) == 0) {
             // R4010/R4011 bit 0: not installed, reads 0, no broken-line check.
-            c.broken = false;
+            broken_ &= ~bit;
             c.count = 0;
         } else {
             bool broken = m.mismatch || !m.sensor_ok;
@@ -238,10 +241,10 @@ void TemperatureTable::convert(engine::ScanContext& ctx, ModuleState& m) noexcep
             if (broken) {
                 // Open sensor, a module that is not the installed one, or an unknown sensor code.
                 value = kBroken;
-                c.broken = true;
+                broken_ |= bit;
                 c.count = 0;
             } else {
-                c.broken = false;
+                broken_ &= ~bit;
                 constexpr int kRing = static_cast<int>(std::tuple_size_v<decltype(c.avg)>);
                 c.avg[static_cast<std::size_t>(c.next)] = celsius;
                 c.next = (c.next + 1) % kRing;
@@ -304,20 +307,13 @@ void TemperatureTable::inputs(engine::ScanContext& ctx) noexcept {
         readings_ && fits(img, *readings_, static_cast<std::uint32_t>(std::max(total_, 1)));
     if (code_ != kTooManyChannels && readings_fit) {
         for (auto& m : modules_) convert(ctx, m);
-        bool all = true;
-        for (int g = 0; g < total_; ++g) all = all && ch_[static_cast<std::size_t>(g)].read;
-        code_ = all && total_ > 0 ? kRunning : kIdle;
+        code_ = total_ > 0 && (read_ & channel_mask()) == channel_mask() ? kRunning : kIdle;
     } else if (code_ != kTooManyChannels) {
         code_ = kIdle;  // the reading start is not a register: no measurement
     }
-    std::uint16_t bits[2] = {0, 0};
-    if (code_ != kTooManyChannels) {
-        for (int g = 0; g < total_; ++g) {
-            if (ch_[static_cast<std::size_t>(g)].broken) {
-                bits[g / 16] = static_cast<std::uint16_t>(bits[g / 16] | (1u << (g % 16)));
-            }
-        }
-    }
+    const std::uint32_t broken = code_ != kTooManyChannels ? broken_ & channel_mask() : 0;
+    const std::uint16_t bits[2] = {static_cast<std::uint16_t>(broken & 0xFFFFu),
+                                   static_cast<std::uint16_t>(broken >> 16)};
     put(img, wr, 0, static_cast<std::uint16_t>(code_ << 8 | mismatch_));
     put(img, wr, 1, bits[0]);
     put(img, wr, 2, bits[1]);

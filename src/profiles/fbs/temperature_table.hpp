@@ -3,6 +3,7 @@
 // emulated TC/RTD modules converting their channels one after another, the readings and the
 // working registers. Not an instruction: a subsystem that runs before the program each scan.
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -89,15 +90,19 @@ private:
         std::int64_t done = 0;      // conversions completed since the restart
         int current = 0;            // module-local channel being converted
     };
+    // A channel's samples; whether it was read and whether it is broken are bits of read_ and
+    // broken_, so the per-scan status words do not visit every channel's samples.
     struct ChannelState {
-        bool read = false;             // read at least once since the restart
-        bool broken = false;           // abnormal bit
         std::array<double, 16> avg{};  // last samples, °C (moving average of up to 16)
         int count = 0;                 // samples held in avg
         int next = 0;                  // ring position
     };
 
     void restart(const image::Image& img, std::int64_t now) noexcept;
+    /// A bit for each of the table's total_ channels.
+    std::uint32_t channel_mask() const noexcept {
+        return total_ >= 32 ? ~0u : (1u << std::max(total_, 0)) - 1u;
+    }
     void convert(engine::ScanContext& ctx, ModuleState& m) noexcept;
     void put(image::Image& img,
              const image::Device& base,
@@ -117,6 +122,9 @@ private:
     std::uint8_t mismatch_ = 0;
     std::vector<ModuleState> modules_;
     std::array<ChannelState, temperature::kMaxChannels> ch_{};
+    static_assert(temperature::kMaxChannels <= 32, "read_ and broken_ hold a bit per channel");
+    std::uint32_t read_ = 0;    // channels read at least once since the restart
+    std::uint32_t broken_ = 0;  // channels whose abnormal bit is set
     std::int64_t start_ns_ = 0;
     std::uint8_t code_ = temperature::kIdle;
 };
