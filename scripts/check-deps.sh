@@ -23,7 +23,7 @@ readonly TABLE='
 image:
 engine:       image
 instructions: engine image
-plant:        engine image
+plant:        config engine image
 modbus:       image
 config:       image
 profiles:     config instructions plant modbus engine image

@@ -312,27 +312,28 @@ void read_channel(const Reader& r, const Node& n, ChannelConfig& c, const std::s
                  {"ambient", "k", "tau", "dead_time", "noise", "cooling", "lead_resistance",
                   "drive", "drive_full_scale", "faults"});
     r.attempt([&] {
-        if (n["ambient"]) c.ambient_c = r.number(n["ambient"], what + ".ambient", -200, 1000);
+        if (n["ambient"])
+            c.params.ambient_c = r.number(n["ambient"], what + ".ambient", -200, 1000);
     });
     r.attempt([&] {
-        if (n["k"]) c.k_c = r.number(n["k"], what + ".k", 0, 3000);
+        if (n["k"]) c.params.k_c = r.number(n["k"], what + ".k", 0, 3000);
     });
     r.attempt([&] {
-        if (n["tau"]) c.tau_s = r.number(n["tau"], what + ".tau", 0.1, 100000);
+        if (n["tau"]) c.params.tau_s = r.number(n["tau"], what + ".tau", 0.1, 100000);
     });
     r.attempt([&] {
-        if (n["dead_time"]) c.dead_time_s = r.number(n["dead_time"], what + ".dead_time", 0, 3600);
+        if (n["dead_time"])
+            c.params.dead_time_s = r.number(n["dead_time"], what + ".dead_time", 0, 3600);
     });
     r.attempt([&] {
-        if (n["noise"]) c.noise_c = r.number(n["noise"], what + ".noise", 0, 100);
+        if (n["noise"]) c.params.noise_c = r.number(n["noise"], what + ".noise", 0, 100);
     });
     r.attempt([&] {
-        if (n["cooling"]) c.cooling = r.boolean(n["cooling"], what + ".cooling");
+        if (n["cooling"]) c.params.cooling = r.boolean(n["cooling"], what + ".cooling");
     });
     r.attempt([&] {
         if (n["lead_resistance"]) {
-            c.lead_resistance_ohm =
-                r.number(n["lead_resistance"], what + ".lead_resistance", 0, 100);
+            c.params.lead_ohm = r.number(n["lead_resistance"], what + ".lead_resistance", 0, 100);
         }
     });
     r.attempt([&] {

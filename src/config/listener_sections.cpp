@@ -18,19 +18,6 @@ bool valid_address(const std::string& a) {
     return ::inet_pton(AF_INET, a.c_str(), buf) == 1 || ::inet_pton(AF_INET6, a.c_str(), buf) == 1;
 }
 
-// "192.168.1.0/24", "10.0.0.1", "::1/128".
-bool valid_cidr(const std::string& text) {
-    const auto slash = text.find('/');
-    const std::string addr = text.substr(0, slash);
-    if (!valid_address(addr)) return false;
-    if (slash == std::string::npos) return true;
-    const std::string p = text.substr(slash + 1);
-    if (p.empty() || p.size() > 3 || p.find_first_not_of("0123456789") != std::string::npos) {
-        return false;
-    }
-    return std::stoi(p) <= (addr.find(':') == std::string::npos ? 32 : 128);
-}
-
 bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 
 }  // namespace
@@ -89,13 +76,15 @@ void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp, const std::string&
             if (!a.is_sequence()) r.fail(a, what + ".allow: expected a list of CIDR ranges");
             for (const auto& e : a.items) {
                 r.attempt([&] {
-                    tcp.allow.push_back(r.scalar(e, what + ".allow entry"));
-                    if (!valid_cidr(tcp.allow.back())) {
+                    const std::string written = r.scalar(e, what + ".allow entry");
+                    auto cidr = Cidr::parse(written);
+                    if (!cidr) {
                         r.fail(e, what +
                                       ".allow: expected a CIDR range such as 192.168.1.0/24 or an "
                                       "address, got '" +
-                                      excerpt(tcp.allow.back()) + "'");
+                                      excerpt(written) + "'");
                     }
+                    tcp.allow.push_back(std::move(*cidr));
                 });
             }
         }

@@ -43,13 +43,13 @@ void channel_changes(const std::string& prefix,
         }
         out.push_back(prefix + key + ": " + text(a, naming) + " -> " + text(b, naming));
     };
-    cmp("ambient", [](const ChannelConfig& c) { return c.ambient_c; });
-    cmp("k", [](const ChannelConfig& c) { return c.k_c; });
-    cmp("tau", [](const ChannelConfig& c) { return c.tau_s; });
-    cmp("dead_time", [](const ChannelConfig& c) { return c.dead_time_s; });
-    cmp("noise", [](const ChannelConfig& c) { return c.noise_c; });
-    cmp("cooling", [](const ChannelConfig& c) { return c.cooling; });
-    cmp("lead_resistance", [](const ChannelConfig& c) { return c.lead_resistance_ohm; });
+    cmp("ambient", [](const ChannelConfig& c) { return c.params.ambient_c; });
+    cmp("k", [](const ChannelConfig& c) { return c.params.k_c; });
+    cmp("tau", [](const ChannelConfig& c) { return c.params.tau_s; });
+    cmp("dead_time", [](const ChannelConfig& c) { return c.params.dead_time_s; });
+    cmp("noise", [](const ChannelConfig& c) { return c.params.noise_c; });
+    cmp("cooling", [](const ChannelConfig& c) { return c.params.cooling; });
+    cmp("lead_resistance", [](const ChannelConfig& c) { return c.params.lead_ohm; });
     cmp("drive", [](const ChannelConfig& c) { return c.drive; });
     cmp("drive_full_scale", [](const ChannelConfig& c) { return c.drive_full_scale; });
     cmp("faults.sensor_broken", [](const ChannelConfig& c) { return c.faults.sensor_broken; });

@@ -572,7 +572,6 @@ private:
 engine::Program probe(const config::Config& c) {
     try {
         Plc plc(c);
-        check_listeners(c);
         return plc.engine().take_program();
     } catch (const config::ConfigError& e) {
         if (c.label.empty()) throw;

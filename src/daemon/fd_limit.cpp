@@ -8,13 +8,6 @@
 
 namespace plcemu::daemon {
 
-namespace {
-
-// Descriptors a reload's second PLC, a config being read and the log may open beside those open
-// now.
-constexpr long kFdHeadroom = 16;
-
-// Descriptors open now, or -1 where /proc is not there.
 long open_descriptors() noexcept {
     DIR* dir = ::opendir("/proc/self/fd");
     if (dir == nullptr) return -1;
@@ -25,8 +18,6 @@ long open_descriptors() noexcept {
     ::closedir(dir);
     return n - 1;  // the directory's own
 }
-
-}  // namespace
 
 long ensure_fd_limit(int max_clients) noexcept {
     rlimit rl{};

@@ -7,6 +7,12 @@ namespace plcemu::daemon {
 /// Descriptors kept for everything but the clients: listeners, the state file, the event loop,
 /// the serial port, a reload's second PLC, the log.
 inline constexpr long kFdReserve = 64;
+/// Descriptors a reload's second PLC, a config being read and the log may open beside those open
+/// now: kept from the clients.
+inline constexpr long kFdHeadroom = 16;
+
+/// Descriptors open now, or -1 where /proc is not there.
+long open_descriptors() noexcept;
 
 /// Raises the soft RLIMIT_NOFILE up to the hard one when `max_clients` + kFdReserve need it, and
 /// logs a warning when even the hard limit is too low. Returns the soft limit in force.

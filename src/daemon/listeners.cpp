@@ -23,30 +23,17 @@ namespace {
 // Descriptors a PLC needs besides its clients: its state file, a serial line, a master port.
 constexpr int kPerPlc = 4;
 
-// A network listener's settings; throws ConfigError on an allow list entry it cannot take.
-listener::TcpOptions net_options(const config::Config& c, const config::ListenerConfig& l) {
+// A network listener's settings.
+listener::TcpOptions net_options(const config::ListenerConfig& l) {
     const config::TcpConfig& t = *l.net;
     listener::TcpOptions o;
-    o.bind = t.bind;
-    o.port = t.port;
-    o.max_clients = t.max_clients;
-    o.idle_timeout_s = t.idle_timeout_s;
-    o.frame_timeout_ms = t.frame_timeout_ms;
+    o.net = t;
     o.section = std::string(l.section);
     if (l.protocol == "http") {
         o.log_name = "http";
         o.comm_faults = false;  // the console switches faults off: it never refuses
     }
     o.protocol = l.protocol;
-    for (const auto& a : t.allow) {
-        listener::Cidr cidr;
-        if (!listener::Cidr::parse(a, cidr)) {
-            throw config::ConfigError(
-                {c.path, 0, 0},
-                std::string(l.section) + ".allow: bad CIDR '" + config::excerpt(a) + "'");
-        }
-        o.allow.push_back(cidr);
-    }
     return o;
 }
 
@@ -181,12 +168,6 @@ void log_listening(const std::string& what,
 
 }  // namespace
 
-void check_listeners(const config::Config& c) {
-    for (const auto& l : config::listeners_of(c)) {
-        if (l.net != nullptr) net_options(c, l);
-    }
-}
-
 struct Listeners::Listener {
     explicit Listener(const Group& g)
         : key(g.key),
@@ -244,10 +225,13 @@ namespace {
 
 // A TCP listener of group `g`, its protocol made, its server not opened yet.
 template <typename Plcs>
-std::unique_ptr<Listeners::Listener> tcp_listener(const Group& g, const Plcs& plcs) {
+std::unique_ptr<Listeners::Listener> tcp_listener(const Group& g,
+                                                  const Plcs& plcs,
+                                                  listener::ClientRoom* room) {
     auto t = std::make_unique<Listeners::Listener>(g);
     const config::Config& c = config_of(plcs[g.members.front()]);
-    t->options = net_options(c, *listener_in(c, g.section));
+    t->options = net_options(*listener_in(c, g.section));
+    t->options.room = room;
     // Its PLCs are seated by route().
     t->stream = protocol(g.protocol).stream({});
     return t;
@@ -264,7 +248,7 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
     std::stable_partition(groups.begin(), groups.end(),
                           [](const Group& g) { return g.protocol != "modbus-tcp"; });
     for (const auto& g : groups) {
-        auto t = tcp_listener(g, plcs);
+        auto t = tcp_listener(g, plcs, &room_);
         t->tcp = std::make_unique<listener::TcpListener>(io_, *t->stream, t->options);
         tcp_.push_back(std::move(t));
     }
@@ -284,13 +268,13 @@ void Listeners::open_reopened(const std::vector<ListenerMember>& plcs, bool at_s
         const std::string prefix = g.members.size() == 1 && !label.empty() ? label + ": " : "";
         try {
             if (g.carrier == Carrier::Udp) {
-                r->options = net_options(c, l);
+                r->options = net_options(l);
                 setup.read_only = l.net->read_only;
                 r->stream = protocol(g.protocol).datagram(std::move(setup));
                 r->udp = std::make_unique<listener::UdpListener>(
                     io_, *r->stream,
-                    listener::UdpOptions{r->options.bind, r->options.port, r->options.allow,
-                                         g.protocol});
+                    listener::UdpOptions{r->options.net.bind, r->options.net.port,
+                                         r->options.net.allow, g.protocol});
             } else {
                 const config::RtuConfig& s = *l.line;
                 setup.line = {s.device, s.baud, s.parity, s.data_bits, s.stop_bits};
@@ -351,12 +335,18 @@ void Listeners::describe_seats() {
     }
 }
 
-void Listeners::raise_fd_limit(std::size_t plcs) const {
+void Listeners::raise_fd_limit(std::size_t plcs) {
     if (tcp_.empty()) return;
     // One descriptor per client of every listener, and the few each further PLC holds.
     int clients = 0;
-    for (const auto& t : tcp_) clients += t->options.max_clients;
-    ensure_fd_limit(clients + kPerPlc * static_cast<int>(plcs - 1));
+    for (const auto& t : tcp_) clients += t->options.net.max_clients;
+    const long limit = ensure_fd_limit(clients + kPerPlc * static_cast<int>(plcs - 1));
+    // The clients of all listeners together may take what is left once the daemon's own
+    // descriptors and a reload's files are counted: beyond it they wait at accept, and a
+    // reload can still open its config.
+    const long in_use = open_descriptors();
+    room_.room =
+        limit < 0 || in_use < 0 ? -1 : std::max(0L, limit - (in_use - room_.open) - kFdHeadroom);
 }
 
 std::string Listeners::refusal(const std::vector<config::Config>& next) const {
@@ -413,7 +403,7 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
             staged_.push_back(std::move(s));
             continue;
         }
-        s.fresh = tcp_listener(g, next);
+        s.fresh = tcp_listener(g, next, &room_);
         const std::string& label = next[first].label;
         const std::string prefix = label.empty() ? "" : label + ": ";
         try {
@@ -423,8 +413,8 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
             continue;
         } catch (const std::exception& e) {
             // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
-            if (running == tcp_.end() || s.fresh->options.port == 0 ||
-                s.fresh->options.port != (*running)->options.port || !(*running)->tcp) {
+            if (running == tcp_.end() || s.fresh->options.net.port == 0 ||
+                s.fresh->options.net.port != (*running)->options.net.port || !(*running)->tcp) {
                 spdlog::error("reload: {}{}", prefix, e.what());
                 unstage();
                 return false;
@@ -433,7 +423,7 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
         // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the port, so it
         // goes first; if the new one still fails, the old one comes back.
         spdlog::info("reload: {}closing {} {} to listen on {}:{}", prefix, (*running)->what(),
-                     (*running)->where(), s.fresh->options.bind, s.fresh->options.port);
+                     (*running)->where(), s.fresh->options.net.bind, s.fresh->options.net.port);
         (*running)->tcp->stop();
         (*running)->tcp.reset();
         stopped_for_stage_.push_back(static_cast<std::size_t>(running - tcp_.begin()));
@@ -478,7 +468,8 @@ void Listeners::apply(const std::vector<ListenerMember>& plcs) {
         }
         auto kept = std::move(tcp_[s.kept]);
         const config::Config& c = *plcs[kept->members.front()].config;
-        kept->options = net_options(c, *listener_in(c, kept->section));
+        kept->options = net_options(*listener_in(c, kept->section));
+        kept->options.room = &room_;
         if (kept->tcp) kept->tcp->set_limits(kept->options);
         now.push_back(std::move(kept));
     }

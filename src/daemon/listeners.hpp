@@ -18,10 +18,6 @@
 
 namespace plcemu::daemon {
 
-/// Checks what the config loader cannot see of a config's network listeners (an allow list
-/// entry the listener cannot take); throws ConfigError.
-void check_listeners(const config::Config& c);
-
 /// One PLC as the listeners see it.
 struct ListenerMember {
     const config::Config* config;  ///< its config (listener settings, label)
@@ -83,10 +79,11 @@ private:
     void open_reopened(const std::vector<ListenerMember>& plcs, bool at_start);
     void route(const std::vector<ListenerMember>& plcs);
     void describe_seats();
-    void raise_fd_limit(std::size_t plcs) const;
+    void raise_fd_limit(std::size_t plcs);
 
     asio::io_context& io_;
     const listener::Census& census_;
+    listener::ClientRoom room_;  // what the descriptor limit leaves the clients of every listener
     std::vector<std::unique_ptr<Listener>> tcp_;       // TCP listeners (kept across reloads)
     std::vector<std::unique_ptr<Listener>> reopened_;  // UDP and serial: reopened at a reload
     std::vector<ListenerMember> plcs_;  // every PLC, by index, as last opened or applied

@@ -58,11 +58,8 @@ plant::PlantSetup plant_setup(const config::Config& config, const engine::Declar
             if (static_cast<std::size_t>(idx) == i) cc = c;
         }
         plant::ChannelSetup& ch = setup.channels[i];
-        ch.params = {cc.ambient_c,          cc.k_c,     cc.tau_s,
-                     cc.dead_time_s,        cc.noise_c, cc.cooling,
-                     cc.lead_resistance_ohm};
-        ch.faults = {cc.faults.sensor_broken, cc.faults.heater_open, cc.faults.heater_shorted,
-                     cc.faults.reading_frozen};
+        ch.params = cc.params;
+        ch.faults = cc.faults;
         // `plant.channels.N.drive` wins over the output the program declares for the channel.
         ch.drive = declared[i];
         if (cc.drive) {

@@ -25,6 +25,12 @@ std::string text(const std::vector<std::string>& v) {
     return s + "]";
 }
 
+std::string text(const std::vector<config::Cidr>& v) {
+    std::string s = "[";
+    for (const auto& e : v) s += (s.size() > 1 ? ", " : "") + e.text;
+    return s + "]";
+}
+
 std::string text(const std::vector<image::Range>& v, const image::Naming& naming) {
     std::string s = "[";
     for (const auto& r : v) s += (s.size() > 1 ? ", " : "") + naming.format_range(r);

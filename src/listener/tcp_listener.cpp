@@ -196,7 +196,8 @@ public:
             if (!s->stopped) s->protocol->units().client_gone(client_.id);
             s->log(spdlog::level::info, LogCause::Disconnected, "{}: {} disconnected ({})",
                    s->options.log_name, peer_, why);
-            s->connections.erase(shared_from_this());
+            if (s->connections.erase(shared_from_this()) > 0 && s->options.room != nullptr)
+                --s->options.room->open;
         }
     }
 
@@ -432,6 +433,11 @@ private:
 };
 
 void TcpListener::State::accept() {
+    if (options.room != nullptr && options.room->full()) {
+        // The descriptors left for clients are taken: wait as when accept() itself runs out.
+        accept_failed(std::make_error_code(std::errc::too_many_files_open));
+        return;
+    }
     acceptor.async_accept([self = shared_from_this()](const asio::error_code& ec, tcp::socket s) {
         if (self->stopped) return;
         if (ec) {
@@ -458,16 +464,24 @@ void TcpListener::State::accept() {
             self->follow_refusal();
             return;
         }
-        bool allowed = self->options.allow.empty();
-        for (const auto& c : self->options.allow)
-            allowed = allowed || (!pec && c.contains(ep.address()));
+        bool allowed = self->options.net.allow.empty();
+        for (const auto& c : self->options.net.allow)
+            allowed = allowed || (!pec && contains(c, ep.address()));
         if (!allowed) {
             self->log(spdlog::level::warn, LogCause::RefusedNotAllowed,
                       "{}: {} refused: not in {}.allow", self->options.log_name, peer,
                       self->options.section);
             s.close(pec);
             ++self->refused;
-        } else if (static_cast<int>(self->connections.size()) >= self->options.max_clients &&
+        } else if (self->options.room != nullptr && self->options.room->full()) {
+            // Accepted by an accept armed before another listener filled the room: refused as
+            // at max_clients; the accept below then waits for room.
+            self->log(spdlog::level::warn, LogCause::RefusedFull,
+                      "{}: {} refused: the descriptors left for clients are taken",
+                      self->options.log_name, peer);
+            s.close(pec);
+            ++self->refused;
+        } else if (static_cast<int>(self->connections.size()) >= self->options.net.max_clients &&
                    !self->evict_one(now)) {
             self->log(spdlog::level::warn, LogCause::RefusedFull,
                       "{}: {} refused: {} clients already connected ({}.max_clients)",
@@ -483,6 +497,7 @@ void TcpListener::State::accept() {
             auto c = std::make_shared<Connection>(
                 std::move(s), self, peer, self->protocol->max_frame(), self->options.protocol);
             self->connections.insert(c);
+            if (self->options.room != nullptr) ++self->options.room->open;
             ++self->accepted;
             c->start(*self->protocol);
         }
@@ -549,7 +564,7 @@ bool TcpListener::State::evict_one(Clock::time_point now) {
 
 void TcpListener::State::check_connections() {
     const auto now = Clock::now();
-    const auto frame_limit = std::chrono::milliseconds(options.frame_timeout_ms);
+    const auto frame_limit = std::chrono::milliseconds(options.net.frame_timeout_ms);
     std::vector<std::pair<std::shared_ptr<Connection>, std::string>> doomed;
     for (const auto& c : connections) {
         // While its replies wait, a client is not read: a partial request then is not its fault.
@@ -559,8 +574,8 @@ void TcpListener::State::check_connections() {
         } else if (c->unsent_for(now) == Clock::duration{0} && c->partial_for(now) > frame_limit) {
             doomed.emplace_back(
                 c, "request not completed within " + options.section + ".frame_timeout_ms");
-        } else if (options.idle_timeout_s > 0 &&
-                   now - c->last_request() > std::chrono::seconds(options.idle_timeout_s)) {
+        } else if (options.net.idle_timeout_s > 0 &&
+                   now - c->last_request() > std::chrono::seconds(options.net.idle_timeout_s)) {
             doomed.emplace_back(c, "idle timeout");
         }
     }
@@ -620,7 +635,7 @@ void TcpListener::State::arm_sweep() {
     // While refusing, often enough that the listener opens soon after the fault clears.
     const auto period = refusing ? Clock::duration(std::chrono::milliseconds(50))
                                  : std::clamp<Clock::duration>(
-                                       std::chrono::milliseconds(options.frame_timeout_ms) / 4,
+                                       std::chrono::milliseconds(options.net.frame_timeout_ms) / 4,
                                        std::chrono::milliseconds(50), std::chrono::seconds(1));
     sweep.expires_after(period);
     sweep.async_wait([self = shared_from_this()](const asio::error_code& ec) {
@@ -633,12 +648,12 @@ void TcpListener::State::arm_sweep() {
 TcpListener::TcpListener(asio::io_context& io, StreamProtocol& protocol, TcpOptions options)
     : state_(std::make_shared<State>(io, protocol, std::move(options))) {
     // The error names the endpoint: "bind: Address already in use" alone does not say which.
-    const std::string where =
-        "cannot listen on tcp " + state_->options.bind + ":" + std::to_string(state_->options.port);
+    const std::string where = "cannot listen on tcp " + state_->options.net.bind + ":" +
+                              std::to_string(state_->options.net.port);
     asio::error_code ec;
-    const auto addr = asio::ip::make_address(state_->options.bind, ec);
+    const auto addr = asio::ip::make_address(state_->options.net.bind, ec);
     if (ec) throw std::system_error(ec, where);
-    state_->bound = tcp::endpoint(addr, state_->options.port);
+    state_->bound = tcp::endpoint(addr, state_->options.net.port);
     if (!state_->open_acceptor(ec)) throw std::system_error(ec, where);
     state_->accept();
     state_->arm_sweep();
@@ -658,16 +673,16 @@ ConnectionFigures TcpListener::figures() const {
 }
 
 void TcpListener::set_limits(const TcpOptions& o) {
-    state_->options.max_clients = o.max_clients;
-    state_->options.idle_timeout_s = o.idle_timeout_s;
-    state_->options.frame_timeout_ms = o.frame_timeout_ms;
-    state_->options.allow = o.allow;
+    state_->options.net.max_clients = o.net.max_clients;
+    state_->options.net.idle_timeout_s = o.net.idle_timeout_s;
+    state_->options.net.frame_timeout_ms = o.net.frame_timeout_ms;
+    state_->options.net.allow = o.net.allow;
     // A peer taken off the allow list loses its connection now, not at its next reconnect.
-    if (state_->options.allow.empty()) return;
+    if (state_->options.net.allow.empty()) return;
     std::vector<std::shared_ptr<Connection>> refused;
     for (const auto& c : state_->connections) {
         bool ok = false;
-        for (const auto& net : state_->options.allow) ok = ok || net.contains(c->address());
+        for (const auto& net : state_->options.net.allow) ok = ok || contains(net, c->address());
         if (!ok) refused.push_back(c);
     }
     const std::string why = "no longer in " + state_->options.section + ".allow";

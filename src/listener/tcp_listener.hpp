@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cidr.hpp"
+#include "plcemu/config/config.hpp"
 #include "plcemu/listener/census.hpp"
 #include "plcemu/listener/protocol.hpp"
 
@@ -19,18 +20,17 @@ namespace plcemu::listener {
 
 /// Listener settings.
 struct TcpOptions {
-    std::string bind = "0.0.0.0";  ///< address
-    std::uint16_t port = 502;      ///< port (0 = any free port)
-    int max_clients = 64;          ///< connections beyond this are closed at accept
-    int idle_timeout_s = 0;        ///< close a connection without a request this long (0 = never)
-    int frame_timeout_ms = 5000;   ///< a begun request must be whole, and replies taken, by then
-    std::vector<Cidr> allow;       ///< peers allowed (empty = all)
+    /// The config's own value: bind, port (0 = any free port), max_clients (beyond it a
+    /// connection is closed at accept), idle_timeout_s, frame_timeout_ms and the allow list.
+    config::TcpConfig net;
     std::string section = "modbus.tcp";  ///< the config section, as log lines name its keys
     std::string log_name = "tcp";        ///< what starts its log lines: "tcp", "http"
     std::string_view protocol = "";      ///< the protocol's name, as its clients are listed
     /// The PLCs' communication fault `refuse_connections` closes it (the console's listener
     /// stays open whatever the PLCs suffer, so faults can always be switched off).
     bool comm_faults = true;
+    /// The process's client room, shared by its listeners (null: none); must outlive them.
+    ClientRoom* room = nullptr;
 };
 
 /// The TCP listener and its connections.

@@ -132,7 +132,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     bool allowed(const asio::ip::address& a) const {
         if (options.allow.empty()) return true;
         for (const auto& c : options.allow) {
-            if (c.contains(a)) return true;
+            if (contains(c, a)) return true;
         }
         return false;
     }

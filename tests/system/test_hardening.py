@@ -152,6 +152,16 @@ def test_client_that_never_takes_its_replies_is_closed_after_the_frame_timeout(s
 # --- 3: out of descriptors
 
 
+def close_then_served(d, socks):
+    """Closes the clients, then expects the daemon to serve a new one within 5 s."""
+    for s in socks:
+        s.close()
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and not served(d.port, 1.0):
+        time.sleep(0.1)
+    assert served(d.port)
+
+
 def test_running_out_of_descriptors_backs_off_logs_once_and_recovers(start_plcemud, tmp_path):
     def limit():
         resource.setrlimit(resource.RLIMIT_NOFILE, (48, 48))
@@ -169,13 +179,28 @@ def test_running_out_of_descriptors_backs_off_logs_once_and_recovers(start_plcem
     assert cpu_over(d.proc.pid, 2.0) < 0.3
     assert os.path.getsize(d.log_path) - size_before < 2000
     assert d.log_text().count("pausing accepts") == 1
-    for s in socks:
-        s.close()
-    deadline = time.monotonic() + 5
-    while time.monotonic() < deadline and not served(d.port, 1.0):
-        time.sleep(0.1)
-    assert served(d.port)
+    close_then_served(d, socks)
     assert d.wait_log("tcp: accepting again after", 5)
+    assert d.proc.poll() is None
+
+
+def test_clients_holding_every_descriptor_cannot_stop_a_reload(start_plcemud):
+    """Clients beyond what the descriptor limit leaves them wait at accept, so a reload can
+    still open its config: before, they took every descriptor and the reload was refused with
+    'Too many open files'."""
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (48, 48))
+
+    d = start_plcemud(BASE_CONFIG, preexec_fn=limit)
+    socks = [connect(d.port) for _ in range(80)]
+    time.sleep(0.5)
+    assert d.wait_log("pausing accepts")
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: done", 10), d.log_text()[-3000:]
+    assert "Too many open files" not in d.log_text().split("SIGHUP")[-1]
+    assert "configuration rejected" not in d.log_text()
+    close_then_served(d, socks)
     assert d.proc.poll() is None
 
 

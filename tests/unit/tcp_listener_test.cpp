@@ -58,8 +58,8 @@ class Seated : public ::testing::Test {
 protected:
     Seated() {
         TcpOptions o;
-        o.bind = "127.0.0.1";
-        o.port = 0;
+        o.net.bind = "127.0.0.1";
+        o.net.port = 0;
         listener_ = std::make_unique<TcpListener>(io_, protocol_, o);
     }
     ~Seated() override { listener_->stop(); }
@@ -115,14 +115,59 @@ TEST_F(TcpListenerTest, AFrameLongerThanTheProtocolAllowsClosesTheConnection) {
     EXPECT_EQ(protocol_.answered, 0);
 }
 
+// The descriptors the daemon can give clients are shared by every listener of the process: at
+// the room's end, accepting pauses (the peer waits in the backlog, nothing is closed), and it
+// resumes once a client leaves.
+TEST(TcpListenerRoom, AtTheProcesssClientRoomAcceptsWaitUntilAClientLeaves) {
+    asio::io_context io;
+    Lines lines;
+    Lines other_lines;
+    ClientRoom room{2, 0};
+    TcpOptions o;
+    o.net.bind = "127.0.0.1";
+    o.net.port = 0;
+    o.room = &room;
+    TcpListener one(io, lines, o);
+    TcpListener two(io, other_lines, o);
+    const auto at = [&](TcpListener& l) {
+        asio::ip::tcp::socket s(io);
+        s.connect({asio::ip::make_address("127.0.0.1"), l.port()});
+        return s;
+    };
+    auto a = at(one);
+    auto b = at(two);
+    io.run_for(100ms);
+    ASSERT_EQ(room.open, 2);
+    // Listener one armed its accept while there was room: the one peer it takes is refused.
+    auto c = at(one);
+    EXPECT_TRUE(testing::closed(io, c));
+    // Then it waits: the kernel completes the handshake, the daemon does not accept.
+    auto d = at(one);
+    asio::write(d, asio::buffer(std::string("wait\n")));
+    io.restart();
+    io.run_for(300ms);
+    EXPECT_EQ(one.connections() + two.connections(), 2u);
+    EXPECT_EQ(lines.answered, 0);
+    b.close();  // a client leaves: d is taken within the back-off (at most 1 s)
+    io.restart();
+    io.run_for(1500ms);
+    EXPECT_EQ(room.open, 2);
+    EXPECT_EQ(testing::read_bytes(io, d, 5), "WAIT\n");
+    one.stop();
+    two.stop();
+    io.restart();
+    io.run_for(50ms);
+    EXPECT_EQ(room.open, 0);
+}
+
 TEST_F(TcpListenerTest, NewLimitsClosePeersTheAllowListNoLongerNames) {
     auto s = connect();
     run_for(50ms);
     ASSERT_EQ(listener_->connections(), 1u);
     TcpOptions o;
-    Cidr other;
-    ASSERT_TRUE(Cidr::parse("10.0.0.0/8", other));
-    o.allow.push_back(other);
+    const auto other = Cidr::parse("10.0.0.0/8");
+    ASSERT_TRUE(other);
+    o.net.allow.push_back(*other);
     listener_->set_limits(o);
     EXPECT_TRUE(closed(s));
     EXPECT_EQ(listener_->connections(), 0u);

@@ -98,14 +98,14 @@ TEST_F(UdpListenerTest, UnansweredAndOversizedDatagramsGetNothingAndServingGoesO
 }
 
 TEST_F(UdpListenerTest, PeersOffTheAllowListAreIgnoredUntilAllowed) {
-    Cidr other;
-    ASSERT_TRUE(Cidr::parse("10.0.0.0/8", other));
-    open({other});
+    const auto other = Cidr::parse("10.0.0.0/8");
+    ASSERT_TRUE(other);
+    open({*other});
     EXPECT_EQ(ask("abc"), "");
     EXPECT_EQ(shout_.answered, 0);
-    Cidr local;
-    ASSERT_TRUE(Cidr::parse("127.0.0.1", local));
-    listener_->set_allow({local});
+    const auto local = Cidr::parse("127.0.0.1");
+    ASSERT_TRUE(local);
+    listener_->set_allow({*local});
     EXPECT_EQ(ask("abc"), "ABC");
 }
 

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "plcemu/config/cidr.hpp"
+#include "plcemu/config/plant_channel.hpp"
 #include "plcemu/config/comm_faults.hpp"
 #include "plcemu/config/node.hpp"
 #include "plcemu/config/reader.hpp"
@@ -51,11 +53,11 @@ struct TcpConfig {
     std::string bind = "0.0.0.0";  ///< address to listen on
     std::uint16_t port = 502;      ///< port (502 as on a real PLC)
     UnknownUnit unknown_unit =
-        UnknownUnit::Exception;      ///< unit-ID policy (docs/profile-fbs.md, "Modbus map")
-    std::vector<std::string> allow;  ///< CIDR allow list (empty = all)
-    int max_clients = 64;            ///< concurrent connections
-    int idle_timeout_s = 0;          ///< no request this long: close (0 = never)
-    int frame_timeout_ms = 5000;     ///< a begun request must be whole, and replies taken, by then
+        UnknownUnit::Exception;   ///< unit-ID policy (docs/profile-fbs.md, "Modbus map")
+    std::vector<Cidr> allow;      ///< the allow list (empty = all)
+    int max_clients = 64;         ///< concurrent connections
+    int idle_timeout_s = 0;       ///< no request this long: close (0 = never)
+    int frame_timeout_ms = 5000;  ///< a begun request must be whole, and replies taken, by then
     /// Nothing may be changed through this listener (FATEK listeners; Modbus has
     /// modbus.read_only for all of its listeners).
     bool read_only = false;
@@ -109,23 +111,10 @@ struct FatekConfig {
     std::optional<RtuConfig> serial;  ///< `fatek.serial`, 9600 7E1 by default
 };
 
-/// Fault switches of a plant channel (docs/simulator-and-plant.md).
-struct Faults {
-    bool sensor_broken = false;   ///< reading 32767, abnormal bit
-    bool heater_open = false;     ///< u forced to 0
-    bool heater_shorted = false;  ///< u forced to 1
-    bool reading_frozen = false;  ///< reading stops changing
-};
-
 /// One simulated process channel (docs/simulator-and-plant.md).
 struct ChannelConfig {
-    double ambient_c = 25.0;              ///< T_amb, °C
-    double k_c = 400.0;                   ///< full-power rise, °C
-    double tau_s = 120.0;                 ///< time constant, s
-    double dead_time_s = 5.0;             ///< θ, s
-    double noise_c = 0.0;                 ///< sensor noise σ, °C
-    bool cooling = false;                 ///< the actuator pulls T down
-    double lead_resistance_ohm = 0.0;     ///< an RTD sensor's lead resistance, Ω
+    ChannelParams params;                 ///< ambient, k, tau, dead_time, noise, cooling,
+                                          ///< lead_resistance
     std::optional<image::Device> drive;   ///< Y (PWM duty) or a register; default: the output
                                           ///< the program declares for this channel
     std::optional<int> drive_full_scale;  ///< a register drive's value for full power (default:

@@ -20,6 +20,16 @@ struct ConnectionFigures {
     std::uint64_t refused = 0;   ///< closed at accept: not allowed, or max_clients reached
 };
 
+/// The clients every TCP listener of the process may hold together: what the descriptor limit
+/// leaves once the daemon's own descriptors and a reload's files are counted. At it, listeners
+/// stop accepting (connections wait in the backlog) until a client leaves, so that clients can
+/// never take the descriptors a reload needs to read its config (docs/operations.md).
+struct ClientRoom {
+    long room = -1;  ///< clients allowed at once (-1: no limit)
+    long open = 0;   ///< clients connected now
+    bool full() const noexcept { return room >= 0 && open >= room; }
+};
+
 /// The process's figures.
 struct Census {
     /// The stream listeners open now (the daemon answers it from its listeners).
