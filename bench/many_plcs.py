@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Writes a `plcs:` configuration of N copies of a one-PLC configuration (config/default.yaml by
-default), PLC i on 127.0.0.1:PORT+i with its own state file in DIR, and prints its path.
+default), PLC i on 127.0.0.1:PORT+i with its own state file in DIR, and prints its path. Beside
+it, PATH.reload is the same configuration with plc0's first setpoint (R100) 1 °C higher: what
+scripts/bench.sh reloads.
 
     many_plcs.py --count 500 --port 31000 --dir /tmp/x [--config config/default.yaml]
 """
@@ -47,6 +49,11 @@ def main():
         plcs.append(plc)
     out = pathlib.Path(a.dir) / f"plcs-{a.count}.yaml"
     out.write_text(yaml.safe_dump({"log": {"level": "info"}, "plcs": plcs}, sort_keys=False))
+    setpoints = plcs[0].get("init", {}).get("R100")
+    if isinstance(setpoints, list) and setpoints:
+        setpoints[0] += 10
+    (out.parent / (out.name + ".reload")).write_text(
+        yaml.safe_dump({"log": {"level": "info"}, "plcs": plcs}, sort_keys=False))
     print(out)
 
 

@@ -13,7 +13,7 @@
 #   scripts/bench.sh                     # 5 s per run after a 1 s warm-up
 #   BENCH_SECONDS=2 scripts/bench.sh     # shorter runs (BENCH_WARMUP sets the warm-up)
 #   BENCH_ROUNDS=6 scripts/bench.sh      # rounds of the alternating comparison (4 by default)
-#   BENCH_PLCS=100 scripts/bench.sh      # the many-PLC run with 100 PLCs instead of 500
+#   BENCH_PLCS=5000 scripts/bench.sh     # the many-PLC run with 5000 PLCs as well as 500
 #   BENCH_ONLY=many_plcs scripts/bench.sh   # one hook alone (engine, plcemud, servers, fatek,
 #                                           # console, scan_lateness, rtu_turnaround, many_plcs,
 #                                           # stepping)
@@ -106,7 +106,7 @@ start_server() {
 stop_server() {
     [[ -n $SERVER_PID ]] || return 0
     kill "$SERVER_PID" 2>/dev/null || true
-    for _ in $(seq 50); do
+    for _ in $(seq "${STOP_TRIES:-50}"); do
         alive "$SERVER_PID" || break
         sleep 0.1
     done
@@ -396,29 +396,29 @@ YAML
 }
 
 # ---- Hook: many PLCs in one process ----------------------------------------------------------
-# BENCH_PLCS (500) copies of config/default.yaml's PLC in one `plcs:` process, each on its own
-# port with its own state file: the time to start, the CPU share of one core while nobody polls,
-# then one client per PLC polling FC03 (R0-R9) every 100 ms: its latency, the peak RSS, and the
+# N copies of config/default.yaml's PLC in one `plcs:` process, each on its own port with its own
+# state file: the time to start, the CPU share of one core while nobody polls (scans every 10 ms,
+# plants running), then one client per PLC polling FC03 (R0-R9) every second: its latency and
+# overruns, the peak RSS, a reload of the whole config with one PLC's setpoint changed (how long
+# until every PLC applied it, and the longest any polling client waited meanwhile), and the
 # scan-start lateness every PLC logs when the daemon stops (the worst PLC's p99 and the median
-# PLC's).
-bench_many_plcs() {
-    local n=${BENCH_PLCS:-500} dir=$TMP/plcs cfg base started ticks hz t0 t1 c0 c1 up
-    if [[ $BUILD_OK != 1 || ! -x $BUILD/plcemud ]]; then
-        note "plcs: $BUILD/plcemud not built; skipped"
-        return 0
-    fi
+# PLC's). Run for 500 PLCs, and for BENCH_PLCS as well when that is another count, so that each
+# figure of a large run is printed beside the 500-PLC one.
+many_plcs_run() {
+    local n=$1 dir=$TMP/plcs$1 cfg base started up hz t0 t1 c0 c1 poll poll_pid done_lines
     mkdir -p "$dir"
     # Below the ephemeral range (32768 on), where clients' own ports come from.
-    base=$((10000 + RANDOM % 20000))
+    base=$((10000 + RANDOM % (22768 - n)))
     if ! cfg=$("$PY" bench/many_plcs.py --count "$n" --port "$base" --dir "$dir"); then
         note "plcs: no $n free ports from $base; skipped"
         return 0
     fi
     started=$(date +%s.%N)
     # The last PLC's port accepting means every listener is open.
-    START_TRIES=2400 start_server plcs "$((base + n - 1))" "$BUILD/plcemud" -c "$cfg" || return 0
+    START_TRIES=2400 start_server "plcs$n" "$((base + n - 1))" "$BUILD/plcemud" -c "$cfg" ||
+        return 0
     up=$(awk -v a="$started" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f", b - a }')
-    echo "plcs$n.start $up s"
+    emit <<<"plcs$n.start $up s"
     hz=$(getconf CLK_TCK)
     cpu_ticks() { awk '{ print $14 + $15 }' "/proc/$SERVER_PID/stat"; }
     sleep 2  # past the start-up's own work
@@ -429,21 +429,72 @@ bench_many_plcs() {
     t1=$(date +%s.%N)
     emit < <(awk -v n="plcs$n.idle_cpu" -v c="$((c1 - c0))" -v hz="$hz" -v a="$t0" -v b="$t1" \
         'BEGIN { printf "%s %.1f %%\n", n, 100 * c / hz / (b - a) }')
-    emit < <("$BUILD/load_client" --port "$base" --ports "$n" --connections "$n" \
-        --interval-ms 100 --quantity 10 --seconds "$((RUN_SECONDS * 2))" \
+    # Each PLC holds three descriptors (its listener, its state file and the file's lock) and
+    # a client one more: where the hard limit cannot hold them all, fewer PLCs are polled (the
+    # daemon keeps the rest of its descriptors for itself, and further clients wait at accept).
+    poll=$(($(ulimit -Hn) - 3 * n - 100))
+    ((poll > n)) && poll=$n
+    ((poll < n)) && note "plcs$n: $poll of the $n PLCs polled (descriptor limit $(ulimit -Hn))"
+    emit < <("$BUILD/load_client" --port "$base" --ports "$n" --connections "$poll" \
+        --interval-ms 1000 --quantity 10 --seconds "$((RUN_SECONDS * 2))" \
         --warmup "$WARMUP_SECONDS" --label "plcs$n.fc03" | grep -v '\.fairness ')
+    # The reload: plc0's first setpoint changed, applied while the PLCs are polled.
+    cp "$cfg.reload" "$cfg"
+    "$BUILD/load_client" --port "$base" --ports "$n" --connections "$poll" --interval-ms 1000 \
+        --quantity 10 --seconds "$((RUN_SECONDS * 4))" --warmup "$WARMUP_SECONDS" \
+        --label "plcs$n.reload_fc03" >"$TMP/reload_poll.txt" &
+    poll_pid=$!
+    sleep "$((WARMUP_SECONDS + 1))"
+    done_lines=$(grep -c 'reload: .*done; station' "$TMP/plcs$n.log" || true)
+    t0=$(date +%s.%N)
+    kill -HUP "$SERVER_PID"
+    for _ in $(seq 3600); do
+        (($(grep -c 'reload: .*done; station' "$TMP/plcs$n.log" || true) >= done_lines + n)) && break
+        grep -q 'configuration rejected' "$TMP/plcs$n.log" && break
+        sleep 0.05
+    done
+    t1=$(date +%s.%N)
+    if (($(grep -c 'reload: .*done; station' "$TMP/plcs$n.log" || true) >= done_lines + n)); then
+        emit < <(awk -v n="plcs$n.reload" -v a="$t0" -v b="$t1" 'BEGIN { printf "%s %.2f s\n", n, b - a }')
+    elif grep -q 'configuration rejected' "$TMP/plcs$n.log"; then
+        note "plcs$n: the reload was refused:"
+        grep 'reload: ' "$TMP/plcs$n.log" | grep -v ' info ' | sed 's/^/#   /' | head -5
+    else
+        note "plcs$n: the reload did not finish in $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.0f", b - a }') s"
+    fi
+    wait "$poll_pid" || true
+    emit < <(grep -E '\.(max|p99|errors|overruns) ' "$TMP/reload_poll.txt")
     if alive "$SERVER_PID"; then
         emit < <(awk -v n="plcs$n" '/^VmHWM:/ { printf "%s.peak_rss %.1f MB\n", n, $2 / 1024 }' \
             "/proc/$SERVER_PID/status")
     fi
-    stop_server
+    # Closing thousands of state files (each synced) takes a while.
+    STOP_TRIES=$((50 + n / 10)) stop_server
     emit < <(sed -n 's/.*scan lateness: [0-9]* scans, p50 [0-9]* us, p99 \([0-9]*\) us.*/\1/p' \
-        "$TMP/plcs.log" | sort -n | awk -v n="plcs$n.scan_lateness" '
+        "$TMP/plcs$n.log" | sort -n | awk -v n="plcs$n.scan_lateness" '
             { v[NR] = $1 }
             END { if (NR) printf "%s.p99_median_plc %s us\n%s.p99_worst_plc %s us\n",
                                  n, v[int((NR + 1) / 2)], n, v[NR] }')
     [[ -n ${FIG[plcs$n.scan_lateness.p99_worst_plc]:-} ]] ||
-        note "plcs: no scan lateness in plcemud's log"
+        note "plcs$n: no scan lateness in plcemud's log"
+    rm -rf "$dir"
+}
+
+bench_many_plcs() {
+    local n=${BENCH_PLCS:-500} name
+    if [[ $BUILD_OK != 1 || ! -x $BUILD/plcemud ]]; then
+        note "plcs: $BUILD/plcemud not built; skipped"
+        return 0
+    fi
+    many_plcs_run 500
+    ((n == 500)) && return 0
+    many_plcs_run "$n"
+    note "plcs: $n PLCs beside 500"
+    for name in start idle_cpu fc03.p99 fc03.max fc03.overruns peak_rss reload \
+        reload_fc03.max scan_lateness.p99_worst_plc; do
+        [[ -n ${FIG[plcs$n.$name]:-} && -n ${FIG[plcs500.$name]:-} ]] || continue
+        echo "# plcs.$name: ${FIG[plcs500.$name]} at 500, ${FIG[plcs$n.$name]} at $n"
+    done
 }
 
 # ---- Hook: stepping many PLCs ------------------------------------------------------------------
