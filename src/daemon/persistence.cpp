@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <system_error>
 
 #include "plcemu/daemon/plc.hpp"
 
@@ -146,7 +147,12 @@ std::vector<OpenedState> open_state_files(const std::vector<const config::Config
     constexpr std::size_t kPerThread = 32;
     const std::size_t n = std::min(kThreads, configs.size() / kPerThread);
     std::vector<std::thread> threads;
-    for (std::size_t t = 0; t < n; ++t) threads.emplace_back(work);
+    try {
+        for (std::size_t t = 0; t < n; ++t) threads.emplace_back(work);
+    } catch (const std::system_error&) {
+        // No further thread to be had (a process limit): the ones started and this one share
+        // the files.
+    }
     work();
     for (auto& t : threads) t.join();
     return out;
