@@ -23,9 +23,9 @@ readonly TABLE='
 image:
 engine:       image
 instructions: engine image
-plant:        config engine image
+plant:        engine image
 modbus:       image
-config:       image
+config:       plant image
 profiles:     config instructions plant modbus engine image
 simulator:    profiles listener modbus plant engine image
 listener:     config modbus plant engine image

@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "plcemu/config/cidr.hpp"
-#include "plcemu/config/plant_channel.hpp"
 #include "plcemu/config/comm_faults.hpp"
 #include "plcemu/config/node.hpp"
 #include "plcemu/config/reader.hpp"
@@ -19,6 +18,7 @@
 #include "plcemu/image/excerpt.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
+#include "plcemu/plant/channel.hpp"
 
 namespace plcemu::config {
 
@@ -110,6 +110,10 @@ struct FatekConfig {
     std::optional<TcpConfig> udp;     ///< `fatek.udp`, port 500 by default
     std::optional<RtuConfig> serial;  ///< `fatek.serial`, 9600 7E1 by default
 };
+
+/// A plant channel's fault switches and process parameters: the plant's own values.
+using Faults = plant::Faults;
+using ChannelParams = plant::ChannelParams;
 
 /// One simulated process channel (docs/simulator-and-plant.md).
 struct ChannelConfig {

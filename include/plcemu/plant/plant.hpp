@@ -11,22 +11,16 @@
 #include <cstdint>
 #include <memory>
 
-#include "plcemu/config/plant_channel.hpp"
 #include "plcemu/engine/declarations.hpp"
 #include "plcemu/engine/engine.hpp"
 #include "plcemu/engine/sensors.hpp"
 #include "plcemu/image/area.hpp"
+#include "plcemu/plant/channel.hpp"
 
 namespace plcemu::plant {
 
 /// Channels of the plant: as many as a temperature measurement can number.
 inline constexpr int kChannels = 32;
-
-/// The fault switches of a channel: the config's own value.
-using Faults = config::Faults;
-
-/// Process parameters of one channel: the config's own value.
-using ChannelParams = config::ChannelParams;
 
 /// What drives a channel's actuator.
 struct Drive {

@@ -1,9 +1,10 @@
 #pragma once
 // A plant channel's process parameters and fault switches (docs/simulator-and-plant.md): the
-// one value the `plant:` section is read into and the plant runs with, which the simulator unit
-// and the console change at run time.
+// plant's own values, which the config loader reads the `plant:` section into (the config turns
+// into the values each part needs, DESIGN's direction of dependencies), and which the simulator
+// unit and the console change at run time. Plain values: nothing here includes the engine.
 
-namespace plcemu::config {
+namespace plcemu::plant {
 
 /// The fault switches of a channel.
 struct Faults {
@@ -29,4 +30,4 @@ struct ChannelParams {
     bool operator==(const ChannelParams&) const = default;
 };
 
-}  // namespace plcemu::config
+}  // namespace plcemu::plant
