@@ -167,9 +167,8 @@ def test_running_out_of_descriptors_backs_off_logs_once_and_recovers(start_plcem
         resource.setrlimit(resource.RLIMIT_NOFILE, (48, 48))
 
     d = start_plcemud(BASE_CONFIG, preexec_fn=limit)
-    assert "modbus.tcp.max_clients 64 needs about 128 descriptors but the limit is 48" in (
-        d.log_text()
-    )
+    # Logged once the listeners are open, which is when the port starts answering: waited for.
+    assert d.wait_log("modbus.tcp.max_clients 64 needs about 128 descriptors but the limit is 48")
     socks = []
     for _ in range(80):
         socks.append(connect(d.port))
