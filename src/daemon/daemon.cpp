@@ -180,7 +180,7 @@ public:
         }
     }
 
-    // `listeners`: ", tcp ADDR:PORT, rtu DEVICE" as Listeners::describe() says.
+    // `listeners`: ", tcp ADDR:PORT, rtu DEVICE" as Listeners::describe_all() says.
     std::string status_line(const std::string& listeners) const {
         std::string s = prefix_ + "station " + std::to_string(plc_->engine().station()) + listeners;
         if (state_) s += ", state " + state_->path();

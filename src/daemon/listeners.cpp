@@ -572,16 +572,6 @@ std::string Listeners::unit_clash(const std::vector<config::Config>& next,
     return {};
 }
 
-std::string Listeners::describe(std::size_t index) const {
-    std::string s;
-    for (const auto* list : {&tcp_, &reopened_}) {
-        for (const auto& l : *list) {
-            if (l->has(index) && l->open()) s += ", " + l->what() + " " + l->where();
-        }
-    }
-    return s;
-}
-
 std::vector<std::string> Listeners::describe_all() const {
     std::vector<std::string> out(plcs_.size());
     for (const auto* list : {&tcp_, &reopened_}) {

@@ -67,10 +67,8 @@ public:
 
     /// Closes every listener.
     void stop();
-    /// ", tcp ADDR:PORT, rtu DEVICE, fatek tcp ADDR:PORT ..." for the PLC at `index`, for the
-    /// status line.
-    std::string describe(std::size_t index) const;
-    /// describe() of every PLC, in one pass over the listeners.
+    /// For each PLC, by index, ", tcp ADDR:PORT, rtu DEVICE, fatek tcp ADDR:PORT ...": its open
+    /// listeners, for the status line and the console, in one pass over the listeners.
     std::vector<std::string> describe_all() const;
 
     struct Listener;

@@ -108,9 +108,9 @@ protected:
         return true;
     }
 
-    // The port of the PLC at `index`'s TCP listener, from describe() (", tcp 127.0.0.1:PORT").
+    // The port of the PLC at `index`'s TCP listener, from describe_all() (", tcp 127.0.0.1:PORT").
     std::uint16_t port_of(std::size_t index) const {
-        const std::string d = listeners_.describe(index);
+        const std::string d = listeners_.describe_all().at(index);
         const std::string head = ", tcp 127.0.0.1:";
         EXPECT_EQ(d.rfind(head, 0), 0u) << d;
         if (d.rfind(head, 0) != 0) return 0;
@@ -180,7 +180,7 @@ TEST_F(ListenersTest, ANewPortIsAFreshListenerAndTheOldPortCloses) {
     const std::uint16_t p2 = free_port();
     ASSERT_NE(p1, p2);
     ASSERT_TRUE(reload(two_plcs(p2, 0)));
-    EXPECT_EQ(listeners_.describe(0), ", tcp 127.0.0.1:" + std::to_string(p2));
+    EXPECT_EQ(listeners_.describe_all().at(0), ", tcp 127.0.0.1:" + std::to_string(p2));
     EXPECT_FALSE(listening(p1));
     auto a = connect(p2);
     ASSERT_TRUE(a.is_open());
@@ -199,8 +199,8 @@ TEST_F(ListenersTest, TheSamePortWithNewLimitsKeepsTheListenerAndItsClients) {
     ASSERT_EQ(read_r0(first, 1), 11);
     ASSERT_EQ(read_r0(second, 2), 22);  // both served: 2 of 4 clients
     ASSERT_TRUE(reload(two_plcs(p, p, 1)));
-    EXPECT_EQ(listeners_.describe(0), ", tcp 127.0.0.1:" + std::to_string(p));
-    EXPECT_EQ(listeners_.describe(1), ", tcp 127.0.0.1:" + std::to_string(p));
+    EXPECT_EQ(listeners_.describe_all().at(0), ", tcp 127.0.0.1:" + std::to_string(p));
+    EXPECT_EQ(listeners_.describe_all().at(1), ", tcp 127.0.0.1:" + std::to_string(p));
     // The kept listener's clients stay connected and reach the new PLCs...
     EXPECT_EQ(read_r0(first, 1), 11);
     EXPECT_EQ(read_r0(second, 2), 22);
@@ -226,7 +226,7 @@ TEST_F(ListenersTest, APortThatCannotBeHadFailsStageAndChangesNothing) {
     asio::ip::tcp::acceptor taken(other, {asio::ip::make_address("127.0.0.1"), 0});
     const std::uint16_t busy = taken.local_endpoint().port();
     EXPECT_FALSE(reload(two_plcs(busy, 0)));
-    EXPECT_EQ(listeners_.describe(0), ", tcp 127.0.0.1:" + std::to_string(p1));
+    EXPECT_EQ(listeners_.describe_all().at(0), ", tcp 127.0.0.1:" + std::to_string(p1));
     EXPECT_EQ(port_of(1), pb);
     auto a = connect(p1);
     ASSERT_TRUE(a.is_open());
@@ -234,7 +234,7 @@ TEST_F(ListenersTest, APortThatCannotBeHadFailsStageAndChangesNothing) {
     // A later reload that can be had goes through.
     taken.close();
     EXPECT_TRUE(reload(two_plcs(busy, 0)));
-    EXPECT_EQ(listeners_.describe(0), ", tcp 127.0.0.1:" + std::to_string(busy));
+    EXPECT_EQ(listeners_.describe_all().at(0), ", tcp 127.0.0.1:" + std::to_string(busy));
     EXPECT_FALSE(listening(p1));
 }
 
@@ -300,7 +300,7 @@ TEST_F(ListenersTest, DescribeListsOnlyOpenListenersAndStopClosesThem) {
         "  - {name: a, profile: fbs, modbus: {tcp: {bind: 127.0.0.1, port: 0}}}\n"
         "  - {name: b, profile: fbs, station: 2, modbus: {tcp: {enabled: false}}}\n");
     const std::uint16_t pa = port_of(0);
-    EXPECT_EQ(listeners_.describe(1), "");
+    EXPECT_EQ(listeners_.describe_all().at(1), "");
     EXPECT_TRUE(listening(pa));
     listeners_.stop();
     EXPECT_FALSE(listening(pa));
