@@ -1,5 +1,6 @@
 #include "rst.hpp"
 
+#include "edge.hpp"
 #include "operands.hpp"
 
 namespace plcemu::instructions {
@@ -8,57 +9,101 @@ namespace {
 
 using image::Area;
 
+// RST clears one device; ZRST a zone of them. Both clear contacts or relays (`bits`) and values
+// (`words`).
 class Rst final : public engine::Instruction {
 public:
-    /// `bit`: the contact or relay to clear, if any; `words`: the value words to clear.
-    Rst(BitSource en, std::optional<image::Device> bit, image::Range words)
+    Rst(BitSource en, image::Range bits, image::Range words, std::string_view mnemonic, bool pulse)
         : en_(en),
-          bit_(bit),
-          words_(words) {}
+          bits_(bits),
+          words_(words),
+          mnemonic_(mnemonic),
+          pulse_(pulse) {}
 
     void execute(engine::ScanContext& ctx) noexcept override {
-        if (!en_.read(ctx.image)) return;
-        if (bit_) ctx.image.write_bit(*bit_, false);
+        const bool on = en_.read(ctx.image);
+        if (!(pulse_ ? edge_(on) : on)) return;
+        for (std::uint32_t i = bits_.start; i < bits_.end(); ++i) {
+            ctx.image.write_bit({bits_.area, i}, false);
+        }
         for (std::uint32_t i = words_.start; i < words_.end(); ++i) {
             ctx.image.set_word(words_.area, i, 0);
         }
     }
 
-    std::string_view mnemonic() const noexcept override { return "RST"; }
+    std::string_view mnemonic() const noexcept override { return mnemonic_; }
 
 private:
     BitSource en_;
-    std::optional<image::Device> bit_;
+    image::Range bits_;
     image::Range words_;
+    std::string_view mnemonic_;
+    bool pulse_;
+    RisingEdge edge_;
 };
+
+struct Zone {
+    image::Range bits{Area::M, 0, 0};
+    image::Range words{Area::D, 0, 0};
+};
+
+// What clearing `first` … `last` (one area) clears.
+Zone zone_of(Operands& ops,
+             const char* key,
+             const BindContext& ctx,
+             const image::Device& first,
+             const image::Device& last) {
+    const std::uint32_t n = last.index - first.index + 1;
+    Zone z;
+    if (first.area == Area::T) {
+        z.bits = {Area::T, first.index, n};
+        z.words = {Area::TV, first.index, n};
+    } else if (first.area == Area::C) {
+        z.bits = {Area::C, first.index, n};
+        const std::uint32_t from = ctx.naming.counter_word(first.index);
+        z.words = {
+            Area::CV, from,
+            ctx.naming.counter_word(last.index) + ctx.naming.counter_words(last.index) - from};
+    } else if (image::is_bit_area(first.area)) {
+        z.bits = {first.area, first.index, n};
+        ops.refuse_reserved(key, z.bits);
+    } else {
+        z.words = {first.area, first.index, n};
+        ops.refuse_reserved(key, z.words);
+    }
+    if (z.words.count > 0 && !ctx.layout.contains(z.words)) {
+        ops.fail(key,
+                 ctx.naming.format_device(first.area, first.index) + " has no value in this PLC");
+    }
+    return z;
+}
+
+constexpr std::initializer_list<Area> kResettable = {Area::Y, Area::M, Area::S, Area::T,
+                                                     Area::C, Area::R, Area::D};
 
 }  // namespace
 
 std::unique_ptr<engine::Instruction> make_rst(const Entry& ic, const BindContext& ctx) {
     Operands ops(ic, ctx);
     const BitSource en = ops.bit_source("en", true);
-    const image::Device d =
-        ops.device("d", 1, {Area::Y, Area::M, Area::S, Area::T, Area::C, Area::R, Area::D});
+    const image::Device d = ops.device("d", 1, kResettable);
     ops.finish();
-    std::optional<image::Device> bit;
-    image::Range words{Area::D, 0, 0};
-    if (d.area == Area::T) {
-        bit = d;
-        words = {Area::TV, d.index, 1};
-    } else if (d.area == Area::C) {
-        bit = d;
-        words = {Area::CV, ctx.naming.counter_word(d.index), ctx.naming.counter_words(d.index)};
-    } else if (image::is_bit_area(d.area)) {
-        bit = d;
-        ops.refuse_reserved("d", {d.area, d.index, 1});
-    } else {
-        words = {d.area, d.index, 1};
-        ops.refuse_reserved("d", words);
-    }
-    if (words.count > 0 && !ctx.layout.contains(words)) {
-        ops.fail("d", ctx.naming.format_device(d.area, d.index) + " has no value in this PLC");
-    }
-    return std::make_unique<Rst>(en, bit, words);
+    const Zone z = zone_of(ops, "d", ctx, d, d);
+    return std::make_unique<Rst>(en, z.bits, z.words, "RST", false);
+}
+
+std::unique_ptr<engine::Instruction> make_zrst(const Entry& ic, const BindContext& ctx) {
+    Operands ops(ic, ctx);
+    const BitSource en = ops.bit_source("en", true);
+    const image::Device d1 = ops.device("d1", 1, kResettable);
+    const image::Device d2 = ops.device("d2", 1, kResettable);
+    const bool pulse = ops.flag("p", false);
+    ops.finish();
+    // FX manual FNC40: D1 and D2 are devices of one kind, D1 not above D2.
+    if (d2.area != d1.area) ops.fail("d2", "must be in the area of d1");
+    if (d2.index < d1.index) ops.fail("d2", "must not come before d1");
+    const Zone z = zone_of(ops, "d1", ctx, d1, d2);
+    return std::make_unique<Rst>(en, z.bits, z.words, "ZRST", pulse);
 }
 
 }  // namespace plcemu::instructions

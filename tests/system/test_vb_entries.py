@@ -266,3 +266,28 @@ P = "profile: vb\nprogram:\n"
 )
 def test_operand_errors_name_file_line_col(tmp_path, text, line, col, needle):
     expect_config_error(tmp_path, text, line, col, needle)
+
+
+def test_cmp_and_zrst_through_modbus(start_plcemud):
+    """FNC10 CMP: M10-M12 say D0 > K5, D0 = K5, D0 < K5 (signed) while M0 is ON and keep their
+    state while it is OFF; FNC40 ZRST clears D100-D102 while M1 is ON, D103 untouched."""
+    _, c = frozen(
+        start_plcemud,
+        "  - CMP: {en: M0, s1: D0, s2: K5, d: M10}\n"
+        "  - ZRST: {en: M1, d1: D100, d2: D102}\n",
+    )
+    coil(c, M0, True)
+    for value, want in ((5, [False, True, False]), (0xFFFF, [False, False, True]),
+                        (6, [True, False, False])):
+        write(c, 0, value)
+        step(c, 1)
+        assert coils(c, M0 + 10, 3) == want, value
+    coil(c, M0, False)
+    write(c, 0, 5)
+    step(c, 1)
+    assert coils(c, M0 + 10, 3) == [True, False, False]
+    for a in range(100, 104):
+        write(c, a, 7)
+    coil(c, M0 + 1, True)
+    step(c, 1)
+    assert regs(c, 100, 4) == [0, 0, 0, 7]

@@ -95,3 +95,55 @@ TEST(Rst, OperandErrorsNameTheirPosition) {
 
 }  // namespace
 }  // namespace plcemu::instructions
+
+namespace plcemu::instructions {
+namespace {
+
+// FX manual FNC40 ZRST: every device from D1 to D2 reset as RST resets one.
+TEST(Zrst, ResetsAZoneOfRelaysTimersCountersAndRegisters) {
+    VbPlc p(
+        "  - ZRST: {en: M0, d1: M10, d2: M12}\n"
+        "  - ZRST: {en: M0, d1: D5, d2: D7}\n"
+        "  - ZRST: {en: M0, d1: C200, d2: C201}\n"
+        "  - ZRST: {en: M0, d1: T1, d2: T2}\n");
+    for (std::uint32_t i = 9; i <= 13; ++i) p.set(Area::M, i, true);
+    p.set_d(4, {1, 2, 3, 4, 5});
+    p.set(Area::C, 201, true);
+    p.set(Area::T, 2, true);
+    p.set_word(Area::TV, 2, 9);
+    for (std::uint32_t w = 200; w <= 204; ++w) p.set_word(Area::CV, w, 7);  // C200–C202, 32-bit
+    p.scan();
+    EXPECT_TRUE(p.bit(Area::M, 10));  // EN OFF: nothing
+    p.set(Area::M, 0, true);
+    p.scan();
+    EXPECT_TRUE(p.bit(Area::M, 9));
+    EXPECT_FALSE(p.bit(Area::M, 10));
+    EXPECT_FALSE(p.bit(Area::M, 12));
+    EXPECT_TRUE(p.bit(Area::M, 13));
+    EXPECT_EQ(p.d(4, 5), (std::vector<std::uint16_t>{1, 0, 0, 0, 5}));
+    EXPECT_FALSE(p.bit(Area::C, 201));
+    for (std::uint32_t w = 200; w <= 203; ++w) EXPECT_EQ(p.word(Area::CV, w), 0) << w;
+    EXPECT_EQ(p.word(Area::CV, 204), 7);  // C202 is outside the zone
+    EXPECT_FALSE(p.bit(Area::T, 2));
+    EXPECT_EQ(p.word(Area::TV, 2), 0);
+}
+
+TEST(Zrst, PulseFormAndOperandErrors) {
+    VbPlc p("  - ZRST: {en: M0, d1: D0, d2: D1, p: true}\n");
+    p.set(Area::M, 0, true);
+    p.set_d(0, {5, 5});
+    p.scan();
+    EXPECT_EQ(p.d(0, 2), (std::vector<std::uint16_t>{0, 0}));
+    p.set_d(0, {6, 6});
+    p.scan();
+    EXPECT_EQ(p.d(0, 2), (std::vector<std::uint16_t>{6, 6}));  // EN still ON: no new edge
+    using testing::expect_program_error;
+    expect_program_error("  - ZRST: {en: M0, d1: M5, d2: D9}\n", 32,
+                         "ZRST.d2: must be in the area of d1");
+    expect_program_error("  - ZRST: {en: M0, d1: M5, d2: M4}\n", 32,
+                         "ZRST.d2: must not come before d1");
+    expect_program_error("  - ZRST: {en: M0, d1: X0, d2: X7}\n", 24, "ZRST.d1");
+}
+
+}  // namespace
+}  // namespace plcemu::instructions

@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "instructions/cmp.hpp"
 #include "instructions/cmpout.hpp"
 #include "instructions/cnt.hpp"
 #include "instructions/from_to.hpp"
@@ -99,6 +100,7 @@ public:
 
     const instructions::Table& instructions() const override {
         static const instructions::Table kTable{
+            {"CMP", &instructions::make_cmp},
             {"CMPOUT", &instructions::make_cmpout},
             {"CNT", &instructions::make_cnt},
             {"DHOUR", &make_dhour},
@@ -113,6 +115,7 @@ public:
             {"TO", &instructions::make_to},
             {"TPID", &make_tpid},
             {"WOR", &instructions::make_wor},
+            {"ZRST", &instructions::make_zrst},
         };
         return kTable;
     }
