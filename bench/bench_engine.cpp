@@ -1,5 +1,6 @@
 // Scan-engine benchmarks (Google Benchmark): one scan of config/default.yaml with its ten loops
-// running, one scan of 32 TPCTL points with their plant, and the virtual-time rate.
+// running, one scan of 32 TPCTL points with their plant, one scan of a 2,000-step instruction
+// list beside a scan of an empty program (the reference), and the virtual-time rate.
 
 #include <benchmark/benchmark.h>
 
@@ -65,6 +66,48 @@ void BM_Scan32PointsWithPlant(benchmark::State& state) {
     run(state, plc);
 }
 BENCHMARK(BM_Scan32PointsWithPlant);
+
+// A 2,000-step program in WinProladder's mnemonic view (docs/program-language.md): 200 blocks of
+// ten statements, each a rung of contacts with a block and an edge, a coil, a timer and a MOV.
+std::string listing_2000() {
+    std::string yaml = "profile: fbs\npersistence: {enabled: false}\nprogram:\n  il:\n";
+    auto line = [&](const std::string& s) { yaml += "    - '" + s + "'\n"; };
+    for (int i = 0; i < 200; ++i) {
+        const std::string n = std::to_string(i);
+        line("ORG X" + std::to_string(i % 32));
+        line("AND NOT M" + n);
+        line("LD M" + std::to_string(i + 1));
+        line("OR TU X" + std::to_string((i + 1) % 32));
+        line("ANDLD");
+        line("OUT M" + std::to_string(1000 + i));
+        line("ORG M" + std::to_string(1000 + i));
+        line("TMR T" + n + " 100");
+        line("ORG M1926");
+        line("FUN8 MOV S:R" + n + " D:R" + std::to_string(1000 + i));
+    }
+    return yaml;
+}
+
+void BM_ScanListing2000Steps(benchmark::State& state) {
+    const auto cfg = plcemu::config::parse_config(listing_2000(), "listing-2000.yaml");
+    plcemu::daemon::Plc plc(cfg);
+    if (plc.engine().program().size() != 2000) state.SkipWithError("not 2,000 steps");
+    // Half the inputs ON, so both sides of every contact and block are taken.
+    for (unsigned x = 0; x < 32; x += 2) plc.image().set_bit(Area::X, x, true);
+    plc.engine().run_scans(100);
+    run(state, plc);
+}
+BENCHMARK(BM_ScanListing2000Steps);
+
+// The reference: the same PLC with no program (specials and plant only).
+void BM_ScanEmptyProgram(benchmark::State& state) {
+    const auto cfg =
+        plcemu::config::parse_config("profile: fbs\npersistence: {enabled: false}\n", "empty.yaml");
+    plcemu::daemon::Plc plc(cfg);
+    plc.engine().run_scans(100);
+    run(state, plc);
+}
+BENCHMARK(BM_ScanEmptyProgram);
 
 }  // namespace
 

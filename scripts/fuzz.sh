@@ -21,13 +21,14 @@
 # (YAML text into the config loader), fuzz_config_tree (the same loader fed trees without the
 # YAML library, then the PLC build and scans), fuzz_master_reply (replies a Modbus master gets),
 # fuzz_fatek_frame (a FATEK TCP byte stream into the FATEK protocol), fuzz_http_request (an HTTP
-# byte stream into the console and REST API).
+# byte stream into the console and REST API), fuzz_listing (a program in a family's instruction
+# list, built and scanned).
 set -euo pipefail
 TIMEFORMAT='%R %U %S'
 cd "$(dirname "$0")/.."
 
 readonly ALL=(fuzz_tcp_request fuzz_rtu_frame fuzz_config fuzz_config_tree fuzz_master_reply
-    fuzz_fatek_frame fuzz_http_request)
+    fuzz_fatek_frame fuzz_http_request fuzz_listing)
 readonly BUILD=build-fuzz
 
 usage() {
@@ -109,6 +110,8 @@ for h in "${harnesses[@]}"; do
     [[ $h == fuzz_fatek_frame ]] && max_len=(-max_len=1024)
     # The HTTP harness: a few requests with small JSON bodies (the limits are tested elsewhere).
     [[ $h == fuzz_http_request ]] && max_len=(-max_len=2048)
+    # The listing harness: a few dozen statements; each input builds a PLC.
+    [[ $h == fuzz_listing ]] && max_len=(-max_len=1024)
     rc=0
     read -r load _ </proc/loadavg
     # -verbosity=0: no status line per new input (unbuffered, each a few write calls); crash

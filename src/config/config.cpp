@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <set>
@@ -254,9 +255,65 @@ void read_init(const Reader& r, const Node& n, std::vector<InitEntry>& init) {
     }
 }
 
-void read_program(const Reader& r, const Node& n, std::vector<InstructionConfig>& prog) {
+// The lines of a program file: each with its file, line and column 1.
+void read_listing_file(const Reader& r, const Node& file, std::vector<ListingLineConfig>& listing) {
+    const std::string name = r.scalar(file, "program.file");
+    if (name.empty()) r.fail(file, "program.file: expected a file name");
+    // Relative to the directory of the config file that names it, as a state file is.
+    const std::filesystem::path target(name);
+    const std::filesystem::path base = std::filesystem::path(file.pos.file).parent_path();
+    const std::string path = target.is_absolute() || base.empty() ? name : (base / target).string();
+    std::string text;
+    try {
+        text = read_config_file(path, "the program file " + path);
+    } catch (const ConfigError& e) {
+        r.fail(file, "program.file: " + e.message());
+    }
+    int line = 1;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        std::size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        if (end > start || end < text.size()) {
+            listing.push_back({text.substr(start, end - start), {path, line, 1}});
+        }
+        if (end == text.size()) break;
+        start = end + 1;
+        ++line;
+    }
+}
+
+// `program: {file: oven.il}` or `program: {il: ["LD X0", "OUT Y0"]}`.
+void read_listing(const Reader& r, const Node& n, std::vector<ListingLineConfig>& listing) {
+    r.check_keys(n, "program", {"file", "il"});
+    if (static_cast<bool>(n["file"]) == static_cast<bool>(n["il"])) {
+        r.fail(n, "program: expected either 'file' (an instruction-list file) or 'il' (its lines)");
+    }
+    if (const auto& f = n["file"]) return read_listing_file(r, f, listing);
+    const auto& il = n["il"];
+    if (!il.is_sequence()) {
+        r.fail(il,
+               "program.il: expected a list of lines, one statement each, such as "
+               "['LD X0', 'OUT Y0'] (or a file: program: {file: oven.il})");
+    }
+    for (const auto& line : il.items) {
+        Position at = r.pos(line);
+        if (line.quoted) ++at.column;  // the statement starts after the quote
+        listing.push_back({r.scalar(line, "program.il line"), at});
+    }
+}
+
+void read_program(const Reader& r,
+                  const Node& n,
+                  std::vector<InstructionConfig>& prog,
+                  std::vector<ListingLineConfig>& listing) {
     if (n.is_null()) return;
-    if (!n.is_sequence()) r.fail(n, "program: expected a list of instructions");
+    if (n.is_map()) return read_listing(r, n, listing);
+    if (!n.is_sequence()) {
+        r.fail(n,
+               "program: expected a list of instructions, or an instruction list "
+               "({file: oven.il} or {il: [...]})");
+    }
     for (const auto& item : n.items) {
         r.attempt([&] {
             if (!item.is_map() || item.size() != 1) {
@@ -599,7 +656,9 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     });
     r.attempt([&] { read_http(r, root["http"], c.http); });
     section(r, root, "init", read_init, c.init);
-    section(r, root, "program", read_program, c.program);
+    r.attempt([&] {
+        if (const Node& n = root["program"]) read_program(r, n, c.program, c.listing);
+    });
     section(r, root, "plant", read_plant, c.plant);
     section(r, root, "faults", read_comm_faults, c.faults);
     if (c.faults.devices && !layout.contains(*c.faults.devices)) {

@@ -24,9 +24,8 @@ const char* kind_of(mode_t mode) {
     return "of another type";
 }
 
-std::string too_big() {
-    return "the config file is larger than " + std::to_string(kMaxConfigBytes >> 20) +
-           " MiB; refused";
+std::string too_big(const std::string& what) {
+    return what + " is larger than " + std::to_string(kMaxConfigBytes >> 20) + " MiB; refused";
 }
 
 // Closes the descriptor on every way out.
@@ -39,24 +38,24 @@ struct Descriptor {
 
 }  // namespace
 
-std::string read_config_file(const std::string& path) {
+std::string read_config_file(const std::string& path, const std::string& what) {
     const Position at{path, 0, 0};
     // O_NONBLOCK: opening a FIFO nobody writes returns at once instead of waiting for a writer
     // (it is refused below); on a regular file the flag changes nothing.
     Descriptor f{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY)};
     if (f.fd < 0) {
-        throw ConfigError(at, std::string("cannot open the config file: ") + std::strerror(errno));
+        throw ConfigError(at, "cannot open " + what + ": " + std::strerror(errno));
     }
     struct stat st {};
     if (::fstat(f.fd, &st) != 0) {
-        throw ConfigError(at, std::string("cannot stat the config file: ") + std::strerror(errno));
+        throw ConfigError(at, "cannot stat " + what + ": " + std::strerror(errno));
     }
     if (!S_ISREG(st.st_mode)) {
-        throw ConfigError(at, std::string("the config file is ") + kind_of(st.st_mode) +
-                                  ", not a regular file; refused");
+        throw ConfigError(at,
+                          what + " is " + kind_of(st.st_mode) + ", not a regular file; refused");
     }
     if (static_cast<unsigned long long>(st.st_size) > kMaxConfigBytes)
-        throw ConfigError(at, too_big());
+        throw ConfigError(at, too_big(what));
     // The size stat gave may change while the file is read: the read itself stops one byte past
     // the limit.
     std::string text;
@@ -64,14 +63,13 @@ std::string read_config_file(const std::string& path) {
     std::size_t got = 0;
     for (;;) {
         if (got == text.size()) {
-            if (text.size() > kMaxConfigBytes) throw ConfigError(at, too_big());
+            if (text.size() > kMaxConfigBytes) throw ConfigError(at, too_big(what));
             text.resize(std::min(kMaxConfigBytes + 1, text.size() * 2));
         }
         const ssize_t n = ::read(f.fd, text.data() + got, text.size() - got);
         if (n < 0 && errno == EINTR) continue;
         if (n < 0) {
-            throw ConfigError(at,
-                              std::string("cannot read the config file: ") + std::strerror(errno));
+            throw ConfigError(at, "cannot read " + what + ": " + std::strerror(errno));
         }
         if (n == 0) break;
         got += static_cast<std::size_t>(n);

@@ -12,6 +12,7 @@ inline constexpr std::size_t kMaxConfigBytes = std::size_t{16} << 20;
 /// The text of the config file at `path` (a symbolic link is followed). Throws ConfigError naming
 /// the path when it cannot be opened, is not a regular file (a directory, FIFO, device or
 /// socket), or holds more than kMaxConfigBytes, also when it grows past them while read.
-std::string read_config_file(const std::string& path);
+/// `what` names the file in the messages (a program file the config refers to).
+std::string read_config_file(const std::string& path, const std::string& what = "the config file");
 
 }  // namespace plcemu::config

@@ -53,6 +53,7 @@ public:
         YAML::Mark mark;
         std::string text;                  // a scalar
         std::vector<std::size_t> members;  // a list's items; a mapping's keys and values in turn
+        bool quoted = false;               // a scalar in quotes
     };
 
     std::vector<Record> records;
@@ -67,11 +68,13 @@ public:
         close(anchors_.at(anchor));
     }
     void OnScalar(const YAML::Mark& mark,
-                  const std::string& /*tag*/,
+                  const std::string& tag,
                   YAML::anchor_t anchor,
                   const std::string& value) override {
         const std::size_t r = open(Node::Kind::Scalar, mark, anchor);
         records[r].text = value;
+        // yaml-cpp tags a scalar it read without quotes "?", one in quotes "!".
+        records[r].quoted = tag == "!";
         close(r);
     }
     void OnSequenceStart(const YAML::Mark& mark,
@@ -95,7 +98,7 @@ private:
         if (records.size() >= kMaxNodes || stack_.size() > kMaxDepth) {
             too_big(position(file_, mark));
         }
-        records.push_back({kind, mark, {}, {}});
+        records.push_back({kind, mark, {}, {}, false});
         const std::size_t r = records.size() - 1;
         // The parser numbers anchors from 1 in the order they appear.
         if (anchor != YAML::NullAnchor) {
@@ -145,6 +148,7 @@ struct TreeBuilder {
         switch (g.kind) {
             case Node::Kind::Scalar:
                 n.text = g.text;
+                n.quoted = g.quoted;
                 break;
             case Node::Kind::Sequence:
                 n.items.reserve(g.members.size());

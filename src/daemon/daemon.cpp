@@ -572,6 +572,10 @@ private:
 engine::Program probe(const config::Config& c) {
     try {
         Plc plc(c);
+        // Said at each start, reload and --check-config, as the vendors' tools say them.
+        for (const auto& w : program_warnings(c)) {
+            spdlog::warn("{}program: {}", c.label.empty() ? "" : c.label + ": ", w);
+        }
         return plc.engine().take_program();
     } catch (const config::ConfigError& e) {
         if (c.label.empty()) throw;

@@ -28,6 +28,7 @@ const char* kUsage =
     "  -c, --config FILE    configuration file (YAML)\n"
     "      --check-config   validate the configuration and exit (0 valid, 2 invalid)\n"
     "      --print-map      print the Modbus address map and exit\n"
+    "      --print-program  print each PLC's program with its step numbers and exit\n"
     "      --format FMT     with --print-map: text (default) or csv\n"
     "      --export-tags FMT  write one tag per device the configuration gives meaning to, as\n"
     "                       csv, json, kepware, ignition or weintek, and exit (needs -c)\n"
@@ -75,6 +76,7 @@ int main(int argc, char** argv) {
     std::string config_path;
     bool check = false;
     bool print = false;
+    bool show_program = false;
     bool csv = false;
     std::string tags;  // --export-tags: the format's name
     plcemu::daemon::TagFormat tag_format = plcemu::daemon::TagFormat::Csv;
@@ -102,6 +104,8 @@ int main(int argc, char** argv) {
             check = true;
         } else if (a == "--print-map") {
             print = true;
+        } else if (a == "--print-program") {
+            show_program = true;
         } else if (a == "--export-tags") {
             if (!value(tags) || !plcemu::daemon::parse_tag_format(tags, tag_format))
                 return usage_error("--export-tags takes csv, json, kepware, ignition or weintek");
@@ -148,8 +152,20 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (config_path.empty()) {
-            return usage_error(tags.empty() ? "no configuration file (-c FILE)"
-                                            : "--export-tags needs a configuration file (-c FILE)");
+            return usage_error(!tags.empty() ? "--export-tags needs a configuration file (-c FILE)"
+                               : show_program
+                                   ? "--print-program needs a configuration file (-c FILE)"
+                                   : "no configuration file (-c FILE)");
+        }
+        if (show_program) {
+            const auto plcs = plcemu::config::load_plcs(config_path);
+            for (std::size_t i = 0; i < plcs.size(); ++i) {
+                if (plcs.size() > 1) {
+                    std::cout << (i > 0 ? "\n" : "") << "# " << plcs[i].label << "\n";
+                }
+                std::cout << plcemu::daemon::print_program(plcs[i]);
+            }
+            return 0;
         }
         if (!tags.empty()) {
             // Every PLC of a `plcs:` file, each row saying which and where (docs/configuration.md,

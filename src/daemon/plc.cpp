@@ -1,6 +1,7 @@
 #include "plcemu/daemon/plc.hpp"
 
 #include "plcemu/instructions/instructions.hpp"
+#include "plcemu/instructions/listing.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/modbus/function_handler.hpp"
 #include "plcemu/profiles/profile.hpp"
@@ -23,19 +24,69 @@ image::Layout plc_layout(const config::Config& config) {
     return layout;
 }
 
+namespace {
+
+instructions::Where where_of(const config::Position& p) { return {p.file, p.line, p.column}; }
+
+config::ConfigError config_error(const instructions::BindError& e) {
+    const auto& w = e.where();
+    return config::ConfigError({w.file, w.line, w.column}, e.what());
+}
+
+// The statements of a program written as the family's instruction list.
+std::vector<instructions::Statement> statements_of(const config::Config& config,
+                                                   const instructions::Dialect& dialect) {
+    std::vector<instructions::ListingLine> lines;
+    lines.reserve(config.listing.size());
+    for (const auto& l : config.listing) lines.push_back({l.text, where_of(l.pos)});
+    try {
+        return instructions::read_listing(lines, dialect);
+    } catch (const instructions::BindError& e) {
+        throw config_error(e);
+    }
+}
+
+const instructions::Dialect& dialect_of(const config::Config& config) {
+    const profiles::Profile& profile = profiles::of(config);
+    const instructions::Dialect* d = profile.listing();
+    if (d == nullptr) {
+        const auto& p = config.listing.front().pos;
+        throw config::ConfigError(p, "program: profile " + config.profile +
+                                         " has no instruction list; write the program as entries");
+    }
+    return *d;
+}
+
+engine::Program build_listing(const config::Config& config,
+                              engine::Tags* operands,
+                              std::vector<instructions::ListingWarning>* warnings) {
+    const profiles::Profile& profile = profiles::of(config);
+    const instructions::Dialect& dialect = dialect_of(config);
+    const auto statements = statements_of(config, dialect);
+    const auto services = profile.services(config);
+    try {
+        return instructions::make_listing_program(statements, dialect, profile.instructions(),
+                                                  plc_layout(config), profile.naming(), *services,
+                                                  warnings, operands);
+    } catch (const instructions::BindError& e) {
+        throw config_error(e);
+    }
+}
+
+}  // namespace
+
 engine::Program build_program(const config::Config& config, engine::Tags* operands) {
+    if (!config.listing.empty()) return build_listing(config, operands, nullptr);
     const profiles::Profile& profile = profiles::of(config);
     const auto services = profile.services(config);
-    auto where = [](const config::Position& p) {
-        return instructions::Where{p.file, p.line, p.column};
-    };
     std::vector<instructions::Entry> entries;
     entries.reserve(config.program.size());
     for (const auto& ic : config.program) {
-        instructions::Entry e{ic.mnemonic, where(ic.pos), {}, static_cast<int>(entries.size()) + 1};
+        instructions::Entry e{
+            ic.mnemonic, where_of(ic.pos), {}, static_cast<int>(entries.size()) + 1};
         e.operands.reserve(ic.operands.size());
         for (const auto& [key, op] : ic.operands) {
-            e.operands.emplace_back(key, instructions::Operand{op.text, where(op.pos)});
+            e.operands.emplace_back(key, instructions::Operand{op.text, where_of(op.pos)});
         }
         entries.push_back(std::move(e));
     }
@@ -43,9 +94,35 @@ engine::Program build_program(const config::Config& config, engine::Tags* operan
         return instructions::make_program(entries, profile.instructions(), plc_layout(config),
                                           profile.naming(), *services, operands);
     } catch (const instructions::BindError& e) {
-        const auto& w = e.where();
-        throw config::ConfigError({w.file, w.line, w.column}, e.what());
+        throw config_error(e);
     }
+}
+
+std::vector<std::string> program_warnings(const config::Config& config) {
+    std::vector<std::string> out;
+    if (config.listing.empty()) return out;
+    std::vector<instructions::ListingWarning> warnings;
+    build_listing(config, nullptr, &warnings);
+    for (const auto& w : warnings) out.push_back(w.where.text() + ": " + w.message);
+    return out;
+}
+
+std::string print_program(const config::Config& config) {
+    if (!config.listing.empty()) {
+        return instructions::format_listing(statements_of(config, dialect_of(config)));
+    }
+    // Entries print as statements of their own: the mnemonic, then each operand by its key.
+    std::vector<instructions::Statement> statements;
+    for (const auto& ic : config.program) {
+        instructions::Statement s;
+        s.mnemonic = ic.mnemonic;
+        s.step = static_cast<int>(statements.size()) + 1;
+        for (const auto& [key, op] : ic.operands) {
+            s.named.emplace_back(key, instructions::Operand{op.text, where_of(op.pos)});
+        }
+        statements.push_back(std::move(s));
+    }
+    return instructions::format_listing(statements);
 }
 
 plant::PlantSetup plant_setup(const config::Config& config, const engine::Declarations& program) {

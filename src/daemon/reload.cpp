@@ -1,10 +1,9 @@
 #include "reload.hpp"
 
 #include <algorithm>
+#include <sstream>
 
 #include "plcemu/profiles/profile.hpp"
-
-#include <sstream>
 
 namespace plcemu::daemon {
 
@@ -160,6 +159,12 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     }
     if (!same_program(a.program, b.program)) {
         out.push_back("program: changed (" + std::to_string(b.program.size()) + " instructions)");
+    }
+    // A program file is read again at each reload: an edit of the file alone is a change.
+    const auto line_text = [](const config::ListingLineConfig& l) { return l.text; };
+    if (!std::ranges::equal(a.listing, b.listing, {}, line_text, line_text)) {
+        out.push_back("program: instruction list changed (" + std::to_string(b.listing.size()) +
+                      " lines)");
     }
     changed_sections(a, b, out);
     const auto plant = config::plant_changes(a.plant, b.plant, profiles::of(b).naming());

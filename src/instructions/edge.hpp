@@ -19,4 +19,18 @@ private:
     bool prev_ = false;
 };
 
+/// Remembers an input from one scan to the next, for its falling edges.
+class FallingEdge {
+public:
+    /// True when `in` is OFF now and was ON at the previous call (never at the first).
+    bool operator()(bool in) noexcept {
+        const bool edge = !in && prev_;
+        prev_ = in;
+        return edge;
+    }
+
+private:
+    bool prev_ = false;
+};
+
 }  // namespace plcemu::instructions

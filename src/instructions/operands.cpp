@@ -1,5 +1,7 @@
 #include "operands.hpp"
 
+#include <string_view>
+
 #include "plcemu/image/excerpt.hpp"
 
 namespace plcemu::instructions {
@@ -65,6 +67,10 @@ const Operand& Operands::require(const char* key) {
 BitSource Operands::bit_source(const char* key, bool fallback) {
     used_.insert(key);
     const Operand* op = find(key);
+    // In a listing the rung gives the enable (the listing refuses an `en` written out).
+    if (!op && ctx_.rung != nullptr && std::string_view(key) == "en") {
+        return {false, false, {}, ctx_.rung};
+    }
     if (!op) return {true, fallback, {}};
     if (const auto v = constant(key)) {
         if (*v != 0 && *v != 1) fail(key, "a constant enable must be 0 or 1");

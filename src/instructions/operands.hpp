@@ -14,14 +14,19 @@
 
 namespace plcemu::instructions {
 
-/// A bit input: a device or a constant (an enable such as `en: 1`).
+/// A bit input: a device or a constant (an enable such as `en: 1`), or the result of the rung
+/// the instruction stands on (a listing's function instructions, BindContext::rung).
 struct BitSource {
-    bool constant = true;  ///< true: `value` is the bit
-    bool value = true;     ///< the constant
-    image::Device device;  ///< the device otherwise
+    bool constant = true;        ///< true: `value` is the bit
+    bool value = true;           ///< the constant
+    image::Device device;        ///< the device otherwise
+    const bool* rung = nullptr;  ///< when set, the bit is the rung's result there
 
     /// The current value.
-    bool read(const image::Image& img) const { return constant ? value : img.read_bit(device); }
+    bool read(const image::Image& img) const {
+        if (rung != nullptr) return *rung;
+        return constant ? value : img.read_bit(device);
+    }
 };
 
 /// A word input: a device (R100, WM800) or a constant (K100, 100).

@@ -1,5 +1,5 @@
 #pragma once
-// PLS: a one-scan pulse on the rising edge of its input, as the FX family's PLS.
+// PLS and PLF: a one-scan pulse on the rising or falling edge of its input, as the FX family's.
 
 #include <memory>
 
@@ -11,5 +11,8 @@ namespace plcemu::instructions {
 /// `PLS: {en: X0, d: M0}`: D (Y, M or S) is ON during the scan in which EN turns ON and OFF in
 /// every other scan.
 std::unique_ptr<engine::Instruction> make_pls(const Entry& ic, const BindContext& ctx);
+
+/// `PLF`: the same on the falling edge: D is ON during the scan in which EN turns OFF.
+std::unique_ptr<engine::Instruction> make_plf(const Entry& ic, const BindContext& ctx);
 
 }  // namespace plcemu::instructions

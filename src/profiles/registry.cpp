@@ -22,6 +22,28 @@ const Profile& of(const config::Config& config) {
     return *p;
 }
 
+std::vector<ProgramInstruction> program_instructions(const config::Config& config) {
+    std::vector<ProgramInstruction> out;
+    for (const auto& e : config.program) out.push_back({e.mnemonic, e.pos});
+    const Profile* profile = find(config.profile);
+    if (config.listing.empty() || profile == nullptr || profile->listing() == nullptr) return out;
+    std::vector<instructions::ListingLine> lines;
+    lines.reserve(config.listing.size());
+    for (const auto& l : config.listing) {
+        lines.push_back({l.text, {l.pos.file, l.pos.line, l.pos.column}});
+    }
+    try {
+        for (const auto& s : instructions::read_listing(lines, *profile->listing())) {
+            if (s.function == nullptr) continue;
+            out.push_back(
+                {std::string(s.function->name), {s.where.file, s.where.line, s.where.column}});
+        }
+    } catch (const instructions::BindError&) {
+        // Reported with its position when the program is built.
+    }
+    return out;
+}
+
 std::vector<const Profile*> all() {
     std::vector<const Profile*> v;
     for (const config::Family* f : config::families()) {

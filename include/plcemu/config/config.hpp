@@ -37,6 +37,13 @@ struct InstructionConfig {
     std::vector<std::pair<std::string, Operand>> operands;  ///< in file order
 };
 
+/// One line of a program written in the family's instruction list (`program: {file: oven.il}`
+/// or `program: {il: [...]}`), and where it starts.
+struct ListingLineConfig {
+    std::string text;  ///< the line as written
+    Position pos;      ///< where its first character stands
+};
+
 /// One `init:` entry: values written from a device upward at start.
 struct InitEntry {
     image::Device device;               ///< first device
@@ -186,6 +193,9 @@ struct Config {
     std::optional<TcpConfig> http;           ///< `http:`, the console and REST API (off: absent)
     std::vector<InitEntry> init;             ///< presets
     std::vector<InstructionConfig> program;  ///< ordered instruction list
+    /// The program as the family's instruction list instead (docs/program-language.md); empty
+    /// when `program:` is a list of entries.
+    std::vector<ListingLineConfig> listing;
     /// The sections the profile reads itself (Family::sections), as written.
     std::vector<std::pair<std::string, Node>> sections;
     /// Those sections as the family read them at load (Family::read); null in a Config built

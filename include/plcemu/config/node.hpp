@@ -35,8 +35,11 @@ public:
     Kind kind = Kind::Undefined;  ///< what it is
     std::string text;             ///< the scalar, as written
     Position pos;                 ///< where it stands
-    std::vector<Node> items;      ///< a list's items
-    std::vector<Entry> entries;   ///< a mapping's keys and values, in file order
+    /// A scalar written in quotes (or as a block): its first character stands one column
+    /// after `pos`, which is the quote's.
+    bool quoted = false;
+    std::vector<Node> items;     ///< a list's items
+    std::vector<Entry> entries;  ///< a mapping's keys and values, in file order
 
     /// True unless the node is absent.
     explicit operator bool() const { return kind != Kind::Undefined; }

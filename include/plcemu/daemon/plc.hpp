@@ -6,6 +6,8 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
+#include <vector>
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/engine/engine.hpp"
@@ -33,6 +35,15 @@ image::Layout plc_layout(const config::Config& config);
 /// The config's program built with its profile's instruction table (throws config::ConfigError).
 /// With `operands`, its device operands are described there (the tag export).
 engine::Program build_program(const config::Config& config, engine::Tags* operands = nullptr);
+
+/// What is suspect in the config's program that still runs (a coil driven twice in an
+/// instruction list), each "file:line:col: message". Throws config::ConfigError as
+/// build_program does.
+std::vector<std::string> program_warnings(const config::Config& config);
+
+/// The config's program as --print-program shows it: one statement a line, its step number
+/// first (an instruction list as the family writes it; entries as their mnemonic and operands).
+std::string print_program(const config::Config& config);
 
 /// How the plant of a config starts: `plant:` with its per-channel overrides, each channel driven
 /// by its `drive` or else by the output the program declares for it.

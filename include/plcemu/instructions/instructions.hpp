@@ -85,6 +85,9 @@ struct BindContext {
     /// When set, every device operand that binds is added here with the entry's mnemonic, the
     /// operand's key and its position (the tag export); null while a PLC is built to run.
     engine::Tags* operands = nullptr;
+    /// In a program written as a listing, the result of the rung an instruction stands on: its
+    /// enable (`en`) is that result (plcemu/instructions/listing.hpp); null otherwise.
+    const bool* rung = nullptr;
 };
 
 /// Builds one instruction; throws BindError (at the operand's position).

@@ -22,6 +22,7 @@
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
 #include "plcemu/instructions/instructions.hpp"
+#include "plcemu/instructions/listing.hpp"
 #include "plcemu/modbus/address_map.hpp"
 #include "plcemu/modbus/dispatcher.hpp"
 
@@ -64,6 +65,9 @@ public:
 
     /// The mnemonics a program may use.
     virtual const instructions::Table& instructions() const = 0;
+    /// How the family's programming tool writes a program as an instruction list (its mnemonic
+    /// view), or null when the family has none (docs/program-language.md).
+    virtual const instructions::Dialect* listing() const { return nullptr; }
     /// What the family offers its instructions while they bind (measurement table, outputs
     /// the program may not drive). Throws config::ConfigError.
     virtual std::unique_ptr<instructions::Services> services(const config::Config& config) const;
@@ -87,6 +91,18 @@ public:
         return std::nullopt;
     }
 };
+
+/// An instruction of a config's program as the profiles' checks see it: its mnemonic (the
+/// instruction table's) and where it stands.
+struct ProgramInstruction {
+    std::string mnemonic;  ///< "MBUS", "TPSNS", …
+    config::Position pos;  ///< where
+};
+
+/// The function instructions of a config's program, whether written as entries or as the
+/// family's instruction list (read with the profile's dialect; a listing that cannot be read
+/// gives none: building the program reports it, at its line and column).
+std::vector<ProgramInstruction> program_instructions(const config::Config& config);
 
 /// The profile named `name`, or null.
 const Profile* find(std::string_view name);

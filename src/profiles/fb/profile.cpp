@@ -7,6 +7,7 @@
 #include "instructions/mov.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/fatek/layout.hpp"
+#include "profiles/fatek/listing.hpp"
 #include "profiles/fatek/naming.hpp"
 #include "profiles/fb/map.hpp"
 #include "profiles/fb/model.hpp"
@@ -61,7 +62,8 @@ public:
         const std::size_t before = r.errors_found();
         auto settings = read_settings(config, r);
         // The program against the modules: only once they read cleanly.
-        if (r.errors_found() == before) r.attempt([&] { check_temperature_program(config); });
+        if (r.errors_found() == before)
+            r.attempt([&] { check_temperature_program(program_instructions(config)); });
         return settings;
     }
 
@@ -75,8 +77,21 @@ public:
         return kTable;
     }
 
+    // WinProladder's mnemonic view, with the functions this profile has.
+    const instructions::Dialect* listing() const override {
+        static const instructions::Dialect kDialect = fatek::listing_dialect({
+            {"MOV", 8, {"s", "d"}, true},
+            {"TP4", 72, {}, false},
+            {"TSTC", 73, {}, false},
+            {"TPSNS", 85, {}, false},
+            {"TPCTL", 86, {}, false},
+        });
+        return &kDialect;
+    }
+
     std::unique_ptr<instructions::Services> services(const config::Config& config) const override {
         auto s = std::make_unique<Services>();
+        s->timers = fatek::timer_groups();
         s->modules = settings_of(config)->temperature.modules;
         return s;
     }

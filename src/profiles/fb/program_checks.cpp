@@ -8,11 +8,11 @@
 
 namespace plcemu::profiles::fb {
 
-void check_temperature_program(const config::Config& config) {
-    const config::InstructionConfig* slim = nullptr;   // the first TP4 or TSTC
-    const config::InstructionConfig* tpsns = nullptr;  // the first TPSNS
-    const config::InstructionConfig* tpctl = nullptr;  // the first TPCTL
-    for (const auto& e : config.program) {
+void check_temperature_program(const std::vector<ProgramInstruction>& program) {
+    const ProgramInstruction* slim = nullptr;   // the first TP4 or TSTC
+    const ProgramInstruction* tpsns = nullptr;  // the first TPSNS
+    const ProgramInstruction* tpctl = nullptr;  // the first TPCTL
+    for (const auto& e : program) {
         const bool measures_slim = e.mnemonic == "TP4" || e.mnemonic == "TSTC";
         if (e.mnemonic == "TPSNS" && tpsns != nullptr) {
             throw config::ConfigError(
@@ -22,7 +22,7 @@ void check_temperature_program(const config::Config& config) {
                     position_text(tpsns->pos));
         }
         // FB manual FUN73: the FB-2A…4 "cannot be used together with … FB-4AJ(K)xx".
-        const config::InstructionConfig* other =
+        const ProgramInstruction* other =
             measures_slim ? tpsns : (e.mnemonic == "TPSNS" ? slim : nullptr);
         if (other != nullptr) {
             throw config::ConfigError(

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "plcemu/instructions/instructions.hpp"
+#include "instructions/cnt.hpp"
+#include "instructions/tmr.hpp"
 #include "profiles/fb/contiguity.hpp"
 #include "profiles/fb/controlled_points.hpp"
 #include "profiles/fb/points.hpp"
@@ -17,7 +19,7 @@ namespace plcemu::profiles::fb {
 
 /// The FB services: the generic ones, the points 0–31 every measuring and controlling
 /// instruction of the program shares, and the chain of modules (empty: what the program says).
-struct Services : instructions::Services {
+struct Services : instructions::TimerServices, instructions::CounterServices {
     std::shared_ptr<Points> points = std::make_shared<Points>();  ///< shared by the program
     std::vector<TemperatureModule> modules;                       ///< `temperature.modules`
     /// The TP4s and TSTCs bound so far, for the contiguous-TR rule.

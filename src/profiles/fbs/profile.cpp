@@ -5,6 +5,7 @@
 #include "instructions/mov.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/fatek/layout.hpp"
+#include "profiles/fatek/listing.hpp"
 #include "profiles/fatek/naming.hpp"
 #include "profiles/fbs/map.hpp"
 #include "profiles/fbs/model.hpp"
@@ -60,8 +61,18 @@ public:
         return kTable;
     }
 
+    // WinProladder's mnemonic view, with the functions this profile has.
+    const instructions::Dialect* listing() const override {
+        static const instructions::Dialect kDialect = fatek::listing_dialect({
+            {"MOV", 8, {"s", "d"}, true},
+            {"TPCTL", 86, {}, false},
+        });
+        return &kDialect;
+    }
+
     std::unique_ptr<instructions::Services> services(const config::Config& config) const override {
         auto s = std::make_unique<Services>();
+        s->timers = fatek::timer_groups();
         s->temperature_table = settings_of(config)->temperature.table;
         if (const auto own = temperature::module_outputs(config)) {
             s->reserved_outputs.emplace_back(

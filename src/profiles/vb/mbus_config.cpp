@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "plcemu/profiles/profile.hpp"
+
 namespace plcemu::profiles::vb {
 
 namespace {
@@ -68,7 +70,7 @@ config::TcpEndpoint route(const Reader& r, const Node& n) {
 }
 
 bool has_mbus(const config::Config& c, config::Position& where) {
-    for (const auto& ic : c.program) {
+    for (const auto& ic : profiles::program_instructions(c)) {
         if (ic.mnemonic == "MBUS") {
             where = ic.pos;
             return true;

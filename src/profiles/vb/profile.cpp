@@ -15,6 +15,7 @@
 #include "instructions/wor.hpp"
 #include "plcemu/profiles/profile.hpp"
 #include "profiles/vb/hour.hpp"
+#include "profiles/vb/listing.hpp"
 #include "profiles/vb/map.hpp"
 #include "profiles/vb/mbus.hpp"
 #include "profiles/vb/model.hpp"
@@ -119,6 +120,8 @@ public:
         };
         return kTable;
     }
+
+    const instructions::Dialect* listing() const override { return &listing_dialect(); }
 
     std::unique_ptr<instructions::Services> services(const config::Config& config) const override {
         auto s = std::make_unique<Services>();

@@ -1,0 +1,277 @@
+// Reading a listing into statements, and writing them back (plcemu/instructions/listing.hpp).
+
+#include <cctype>
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "plcemu/image/excerpt.hpp"
+#include "plcemu/instructions/listing.hpp"
+
+namespace plcemu::instructions {
+
+namespace {
+
+// A word of a line and where it stands.
+struct Word {
+    std::string text;
+    Where where;
+};
+
+std::string upper(std::string_view s) {
+    std::string u(s);
+    for (char& c : u) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return u;
+}
+
+std::string lower(std::string_view s) {
+    std::string u(s);
+    for (char& c : u) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return u;
+}
+
+bool digits(std::string_view s) {
+    if (s.empty()) return false;
+    for (const char c : s) {
+        if (c < '0' || c > '9') return false;
+    }
+    return true;
+}
+
+// The words of a line: separated by blanks or commas, up to a `;` or `//` comment. A `:`
+// ends a word and stays with it ("S:" "R0", "S:R0" → "S:" "R0").
+std::vector<Word> words_of(const ListingLine& line) {
+    std::vector<Word> out;
+    const std::string& t = line.text;
+    std::size_t i = 0;
+    while (i < t.size()) {
+        const char c = t[i];
+        if (c == ';' || (c == '/' && i + 1 < t.size() && t[i + 1] == '/')) break;
+        if (c == ' ' || c == '\t' || c == ',' || c == '\r') {
+            ++i;
+            continue;
+        }
+        const std::size_t start = i;
+        while (i < t.size() && t[i] != ' ' && t[i] != '\t' && t[i] != ',' && t[i] != ';' &&
+               t[i] != '\r' && t[i] != ':') {
+            ++i;
+        }
+        if (i < t.size() && t[i] == ':') ++i;
+        Where w = line.where;
+        w.column += static_cast<int>(start);
+        out.push_back({t.substr(start, i - start), w});
+    }
+    return out;
+}
+
+bool is_key(const Word& w) { return w.text.size() > 1 && w.text.back() == ':'; }
+
+// `key:` words and the value after each; bare words stay in order.
+void read_operands(std::vector<Word>::const_iterator it,
+                   std::vector<Word>::const_iterator end,
+                   Statement& s) {
+    while (it != end) {
+        if (is_key(*it)) {
+            const std::string key =
+                lower(std::string_view(it->text).substr(0, it->text.size() - 1));
+            const Where kw = it->where;
+            ++it;
+            if (it == end || is_key(*it)) {
+                throw BindError(
+                    kw, s.mnemonic + ": operand '" + image::excerpt(key) + "' has no value");
+            }
+            for (const auto& [k, v] : s.named) {
+                if (k == key)
+                    throw BindError(
+                        kw, s.mnemonic + ": duplicate operand '" + image::excerpt(key) + "'");
+            }
+            s.named.emplace_back(key, Operand{it->text, it->where});
+        } else {
+            if (!s.named.empty()) {
+                throw BindError(it->where, s.mnemonic + ": operand '" + image::excerpt(it->text) +
+                                               "' after named operands needs its name");
+            }
+            s.operands.push_back({it->text, it->where});
+        }
+        ++it;
+    }
+}
+
+// A function instruction written by name (MOV, MOVP), if the dialect knows it.
+const FunctionSpelling* by_name(const Dialect& d, std::string_view word, bool& pulse) {
+    for (const auto& f : d.functions) {
+        if (word == f.name) {
+            pulse = false;
+            return &f;
+        }
+        if (f.pulse && word.size() == f.name.size() + 1 &&
+            word.substr(0, f.name.size()) == f.name && word.back() == 'P') {
+            pulse = true;
+            return &f;
+        }
+    }
+    return nullptr;
+}
+
+const FunctionSpelling* by_number(const Dialect& d, int n) {
+    for (const auto& f : d.functions) {
+        if (f.number == n) return &f;
+    }
+    return nullptr;
+}
+
+// Reads the function a statement names from `it` on ("FUN 86 TPCTL", "FUN86", "FNC12 MOVP",
+// "MOV"); returns false when the words do not start a function.
+bool read_function(const Dialect& d,
+                   std::vector<Word>::const_iterator& it,
+                   std::vector<Word>::const_iterator end,
+                   Statement& s) {
+    const std::string first = upper(it->text);
+    const std::string prefix = upper(d.function_prefix);
+    bool pulse = false;
+    // As the ladder box shows it: "86.TPCTL", "8P.MOV".
+    if (const auto dot = first.find('.'); d.box_labels && dot != std::string::npos && dot > 0) {
+        std::string number = first.substr(0, dot);
+        if (number.back() == 'P') {
+            pulse = true;
+            number.pop_back();
+        }
+        bool named_pulse = false;
+        const FunctionSpelling* f = by_name(d, first.substr(dot + 1), named_pulse);
+        if (digits(number) && number.size() <= 4 && f != nullptr &&
+            f->number == std::stoi(number) && (!pulse || f->pulse)) {
+            s.where = it->where;
+            s.function = f;
+            s.pulse = pulse || named_pulse;
+            s.mnemonic = std::string(f->name) + (s.pulse ? "P" : "");
+            ++it;
+            return true;
+        }
+        throw BindError(it->where, "'" + image::excerpt(it->text) + "': not a function of " +
+                                       std::string(d.tool) + " here");
+    }
+    if (!prefix.empty() && first.compare(0, prefix.size(), prefix) == 0) {
+        std::string rest = first.substr(prefix.size());
+        auto next = it + 1;
+        if (rest.empty() && next != end &&
+            digits(std::string_view(next->text)
+                       .substr(0, next->text.find_first_not_of("0123456789")))) {
+            rest = upper(next->text);
+            ++next;
+        } else if (rest.empty()) {
+            throw BindError(it->where, prefix + ": expected the function's number after it");
+        }
+        std::string number = rest;
+        if (!number.empty() && number.back() == 'P') {
+            pulse = true;
+            number.pop_back();
+        }
+        if (!digits(number) || number.size() > 4) {
+            throw BindError(it->where, "'" + image::excerpt(it->text) + "': expected " + prefix +
+                                           " and a function number");
+        }
+        const FunctionSpelling* f = by_number(d, std::stoi(number));
+        if (f == nullptr) {
+            std::string known;
+            for (const auto& g : d.functions) {
+                if (g.number < 0) continue;
+                known += (known.empty() ? "" : ", ") + prefix + std::to_string(g.number) + " " +
+                         std::string(g.name);
+            }
+            throw BindError(it->where, prefix + " " + number + ": no such function in " +
+                                           std::string(d.tool) + " here (known: " + known + ")");
+        }
+        if (pulse && !f->pulse) {
+            throw BindError(it->where, std::string(f->name) + " has no pulse form");
+        }
+        s.where = it->where;
+        // The name may follow the number, and must then be this function's.
+        if (next != end && !is_key(*next)) {
+            bool named_pulse = false;
+            const std::string n = upper(next->text);
+            if (by_name(d, n, named_pulse) == f) {
+                pulse = pulse || named_pulse;
+                ++next;
+            } else if (!n.empty() && std::isalpha(static_cast<unsigned char>(n[0])) &&
+                       n.find_first_of("0123456789") == std::string::npos) {
+                throw BindError(next->where, prefix + std::to_string(f->number) + " is " +
+                                                 std::string(f->name) + ", not '" +
+                                                 image::excerpt(next->text) + "'");
+            }
+        }
+        s.function = f;
+        s.pulse = pulse;
+        s.mnemonic = std::string(f->name) + (pulse ? "P" : "");
+        it = next;
+        return true;
+    }
+    const FunctionSpelling* f = by_name(d, first, pulse);
+    if (f == nullptr) return false;
+    s.where = it->where;
+    s.function = f;
+    s.pulse = pulse;
+    s.mnemonic = first;
+    ++it;
+    return true;
+}
+
+}  // namespace
+
+std::vector<Statement> read_listing(const std::vector<ListingLine>& lines, const Dialect& dialect) {
+    std::vector<Statement> out;
+    for (const auto& line : lines) {
+        const std::vector<Word> words = words_of(line);
+        if (words.empty()) continue;
+        auto it = words.begin();
+        // A line of operands only continues the function above it (the mnemonic view lists a
+        // function's operands below it).
+        if (is_key(*it)) {
+            if (out.empty() || out.back().function == nullptr) {
+                throw BindError(it->where, "operand '" + image::excerpt(it->text) +
+                                               "' without a function instruction above it");
+            }
+            read_operands(it, words.end(), out.back());
+            continue;
+        }
+        if (digits(it->text)) ++it;  // a step number, as --print-program writes it
+        if (it == words.end()) continue;
+        Statement s;
+        s.step = static_cast<int>(out.size()) + 1;
+        if (!read_function(dialect, it, words.end(), s)) {
+            // The longest spelling first: "LD NOT" before "LD", "OUT NOT" before "OUT".
+            const std::string one = upper(it->text);
+            const std::string two = it + 1 != words.end() ? one + " " + upper((it + 1)->text) : "";
+            auto found = dialect.words.end();
+            if (!two.empty()) found = dialect.words.find(two);
+            const bool pair = found != dialect.words.end();
+            if (!pair) found = dialect.words.find(one);
+            if (found == dialect.words.end()) {
+                throw BindError(it->where, "unknown instruction '" + image::excerpt(it->text) +
+                                               "' (not in " + std::string(dialect.tool) + ")");
+            }
+            s.where = it->where;
+            s.mnemonic = found->first;
+            s.spelling = found->second;
+            it += pair ? 2 : 1;
+        }
+        read_operands(it, words.end(), s);
+        out.push_back(std::move(s));
+    }
+    return out;
+}
+
+std::string format_listing(const std::vector<Statement>& statements) {
+    std::string out;
+    for (const auto& s : statements) {
+        std::string step = std::to_string(s.step);
+        if (step.size() < 4) step.insert(0, 4 - step.size(), '0');
+        std::string line = step + "  " + s.mnemonic;
+        for (const auto& o : s.operands) line += " " + o.text;
+        for (const auto& [k, v] : s.named) line += " " + upper(k) + ":" + v.text;
+        out += line + "\n";
+    }
+    return out;
+}
+
+}  // namespace plcemu::instructions

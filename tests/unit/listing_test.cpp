@@ -1,0 +1,444 @@
+// Programs written as the family's instruction list (docs/program-language.md): each mnemonic
+// of WinProladder's mnemonic view (fbs, fb) and of the VB's FX-style list, the blocks and the
+// branch stack, edges per scan, timers and counters, function instructions taking their enable
+// from the rung, and the refusals, each at file:line:col naming the mnemonic.
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "plcemu/config/config.hpp"
+#include "plcemu/daemon/plc.hpp"
+#include "support/listing_plc.hpp"
+
+namespace plcemu::instructions {
+namespace {
+
+using image::Area;
+using testing::expect_listing_error;
+using testing::ListingPlc;
+
+// X0 … X3 as a truth table's inputs.
+void inputs(ListingPlc& p, std::initializer_list<bool> xs) {
+    std::uint32_t i = 0;
+    for (const bool x : xs) p.set(Area::X, i++, x);
+}
+
+// ---- fbs / fb: WinProladder's mnemonic view ----
+
+TEST(FatekListing, SealInRungLatchesAndDropsOut) {
+    // Start X0, stop X1 (normally closed in the rung), Y0 holds itself.
+    ListingPlc p("fbs", {"ORG X0", "OR Y0", "AND NOT X1", "OUT Y0"});
+    p.scan();
+    EXPECT_FALSE(p.y(0));
+    inputs(p, {true, false});
+    p.scan();
+    EXPECT_TRUE(p.y(0));
+    inputs(p, {false, false});
+    p.scan();
+    EXPECT_TRUE(p.y(0));  // sealed in
+    inputs(p, {false, true});
+    p.scan();
+    EXPECT_FALSE(p.y(0));
+    inputs(p, {false, false});
+    p.scan();
+    EXPECT_FALSE(p.y(0));
+}
+
+TEST(FatekListing, BlocksJoinWithAndldAndOrld) {
+    // Y0 = (X0 OR X1) AND (X2 OR X3); Y1 = (X0 AND X1) OR (X2 AND X3).
+    ListingPlc p("fbs", {"ORG X0", "OR X1", "LD X2", "OR X3", "ANDLD", "OUT Y0",  //
+                         "ORG X0", "AND X1", "LD X2", "AND X3", "ORLD", "OUT Y1"});
+    for (int v = 0; v < 16; ++v) {
+        const bool x0 = v & 1, x1 = v & 2, x2 = v & 4, x3 = v & 8;
+        inputs(p, {x0, x1, x2, x3});
+        p.scan();
+        EXPECT_EQ(p.y(0), (x0 || x1) && (x2 || x3)) << v;
+        EXPECT_EQ(p.y(1), (x0 && x1) || (x2 && x3)) << v;
+    }
+}
+
+TEST(FatekListing, EdgesLastOneScan) {
+    ListingPlc p(
+        "fbs", {"ORG TU X0", "OUT M10", "ORG TD X0", "OUT M11", "ORG X1", "AND TU X0", "OUT M12"});
+    p.scan();
+    EXPECT_FALSE(p.m(10));
+    inputs(p, {true, true});
+    p.scan();
+    EXPECT_TRUE(p.m(10));
+    EXPECT_FALSE(p.m(11));
+    EXPECT_TRUE(p.m(12));
+    p.scan();
+    EXPECT_FALSE(p.m(10));  // still ON: no new edge
+    EXPECT_FALSE(p.m(12));
+    inputs(p, {false, true});
+    p.scan();
+    EXPECT_FALSE(p.m(10));
+    EXPECT_TRUE(p.m(11));
+    p.scan();
+    EXPECT_FALSE(p.m(11));
+}
+
+TEST(FatekListing, OutNotSetRstAndNot) {
+    ListingPlc p("fbs", {"ORG X0", "OUT NOT Y0", "ORG X1", "SET M5", "ORG X2", "RST M5", "ORG X0",
+                         "NOT", "OUT Y1"});
+    p.scan();
+    EXPECT_TRUE(p.y(0));
+    EXPECT_TRUE(p.y(1));
+    inputs(p, {true, true});
+    p.scan();
+    EXPECT_FALSE(p.y(0));
+    EXPECT_FALSE(p.y(1));
+    EXPECT_TRUE(p.m(5));
+    inputs(p, {false, false});
+    p.scan();
+    EXPECT_TRUE(p.m(5));  // SET holds
+    inputs(p, {false, false, true});
+    p.scan();
+    EXPECT_FALSE(p.m(5));
+}
+
+TEST(FatekListing, TemporaryRelaysKeepABranchPoint) {
+    // X0 ─┬─ X1 ── Y0
+    //     └─ X2 ── Y1
+    ListingPlc p("fbs", {"ORG X0", "OUT TR0", "AND X1", "OUT Y0", "LD TR0", "AND X2", "OUT Y1"});
+    inputs(p, {true, false, true});
+    p.scan();
+    EXPECT_FALSE(p.y(0));
+    EXPECT_TRUE(p.y(1));
+    inputs(p, {false, true, true});
+    p.scan();
+    EXPECT_FALSE(p.y(0));
+    EXPECT_FALSE(p.y(1));
+}
+
+TEST(FatekListing, TimerCountsInItsTimeBase) {
+    // T0–T49 count 0.01 s: PV 50 is 0.5 s, 50 scans of 10 ms. T50 counts 0.1 s.
+    ListingPlc p("fbs", {"ORG X0", "TMR T0 50", "ORG X0", "TMR T50 PV:5", "ORG T0", "OUT Y0"});
+    inputs(p, {true});
+    p.scan(49);
+    EXPECT_FALSE(p.y(0));
+    EXPECT_EQ(p.word(Area::TV, 0), 49);
+    p.scan();
+    EXPECT_TRUE(p.y(0));
+    EXPECT_TRUE(p.bit(Area::T, 50));
+    EXPECT_EQ(p.word(Area::TV, 50), 5);
+    inputs(p, {false});
+    p.scan();
+    EXPECT_FALSE(p.y(0));  // the rung OFF resets the timer
+    EXPECT_EQ(p.word(Area::TV, 0), 0);
+}
+
+TEST(FatekListing, CounterCountsRisingEdgesAndRstClearsIt) {
+    ListingPlc p("fbs", {"ORG X0", "CTR C0 3", "ORG X1", "RST C0", "ORG C0", "OUT Y0"});
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_FALSE(p.y(0)) << i;
+        inputs(p, {true});
+        p.scan();
+        inputs(p, {false});
+        p.scan();
+    }
+    EXPECT_TRUE(p.y(0));
+    EXPECT_EQ(p.word(Area::CV, 0), 3);
+    inputs(p, {false, true});
+    p.scan();
+    EXPECT_EQ(p.word(Area::CV, 0), 0);
+    EXPECT_FALSE(p.bit(Area::C, 0));
+}
+
+TEST(FatekListing, FunctionTakesItsEnableFromTheRung) {
+    // FUN8 MOV written three ways, and its pulse form.
+    ListingPlc p("fbs", {"ORG X0", "AND X1", "FUN8 MOV S:R0 D:R10", "ORG X0", "FUN 8 MOV",
+                         "  S: R1", "  D: R11", "ORG X0", "8.MOV S:R2 D:R12", "ORG X0",
+                         "FUN8P MOV S:R13 D:R13", "ORG X0", "MOVP S:R20 D:R14"});
+    p.set_r(0, 7);
+    p.set_r(1, 8);
+    p.set_r(2, 9);
+    p.set_r(20, 1);
+    p.scan();
+    EXPECT_EQ(p.r(10), 0);
+    EXPECT_EQ(p.r(11), 0);
+    inputs(p, {true});
+    p.scan();
+    EXPECT_EQ(p.r(10), 0);  // X1 OFF
+    EXPECT_EQ(p.r(11), 8);
+    EXPECT_EQ(p.r(12), 9);
+    EXPECT_EQ(p.r(14), 1);
+    p.set_r(20, 2);
+    p.scan();
+    EXPECT_EQ(p.r(14), 1);  // the pulse form moved once, at the rising edge
+    inputs(p, {true, true});
+    p.scan();
+    EXPECT_EQ(p.r(10), 7);
+}
+
+TEST(FatekListing, StepNumbersOfPrintProgramReadBack) {
+    const std::vector<std::string> lines = {
+        "ORG X0   ; start",    "OR Y0", "AND NOT X1", "OUT Y0", "ORG M1926",
+        "FUN 8 MOV S:R0 D:R1", "END"};
+    const auto cfg = config::parse_config(testing::listing_config("fbs", lines), "il.yaml");
+    const std::string printed = daemon::print_program(cfg);
+    EXPECT_EQ(printed,
+              "0001  ORG X0\n0002  OR Y0\n0003  AND NOT X1\n0004  OUT Y0\n0005  ORG M1926\n"
+              "0006  MOV S:R0 D:R1\n0007  END\n");
+    // What it prints is a program too, and the same one.
+    std::vector<std::string> again;
+    std::size_t at = 0;
+    while (at < printed.size()) {
+        const auto end = printed.find('\n', at);
+        again.push_back(printed.substr(at, end - at));
+        at = end + 1;
+    }
+    const auto cfg2 = config::parse_config(testing::listing_config("fbs", again), "il.yaml");
+    EXPECT_EQ(daemon::print_program(cfg2), printed);
+}
+
+TEST(FatekListing, RefusalsNameLineColumnAndMnemonic) {
+    expect_listing_error("fbs", {"LD X0", "OUT Y0"}, 1, 8,
+                         "LD: no network is open (a network starts with ORG)");
+    expect_listing_error("fbs", {"ORG X0", "LD X1", "OUT Y0"}, 3, 8,
+                         "OUT: 1 block opened by LD not joined (ANDLD, ORLD)");
+    expect_listing_error("fbs", {"ORG X0", "ANDLD"}, 2, 8, "ANDLD: no block opened by LD");
+    expect_listing_error("fbs", {"ORG X0", "ORG X1", "OUT Y0"}, 2, 8,
+                         "ORG: the rung before (from il.yaml:4:8) has no output");
+    expect_listing_error("fbs", {"ORG X0"}, 1, 8, "the rung from here has no output");
+    expect_listing_error("fbs", {"ORG X0", "FOO Y0"}, 2, 8,
+                         "unknown instruction 'FOO' (not in WinProladder's mnemonic view)");
+    expect_listing_error("fbs", {"ORG X0", "FUN 99"}, 2, 8, "FUN 99: no such function");
+    expect_listing_error("fbs", {"ORG X0", "FUN8 MOV S:R0 D:R1 EN:M0"}, 2, 30,
+                         "MOV: EN is the rung's result; leave `en` out");
+    expect_listing_error("fbs", {"ORG X0", "MOV S:R0 D:Q1"}, 2, 19, "MOV.d");
+    expect_listing_error("fbs", {"ORG D0", "OUT Y0"}, 1, 12, "ORG.s");
+    expect_listing_error("fbs", {"ORG X0", "OUT X1"}, 2, 12, "OUT.d: expected a Y, M or S");
+    expect_listing_error("fbs", {"ORG X0", "OUT TR40"}, 2, 12, "OUT: TR40: there are 40");
+    expect_listing_error("fbs", {"ORG X0", "TMR T0"}, 2, 8, "TMR: expected 2 operands (t k)");
+    expect_listing_error("fbs", {"ORG X0", "OUT Y0", "END", "ORG X1"}, 4, 8, "ORG: after END");
+    expect_listing_error("fbs", {"  S: R0"}, 1, 10, "without a function instruction above it");
+    // The vb's spellings are not WinProladder's.
+    expect_listing_error("fbs", {"LDI X0"}, 1, 8, "unknown instruction 'LDI'");
+}
+
+TEST(FatekListing, DoubleCoilIsAWarningNotARefusal) {
+    const auto cfg = config::parse_config(
+        testing::listing_config("fbs",
+                                {"ORG X0", "OUT Y0", "ORG X1", "OUT Y0", "ORG X2", "SET Y0"}),
+        "il.yaml");
+    const auto w = daemon::program_warnings(cfg);
+    ASSERT_EQ(w.size(), 1U);
+    EXPECT_EQ(w[0],
+              "il.yaml:7:8: OUT: double coil: Y0 is driven at il.yaml:5:8 too; the last one in "
+              "the scan wins");
+    ListingPlc p("fbs", {"ORG X0", "OUT Y0", "ORG X1", "OUT Y0"});
+    inputs(p, {true, false});
+    p.scan();
+    EXPECT_FALSE(p.y(0));  // the last OUT wins, as on the PLC
+}
+
+TEST(FatekListing, FbHasItsOwnFunctions) {
+    ListingPlc p("fb", {"ORG X0", "FUN8 MOV S:K5 D:R0"});
+    inputs(p, {true});
+    p.scan();
+    EXPECT_EQ(p.r(0), 5);
+    // FB manual FUN86: a TPCTL needs the FUN85 TPSNS, in a listing as in entries.
+    expect_listing_error("fb", {"ORG X0", "FUN86 TPCTL"}, 2, 8, "TPCTL needs a TPSNS");
+    // TPCTL is FUN86 in both; TP4 is the fb's alone.
+    expect_listing_error("fbs", {"ORG X0", "FUN72 TP4"}, 2, 8, "FUN 72: no such function");
+}
+
+// ---- vb: the FX family's instruction list ----
+
+TEST(VbListing, ContactsAndBlocks) {
+    // Y0 = (X0 AND NOT X1) OR (X2 AND X3); Y1 = NOT X0 OR NOT X1.
+    ListingPlc p("vb", {"LD X0", "ANI X1", "LD X2", "AND X3", "ORB", "OUT Y0",  //
+                        "LDI X0", "ORI X1", "OUT Y1",                           //
+                        "LD X0", "OR X1", "LD X2", "OR X3", "ANB", "OUT Y2"});
+    for (int v = 0; v < 16; ++v) {
+        const bool x0 = v & 1, x1 = v & 2, x2 = v & 4, x3 = v & 8;
+        inputs(p, {x0, x1, x2, x3});
+        p.scan();
+        EXPECT_EQ(p.y(0), (x0 && !x1) || (x2 && x3)) << v;
+        EXPECT_EQ(p.y(1), !x0 || !x1) << v;
+        EXPECT_EQ(p.y(2), (x0 || x1) && (x2 || x3)) << v;
+    }
+}
+
+TEST(VbListing, BranchStackMpsMrdMpp) {
+    // X0 ─┬─ X1 ── Y0
+    //     ├─ X2 ── Y1
+    //     └─ X3 ── Y2
+    ListingPlc p("vb", {"LD X0", "MPS", "AND X1", "OUT Y0", "MRD", "AND X2", "OUT Y1", "MPP",
+                        "AND X3", "OUT Y2"});
+    for (int v = 0; v < 16; ++v) {
+        const bool x0 = v & 1, x1 = v & 2, x2 = v & 4, x3 = v & 8;
+        inputs(p, {x0, x1, x2, x3});
+        p.scan();
+        EXPECT_EQ(p.y(0), x0 && x1) << v;
+        EXPECT_EQ(p.y(1), x0 && x2) << v;
+        EXPECT_EQ(p.y(2), x0 && x3) << v;
+    }
+}
+
+TEST(VbListing, EdgeContactsAndPulses) {
+    ListingPlc p("vb", {"LDP X0", "OUT M0", "LDF X0", "OUT M1", "LD X1", "ANDP X0", "OUT M2",
+                        "LD X1", "ORF X0", "OUT M3", "LD X0", "PLS M4", "LD X0", "PLF M5"});
+    inputs(p, {true, false});
+    p.scan();  // an input already ON in the first scan is an edge (FX)
+    EXPECT_TRUE(p.m(0));
+    EXPECT_TRUE(p.m(4));
+    EXPECT_FALSE(p.m(1));
+    p.scan();
+    EXPECT_FALSE(p.m(0));
+    EXPECT_FALSE(p.m(4));
+    inputs(p, {false, false});
+    p.scan();
+    EXPECT_TRUE(p.m(1));
+    EXPECT_TRUE(p.m(3));
+    EXPECT_TRUE(p.m(5));
+    p.scan();
+    EXPECT_FALSE(p.m(1));
+    EXPECT_FALSE(p.m(5));
+    inputs(p, {true, true});
+    p.scan();
+    EXPECT_TRUE(p.m(2));
+}
+
+TEST(VbListing, TimersAndCountersAsOutWithK) {
+    // T0 counts 100 ms (FX2N): K5 is 0.5 s, 50 scans of 10 ms.
+    ListingPlc p("vb", {"LD X0", "OUT T0 K5", "LD T0", "OUT Y0", "LD X1", "OUT C0 K2", "LD C0",
+                        "OUT Y1", "LD X2", "RST C0"});
+    inputs(p, {true});
+    p.scan(49);
+    EXPECT_FALSE(p.y(0));
+    p.scan();
+    EXPECT_TRUE(p.y(0));
+    for (int i = 0; i < 2; ++i) {
+        inputs(p, {true, true});
+        p.scan();
+        inputs(p, {true, false});
+        p.scan();
+    }
+    EXPECT_TRUE(p.y(1));
+    inputs(p, {true, false, true});
+    p.scan();
+    p.scan();
+    EXPECT_FALSE(p.y(1));
+}
+
+TEST(VbListing, MasterControlHoldsItsRungsOff) {
+    // Between MC N0 and MCR N0: an OUT turns off, a timer resets, a SET keeps.
+    ListingPlc p("vb", {"LD X0", "MC N0 M100", "LD X1", "OUT Y0", "LD X1", "SET Y1", "LD X1",
+                        "OUT T0 K100", "LDI X2", "OUT Y3", "MCR N0", "LD X1", "OUT Y2"});
+    inputs(p, {true, true});
+    p.scan(3);
+    EXPECT_TRUE(p.m(100));
+    EXPECT_TRUE(p.y(0));
+    EXPECT_TRUE(p.y(1));
+    EXPECT_TRUE(p.y(3));
+    EXPECT_EQ(p.word(Area::TV, 0), 0);  // 30 ms: no whole 100 ms yet
+    p.scan(10);
+    EXPECT_EQ(p.word(Area::TV, 0), 1);
+    inputs(p, {false, true});
+    p.scan();
+    EXPECT_FALSE(p.m(100));
+    EXPECT_FALSE(p.y(0));
+    EXPECT_TRUE(p.y(1));
+    EXPECT_FALSE(p.y(3));  // LDI of an OFF input: still held OFF
+    EXPECT_EQ(p.word(Area::TV, 0), 0);
+    EXPECT_TRUE(p.y(2));  // after MCR the rungs run again
+}
+
+TEST(VbListing, InvertCompareContactsAndEnd) {
+    ListingPlc p("vb", {"LD X0", "INV", "OUT Y0", "LD< D0 K10", "OUT Y1", "LD X1", "AND<> D1 D2",
+                        "OUT Y2", "LD>= D0 K-5", "OR= D1 K3", "OUT Y3", "END"});
+    p.set_word(Area::D, 0, static_cast<std::uint16_t>(-6));
+    p.set_word(Area::D, 1, 3);
+    p.set_word(Area::D, 2, 3);
+    inputs(p, {false, true});
+    p.scan();
+    EXPECT_TRUE(p.y(0));
+    EXPECT_TRUE(p.y(1));   // −6 < 10, signed
+    EXPECT_FALSE(p.y(2));  // D1 = D2
+    EXPECT_TRUE(p.y(3));   // −6 ≥ −5 is false, D1 = 3
+    p.set_word(Area::D, 2, 4);
+    p.set_word(Area::D, 1, 4);
+    p.set_word(Area::D, 0, 20);
+    p.scan();
+    EXPECT_FALSE(p.y(1));
+    EXPECT_FALSE(p.y(2));
+    EXPECT_TRUE(p.y(3));
+}
+
+TEST(VbListing, AppliedInstructionsByNameNumberAndPulse) {
+    ListingPlc p("vb", {"LD X0", "MOV K7 D0", "LD X0", "FNC12 K8 D1", "LD X0", "MOVP D10 D2",
+                        "LD X0", "FNC 12P D10 D3", "LD X0", "WOR D0 D1 D4"});
+    p.set_word(Area::D, 10, 1);
+    inputs(p, {true});
+    p.scan();
+    EXPECT_EQ(p.d(0), 7);
+    EXPECT_EQ(p.d(1), 8);
+    EXPECT_EQ(p.d(2), 1);
+    EXPECT_EQ(p.d(3), 1);
+    EXPECT_EQ(p.d(4), 15);
+    p.set_word(Area::D, 10, 2);
+    p.scan();
+    EXPECT_EQ(p.d(2), 1);  // pulse forms: once per rising edge
+    EXPECT_EQ(p.d(3), 1);
+}
+
+TEST(VbListing, CmpPulseFormComparesOncePerRisingEdge) {
+    ListingPlc p("vb", {"LD X0", "CMPP D0 D1 Y0"});
+    p.set(Area::X, 0, true);
+    p.set_word(Area::D, 0, 2);
+    p.scan();
+    EXPECT_TRUE(p.y(0));
+    p.set_word(Area::D, 1, 5);
+    p.scan();
+    EXPECT_TRUE(p.y(0));  // no new edge: not compared again
+    p.set(Area::X, 0, false);
+    p.scan();
+    p.set(Area::X, 0, true);
+    p.scan();
+    EXPECT_FALSE(p.y(0));
+    EXPECT_TRUE(p.y(2));
+}
+
+TEST(VbListing, RefusalsNameLineColumnAndMnemonic) {
+    expect_listing_error("vb", {"LD X0", "MPS", "OUT Y0", "LD X1", "OUT Y1"}, 4, 8,
+                         "LD: a new rung starts with 1 result(s) left on the branch stack");
+    expect_listing_error("vb", {"LD X0", "MRD"}, 2, 8, "MRD: the branch stack is empty");
+    expect_listing_error("vb", {"LD X0", "MC N1 M0", "LD X1", "MC N0 M1"}, 4, 11,
+                         "MC: N0 inside N1");
+    expect_listing_error("vb", {"LD X0", "MC N0 M0", "LD X1", "OUT Y0"}, 2, 8, "MC N0 has no MCR");
+    expect_listing_error("vb", {"MCR N2"}, 1, 12, "MCR: no MC N2 is open");
+    expect_listing_error("vb", {"LD X0", "MC N9 M0"}, 2, 11, "expected a nesting level N0");
+    expect_listing_error("vb", {"LD X8", "OUT Y0"}, 1, 11, "LD.s");  // X counts in octal
+    expect_listing_error("vb", {"LD X0", "MOV K1 D0 D1"}, 2, 18,
+                         "MOV: takes 2 operands (s d) written in order");
+    expect_listing_error("vb", {"LD X0", "PIDP D0 D1 D2 D3"}, 2, 8, "unknown instruction 'PIDP'");
+    expect_listing_error("vb", {"LD X0", "ORG X1"}, 2, 8, "unknown instruction 'ORG'");
+    expect_listing_error("vb", {"LD X0", "OUT T0"}, 2, 8, "OUT: T0 needs its preset (OUT T0 K10)");
+    // The profile's checks of the program see a listing's instructions too.
+    expect_listing_error("vb", {"LD M0", "MBUS D1000 D100"}, 2, 8,
+                         "MBUS: the program polls slaves, but the config has no mbus: section");
+}
+
+TEST(Listing, AProgramIsEntriesOrAListingNotBoth) {
+    testing::expect_config_error(
+        testing::config_failure([] {
+            config::parse_config("profile: fbs\nprogram: {file: a.il, il: ['ORG X0']}\n", "p.yaml");
+        }),
+        "p.yaml", 2, 10, "program: expected either 'file'");
+    testing::expect_config_error(
+        testing::config_failure([] {
+            config::parse_config("profile: fbs\nprogram: {file: /nonexistent/a.il}\n", "p.yaml");
+        }),
+        "p.yaml", 2, 17, "program.file: cannot open the program file /nonexistent/a.il");
+    testing::expect_config_error(
+        testing::config_failure(
+            [] { config::parse_config("profile: fbs\nprogram: {il: 'ORG X0'}\n", "p.yaml"); }),
+        "p.yaml", 2, 15, "program.il: expected a list of lines");
+}
+
+}  // namespace
+}  // namespace plcemu::instructions
