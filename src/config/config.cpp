@@ -255,6 +255,9 @@ void read_init(const Reader& r, const Node& n, std::vector<InitEntry>& init) {
     }
 }
 
+// The most lines a program file may have (docs/program-language.md).
+constexpr int kMaxListingLines = 400'000;
+
 // The lines of a program file: each with its file, line and column 1.
 void read_listing_file(const Reader& r, const Node& file, std::vector<ListingLineConfig>& listing) {
     const std::string name = r.scalar(file, "program.file");
@@ -275,6 +278,11 @@ void read_listing_file(const Reader& r, const Node& file, std::vector<ListingLin
         std::size_t end = text.find('\n', start);
         if (end == std::string::npos) end = text.size();
         if (end > start || end < text.size()) {
+            // Room for the most statements a program holds, with comments and operand lines.
+            if (line > kMaxListingLines) {
+                r.fail(file, "program.file: " + path + " has more than " +
+                                 std::to_string(kMaxListingLines) + " lines; refused");
+            }
             listing.push_back({text.substr(start, end - start), {path, line, 1}});
         }
         if (end == text.size()) break;

@@ -237,6 +237,10 @@ std::vector<Statement> read_listing(const std::vector<ListingLine>& lines, const
         if (digits(it->text)) ++it;  // a step number, as --print-program writes it
         if (it == words.end()) continue;
         Statement s;
+        if (out.size() >= kMaxStatements) {
+            throw BindError(it->where, "the program has more than " +
+                                           std::to_string(kMaxStatements) + " statements; refused");
+        }
         s.step = static_cast<int>(out.size()) + 1;
         if (!read_function(dialect, it, words.end(), s)) {
             // The longest spelling first: "LD NOT" before "LD", "OUT NOT" before "OUT".

@@ -55,6 +55,12 @@ public:
             declared_ = p.size();
         }
         finish();
+        // A program of many double coils says so in one more line, not in one each.
+        if (warnings_ != nullptr && double_coils_ > kMaxListingWarnings) {
+            warnings_->push_back(
+                {statements.front().where, std::to_string(double_coils_ - kMaxListingWarnings) +
+                                               " more double coils in this program"});
+        }
         return p;
     }
 
@@ -313,7 +319,7 @@ private:
         if (s.spelling.step != Step::Set) {
             const auto key = std::make_pair(static_cast<int>(d.area), d.index);
             const auto [it, fresh] = coils_.emplace(key, s.where);
-            if (!fresh && warnings_ != nullptr) {
+            if (!fresh && warnings_ != nullptr && ++double_coils_ <= kMaxListingWarnings) {
                 warnings_->push_back({s.where, s.mnemonic + ": double coil: " +
                                                    image::excerpt(e.operands[0].second.text) +
                                                    " is driven at " + it->second.text() +
@@ -457,6 +463,7 @@ private:
     bool ended_ = false;
     Where end_where_;
     std::map<std::pair<int, std::uint32_t>, Where> coils_;  // OUT coils and where first driven
+    std::size_t double_coils_ = 0;                          // coils driven again
 };
 
 }  // namespace

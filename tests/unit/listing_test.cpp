@@ -5,12 +5,15 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "support/listing_plc.hpp"
+#include "support/profiles.hpp"
 
 namespace plcemu::instructions {
 namespace {
@@ -421,6 +424,43 @@ TEST(VbListing, RefusalsNameLineColumnAndMnemonic) {
     // The profile's checks of the program see a listing's instructions too.
     expect_listing_error("vb", {"LD M0", "MBUS D1000 D100"}, 2, 8,
                          "MBUS: the program polls slaves, but the config has no mbus: section");
+}
+
+TEST(Listing, SizesAreBoundedAndWarningsCounted) {
+    const Dialect& vb = *testing::profile("vb").listing();
+    std::vector<ListingLine> lines(kMaxStatements - 1, ListingLine{"LD X0", {"big.il", 1, 1}});
+    lines.push_back({"OUT Y0", {"big.il", 100'000, 1}});
+    EXPECT_EQ(read_listing(lines, vb).size(), kMaxStatements);  // at the bound
+    lines.push_back({"OUT Y1", {"big.il", 100'002, 3}});
+    try {
+        read_listing(lines, vb);
+        ADD_FAILURE() << "no refusal";
+    } catch (const BindError& e) {
+        EXPECT_EQ(e.where().line, 100'002);
+        EXPECT_EQ(e.where().column, 3);
+        EXPECT_NE(std::string(e.what()).find("more than 100000 statements"), std::string::npos);
+    }
+    // A program file of more lines than any program needs is refused at its `file:`.
+    const auto dir = std::filesystem::temp_directory_path() / "plcemu-listing-test";
+    std::filesystem::create_directories(dir);
+    {
+        std::ofstream f(dir / "long.il");
+        for (int i = 0; i <= 400'000; ++i) f << ";\n";
+    }
+    testing::expect_config_error(testing::config_failure([&] {
+                                     config::parse_config("profile: vb\nprogram: {file: long.il}\n",
+                                                          (dir / "p.yaml").string());
+                                 }),
+                                 (dir / "p.yaml").string(), 2, 17,
+                                 "has more than 400000 lines; refused");
+    std::filesystem::remove_all(dir);
+    // Twelve coils driven twice: ten warnings, then one counting the rest.
+    std::vector<std::string> twice;
+    for (int i = 0; i < 12; ++i) twice.insert(twice.end(), {"LD X0", "OUT Y0"});
+    const auto w = daemon::program_warnings(
+        config::parse_config(testing::listing_config("vb", twice), "il.yaml"));
+    ASSERT_EQ(w.size(), kMaxListingWarnings + 1);
+    EXPECT_EQ(w.back(), "il.yaml:4:8: 1 more double coils in this program");
 }
 
 TEST(Listing, AProgramIsEntriesOrAListingNotBoth) {

@@ -5,6 +5,7 @@
 // profile says how its family spells each statement (a Dialect); nothing here names a family
 // (docs/program-language.md).
 
+#include <cstddef>
 #include <map>
 #include <string>
 #include <string_view>
@@ -96,6 +97,12 @@ struct Statement {
     std::vector<std::pair<std::string, Operand>> named;  ///< `key: value` operands
     int step = 0;                                        ///< 1-based position in the program
 };
+
+/// The most statements a listing may hold (docs/program-language.md, "Writing a listing").
+inline constexpr std::size_t kMaxStatements = 100'000;
+
+/// The most double-coil warnings a program gets one by one; the rest are counted in one more.
+inline constexpr std::size_t kMaxListingWarnings = 10;
 
 /// Reads a listing: one statement per line (blank lines and `;` or `//` comments left out; a
 /// leading step number, as --print-program writes, ignored), a function's `key: value`
