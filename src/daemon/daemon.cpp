@@ -571,9 +571,10 @@ private:
 
 engine::Program probe(const config::Config& c) {
     try {
-        Plc plc(c);
+        std::vector<std::string> warnings;
+        Plc plc(c, {}, Start::Retained, build_program(c, nullptr, &warnings));
         // Said at each start, reload and --check-config, as the vendors' tools say them.
-        for (const auto& w : program_warnings(c)) {
+        for (const auto& w : warnings) {
             spdlog::warn("{}program: {}", c.label.empty() ? "" : c.label + ": ", w);
         }
         return plc.engine().take_program();

@@ -75,8 +75,15 @@ engine::Program build_listing(const config::Config& config,
 
 }  // namespace
 
-engine::Program build_program(const config::Config& config, engine::Tags* operands) {
-    if (!config.listing.empty()) return build_listing(config, operands, nullptr);
+engine::Program build_program(const config::Config& config,
+                              engine::Tags* operands,
+                              std::vector<std::string>* warnings) {
+    if (!config.listing.empty()) {
+        std::vector<instructions::ListingWarning> found;
+        engine::Program p = build_listing(config, operands, warnings ? &found : nullptr);
+        for (const auto& w : found) warnings->push_back(w.where.text() + ": " + w.message);
+        return p;
+    }
     const profiles::Profile& profile = profiles::of(config);
     const auto services = profile.services(config);
     std::vector<instructions::Entry> entries;
@@ -96,15 +103,6 @@ engine::Program build_program(const config::Config& config, engine::Tags* operan
     } catch (const instructions::BindError& e) {
         throw config_error(e);
     }
-}
-
-std::vector<std::string> program_warnings(const config::Config& config) {
-    std::vector<std::string> out;
-    if (config.listing.empty()) return out;
-    std::vector<instructions::ListingWarning> warnings;
-    build_listing(config, nullptr, &warnings);
-    for (const auto& w : warnings) out.push_back(w.where.text() + ": " + w.message);
-    return out;
 }
 
 std::string print_program(const config::Config& config) {

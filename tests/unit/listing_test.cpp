@@ -227,7 +227,8 @@ TEST(FatekListing, DoubleCoilIsAWarningNotARefusal) {
         testing::listing_config("fbs",
                                 {"ORG X0", "OUT Y0", "ORG X1", "OUT Y0", "ORG X2", "SET Y0"}),
         "il.yaml");
-    const auto w = daemon::program_warnings(cfg);
+    std::vector<std::string> w;
+    daemon::build_program(cfg, nullptr, &w);
     ASSERT_EQ(w.size(), 1U);
     EXPECT_EQ(w[0],
               "il.yaml:7:8: OUT: double coil: Y0 is driven at il.yaml:5:8 too; the last one in "
@@ -457,8 +458,9 @@ TEST(Listing, SizesAreBoundedAndWarningsCounted) {
     // Twelve coils driven twice: ten warnings, then one counting the rest.
     std::vector<std::string> twice;
     for (int i = 0; i < 12; ++i) twice.insert(twice.end(), {"LD X0", "OUT Y0"});
-    const auto w = daemon::program_warnings(
-        config::parse_config(testing::listing_config("vb", twice), "il.yaml"));
+    std::vector<std::string> w;
+    daemon::build_program(config::parse_config(testing::listing_config("vb", twice), "il.yaml"),
+                          nullptr, &w);
     ASSERT_EQ(w.size(), kMaxListingWarnings + 1);
     EXPECT_EQ(w.back(), "il.yaml:4:8: 1 more double coils in this program");
 }

@@ -33,13 +33,12 @@ enum class Start : std::uint8_t {
 image::Layout plc_layout(const config::Config& config);
 
 /// The config's program built with its profile's instruction table (throws config::ConfigError).
-/// With `operands`, its device operands are described there (the tag export).
-engine::Program build_program(const config::Config& config, engine::Tags* operands = nullptr);
-
-/// What is suspect in the config's program that still runs (a coil driven twice in an
-/// instruction list), each "file:line:col: message". Throws config::ConfigError as
-/// build_program does.
-std::vector<std::string> program_warnings(const config::Config& config);
+/// With `operands`, its device operands are described there (the tag export); with `warnings`,
+/// what is suspect in it that still runs (a coil driven twice in an instruction list) is added
+/// there, each "file:line:col: message".
+engine::Program build_program(const config::Config& config,
+                              engine::Tags* operands = nullptr,
+                              std::vector<std::string>* warnings = nullptr);
 
 /// The config's program as --print-program shows it: one statement a line, its step number
 /// first (an instruction list as the family writes it; entries as their mnemonic and operands).
