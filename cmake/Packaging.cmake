@@ -74,10 +74,11 @@ install(FILES ${_pkg}/plcemud.service ${_pkg}/plcemud@.service
         DESTINATION ${PLCEMU_SYSTEMD_UNITDIR})
 install(FILES ${_pkg}/plcemud.yaml DESTINATION ${CMAKE_INSTALL_FULL_SYSCONFDIR}/plcemu)
 # Every configuration of config/ (the README and docs/ name them: vb.yaml, vb-pid.yaml,
-# vb-mbus.yaml with the vb-mbus-slave.yaml it polls, fb-example.yaml, ...), not the state files
-# a run leaves beside them.
+# vb-mbus.yaml with the vb-mbus-slave.yaml it polls, fb-example.yaml, ...) and the programs
+# they read (programs/*.il: oven-il.yaml runs programs/oven.il), not the state files a run
+# leaves beside them.
 install(DIRECTORY ${_src}/config/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples
-        FILES_MATCHING PATTERN "*.yaml")
+        FILES_MATCHING PATTERN "*.yaml" PATTERN "*.il")
 install(FILES ${_src}/README.md ${_src}/packaging/copyright ${_pkg}/changelog.gz
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
 # The pages and the figures they show (docs/images/).

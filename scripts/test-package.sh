@@ -69,7 +69,7 @@ for f in /usr/bin/plcemud /lib/systemd/system/plcemud.service /lib/systemd/syste
     [[ -f $f ]] || fail "missing $f"
 done
 # Every configuration of config/ (the README and docs name them) and every figure the docs show.
-for f in config/*.yaml; do
+for f in config/*.yaml config/programs/*.il; do
     cmp -s "$f" "/usr/share/doc/plcemu/examples/${f#config/}" || fail "missing or stale examples/${f#config/}"
 done
 for f in docs/images/*; do
@@ -92,6 +92,9 @@ if command -v man >/dev/null; then
 fi
 /usr/bin/plcemud --version
 /usr/bin/plcemud -c /etc/plcemu/plcemud.yaml --check-config || fail "the packaged config is invalid"
+# An example that reads its program from a file beside it finds it where the package put it.
+/usr/bin/plcemud -c /usr/share/doc/plcemu/examples/oven-il.yaml --check-config ||
+    fail "the packaged oven-il.yaml does not find its program"
 # Its header speaks of the installed file: a source tree's commands are not in it.
 grep -q 'scripts/run.sh' /etc/plcemu/plcemud.yaml && fail "/etc/plcemu/plcemud.yaml names scripts/run.sh"
 
