@@ -3,6 +3,7 @@
 #include "rung.hpp"
 
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "edge.hpp"
@@ -10,6 +11,8 @@
 namespace plcemu::instructions {
 
 namespace {
+
+struct Unused {};
 
 // A contact: reads its source, then joins it to the rung. A value entering the rung from a
 // device is gated by master control, so every coil between an MC that is OFF and its MCR sees
@@ -59,8 +62,7 @@ private:
             const bool in = img.read_bit(source_.device);
             if constexpr (kind == Contact::Open) return in;
             if constexpr (kind == Contact::Closed) return !in;
-            if constexpr (kind == Contact::Rising) return rising_(in);
-            if constexpr (kind == Contact::Falling) return falling_(in);
+            if constexpr (kind == Contact::Rising || kind == Contact::Falling) return edge_(in);
         }
     }
 
@@ -69,8 +71,12 @@ private:
     Join join_;
     int depth_;
     ContactSource source_;
-    RisingEdge rising_;
-    FallingEdge falling_;
+    // Only an edge contact remembers its device from the scan before.
+    using Edge =
+        std::conditional_t<kind == Contact::Rising,
+                           RisingEdge,
+                           std::conditional_t<kind == Contact::Falling, FallingEdge, Unused>>;
+    [[no_unique_address]] Edge edge_;
 };
 
 class RungStep final : public engine::Instruction {
