@@ -33,36 +33,12 @@ config::ConfigError config_error(const instructions::BindError& e) {
     return config::ConfigError({w.file, w.line, w.column}, e.what());
 }
 
-// The statements of a program written as the family's instruction list.
-std::vector<instructions::Statement> statements_of(const config::Config& config,
-                                                   const instructions::Dialect& dialect) {
-    std::vector<instructions::ListingLine> lines;
-    lines.reserve(config.listing.size());
-    for (const auto& l : config.listing) lines.push_back({l.text, where_of(l.pos)});
-    try {
-        return instructions::read_listing(lines, dialect);
-    } catch (const instructions::BindError& e) {
-        throw config_error(e);
-    }
-}
-
-const instructions::Dialect& dialect_of(const config::Config& config) {
-    const profiles::Profile& profile = profiles::of(config);
-    const instructions::Dialect* d = profile.listing();
-    if (d == nullptr) {
-        const auto& p = config.listing.front().pos;
-        throw config::ConfigError(p, "program: profile " + config.profile +
-                                         " has no instruction list; write the program as entries");
-    }
-    return *d;
-}
-
 engine::Program build_listing(const config::Config& config,
                               engine::Tags* operands,
                               std::vector<instructions::ListingWarning>* warnings) {
     const profiles::Profile& profile = profiles::of(config);
-    const instructions::Dialect& dialect = dialect_of(config);
-    const auto statements = statements_of(config, dialect);
+    const auto statements = profiles::listing_statements(config);
+    const instructions::Dialect& dialect = *profile.listing();
     const auto services = profile.services(config);
     try {
         return instructions::make_listing_program(statements, dialect, profile.instructions(),
@@ -107,7 +83,7 @@ engine::Program build_program(const config::Config& config,
 
 std::string print_program(const config::Config& config) {
     if (!config.listing.empty()) {
-        return instructions::format_listing(statements_of(config, dialect_of(config)));
+        return instructions::format_listing(profiles::listing_statements(config));
     }
     // Entries print as statements of their own: the mnemonic, then each operand by its key.
     std::vector<instructions::Statement> statements;

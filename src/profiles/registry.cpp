@@ -22,23 +22,38 @@ const Profile& of(const config::Config& config) {
     return *p;
 }
 
-std::vector<ProgramInstruction> program_instructions(const config::Config& config) {
-    std::vector<ProgramInstruction> out;
-    for (const auto& e : config.program) out.push_back({e.mnemonic, e.pos});
-    const Profile* profile = find(config.profile);
-    if (config.listing.empty() || profile == nullptr || profile->listing() == nullptr) return out;
+std::vector<instructions::Statement> listing_statements(const config::Config& config) {
+    const Profile& profile = of(config);
+    const instructions::Dialect* dialect = profile.listing();
+    if (dialect == nullptr) {
+        throw config::ConfigError(config.listing.front().pos,
+                                  "program: profile " + config.profile +
+                                      " has no instruction list; write the program as entries");
+    }
     std::vector<instructions::ListingLine> lines;
     lines.reserve(config.listing.size());
     for (const auto& l : config.listing) {
         lines.push_back({l.text, {l.pos.file, l.pos.line, l.pos.column}});
     }
     try {
-        for (const auto& s : instructions::read_listing(lines, *profile->listing())) {
+        return instructions::read_listing(lines, *dialect);
+    } catch (const instructions::BindError& e) {
+        const auto& w = e.where();
+        throw config::ConfigError({w.file, w.line, w.column}, e.what());
+    }
+}
+
+std::vector<ProgramInstruction> program_instructions(const config::Config& config) {
+    std::vector<ProgramInstruction> out;
+    for (const auto& e : config.program) out.push_back({e.mnemonic, e.pos});
+    if (config.listing.empty() || find(config.profile) == nullptr) return out;
+    try {
+        for (const auto& s : listing_statements(config)) {
             if (s.function == nullptr) continue;
             out.push_back(
                 {std::string(s.function->name), {s.where.file, s.where.line, s.where.column}});
         }
-    } catch (const instructions::BindError&) {
+    } catch (const config::ConfigError&) {
         // Reported with its position when the program is built.
     }
     return out;

@@ -99,6 +99,11 @@ struct ProgramInstruction {
     config::Position pos;  ///< where
 };
 
+/// The statements of a config's program written as the family's instruction list, read with
+/// the profile's dialect. Throws config::ConfigError at the line and column of a line that
+/// cannot be read, or of the first line when the profile has no instruction list.
+std::vector<instructions::Statement> listing_statements(const config::Config& config);
+
 /// The function instructions of a config's program, whether written as entries or as the
 /// family's instruction list (read with the profile's dialect; a listing that cannot be read
 /// gives none: building the program reports it, at its line and column).
