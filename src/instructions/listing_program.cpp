@@ -78,7 +78,7 @@ private:
                         (keys.size() == 1 ? "" : "s") + " (" + want + "), got " +
                         std::to_string(s.operands.size() + s.named.size()));
         }
-        Entry e{s.mnemonic, s.where, {}, s.step};
+        Entry e{s.mnemonic, s.where, {}, s.step, true};
         auto it = s.operands.begin();
         for (const char* k : keys) e.operands.emplace_back(k, *it++);
         return e;
@@ -356,7 +356,7 @@ private:
                                 std::to_string(levels_.back()) +
                                 ": nested levels count up (N0, then N1 …)");
         }
-        const Entry coil_entry{s.mnemonic, s.where, {e.operands[1]}, s.step};
+        const Entry coil_entry{s.mnemonic, s.where, {e.operands[1]}, s.step, true};
         const BindContext ctx = context();
         Operands ops(coil_entry, ctx);
         const image::Device coil = ops.bit_output("d");
@@ -401,7 +401,7 @@ private:
     void function(const Statement& s, engine::Program& p) {
         output(s);
         const FunctionSpelling& f = *s.function;
-        Entry e{std::string(f.name), s.where, {}, s.step};
+        Entry e{std::string(f.name), s.where, {}, s.step, true};
         if (s.operands.size() > f.positional.size()) {
             std::string keys;
             for (const auto k : f.positional)

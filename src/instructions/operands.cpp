@@ -16,8 +16,7 @@ void Operands::note(const char* key, const image::Range& devices, const std::str
     if (ctx_.operands == nullptr) return;
     const Operand* op = find(key);
     const std::string named = what.empty() ? std::string(key) : std::string(key) + " " + what;
-    ctx_.operands->push_back({devices, ic_.mnemonic + " " + named + ", program entry " +
-                                           std::to_string(ic_.index) + " (" +
+    ctx_.operands->push_back({devices, ic_.mnemonic + " " + named + ", " + ic_.ordinal() + " (" +
                                            (op ? op->where : ic_.where).text() + ")"});
 }
 

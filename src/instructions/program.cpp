@@ -11,6 +11,10 @@ std::string Where::text() const {
     return file + ":" + std::to_string(line) + ":" + std::to_string(column);
 }
 
+std::string Entry::ordinal() const {
+    return (step ? "step " : "program entry ") + std::to_string(index);
+}
+
 void OperationError::raise(image::Image& img, std::uint16_t error, int index) const noexcept {
     img.write_word(code, error);
     img.write_word(entry, static_cast<std::uint16_t>(index));

@@ -69,6 +69,23 @@ TEST(ExportTags, OperandsOfTheProgramWithTheirSpans) {
     EXPECT_EQ(row(e, "M101").address, 2101);
 }
 
+// A program written as the family's instruction list names each instruction by its step, the
+// number --print-program prints beside it, not by its place among YAML entries.
+TEST(ExportTags, AListingNamesItsInstructionsByStep) {
+    const TagExport e = rows_of(
+        "profile: fbs\n"
+        "program:\n"
+        "  il:\n"
+        "    - ORG M1926\n"
+        "    - FUN8 MOV S:WM800 D:R4012\n"
+        "    - ORG M0\n"
+        "    - OUT Y0\n"
+        "    - FUN8 MOV S:R300 D:WM400\n");
+    EXPECT_TRUE(has(row(e, "M815"), "MOV s, step 2 (t.yaml:5:18)")) << row(e, "M815").description;
+    EXPECT_TRUE(has(row(e, "R300"), "MOV s, step 5 (t.yaml:8:18)")) << row(e, "R300").description;
+    for (const auto& r : e.rows) EXPECT_FALSE(has(r, "program entry")) << r.name;
+}
+
 TEST(ExportTags, WorkingBlocksAsTheInstructionDescribesThem) {
     const TagExport e = rows_of(kFbsTemperature);
     const TagRow& wr0 = row(e, "R300");

@@ -12,6 +12,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
+#include "plcemu/engine/loops.hpp"
 #include "support/listing_plc.hpp"
 #include "support/profiles.hpp"
 
@@ -388,6 +389,21 @@ TEST(VbListing, AppliedInstructionsByNameNumberAndPulse) {
     p.scan();
     EXPECT_EQ(p.d(2), 1);  // pulse forms: once per rising edge
     EXPECT_EQ(p.d(3), 1);
+}
+
+// In a listing, an instruction is known by its step: D9069 names the step of an operation
+// error, and the console's loop is "PID D101 (step 4)".
+TEST(VbListing, AnInstructionIsKnownByItsStep) {
+    ListingPlc p("vb", {"LD X0", "OUT Y0", "LD M0", "PID D100 D101 D200 D102"});
+    engine::Loops loops;
+    for (const auto& i : p.plc.engine().program()) i->loops(p.plc.image(), loops);
+    ASSERT_EQ(loops.size(), 1u);
+    EXPECT_EQ(loops[0].name, "PID D101 (step 4)");
+    p.set_m(0, true);  // S3+0, the sampling time, is 0: an operand error
+    p.scan(3);
+    EXPECT_TRUE(p.m(9067));
+    EXPECT_NE(p.d(9067), 0);
+    EXPECT_EQ(p.d(9069), 4);
 }
 
 TEST(VbListing, CmpPulseFormComparesOncePerRisingEdge) {

@@ -40,6 +40,11 @@ struct Entry {
     Where where;                                            ///< where the mnemonic stands
     std::vector<std::pair<std::string, Operand>> operands;  ///< in the order written
     int index = 0;  ///< 1-based position in the program (a PLC's step number stands for it)
+    /// Whether `index` is a listing's step number rather than the place among YAML entries.
+    bool step = false;
+
+    /// How the program names this entry: "program entry 3", or "step 3" in a listing.
+    std::string ordinal() const;
 };
 
 /// An entry that cannot be built: the message, and where the fault is (the daemon reports it

@@ -32,6 +32,8 @@ struct Bound {
     std::uint32_t s3 = 0;  // first word of the parameter block
     std::uint32_t mv = 0;  // D
     int entry = 0;         // 1-based program position, for D9069
+    bool step = false;     // whether `entry` is a listing's step number
+    std::string ordinal;   // "program entry 5" or "step 5"
     std::string where;     // of the mnemonic
 };
 
@@ -44,6 +46,8 @@ Bound bind(const instructions::Entry& entry, const instructions::BindContext& ct
     Operands ops(entry, ctx);
     Bound b;
     b.entry = entry.index;
+    b.step = entry.step;
+    b.ordinal = entry.ordinal();
     b.where = entry.where.text();
     b.en = ops.bit_source("en", true);
     b.sv = d_register(ops, "s1");
@@ -123,7 +127,9 @@ public:
     void loops(const image::Image& /*image*/, engine::Loops& out) const override {
         auto d = [](std::uint32_t i) { return image::Device{Area::D, i, false}; };
         engine::Loop l;
-        l.name = "PID D" + std::to_string(b_.pv) + " (entry " + std::to_string(b_.entry) + ")";
+        // The console's short name: "(entry 5)" in a YAML program, "(step 5)" in a listing.
+        l.name = "PID D" + std::to_string(b_.pv) + (b_.step ? " (step " : " (entry ") +
+                 std::to_string(b_.entry) + ")";
         l.pv = d(b_.pv);
         l.sv = d(b_.sv);
         l.output = d(b_.mv);
@@ -167,8 +173,7 @@ public:
             {kAlarms, "alarm bits: b0 PV rose, b1 PV fell, b2 MV rose, b3 MV fell",
              Number::Unsigned},
         };
-        const std::string at =
-            ", program entry " + std::to_string(b_.entry) + " (" + b_.where + ")";
+        const std::string at = ", " + b_.ordinal + " (" + b_.where + ")";
         out.push_back({{Area::D, b_.sv, 1}, "PID S1 set value SV" + at});
         out.push_back({{Area::D, b_.pv, 1}, "PID S2 present value PV" + at});
         out.push_back({{Area::D, b_.mv, 1}, "PID D output MV" + at});

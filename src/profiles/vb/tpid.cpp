@@ -62,6 +62,7 @@ struct Bound {
     int blocks_n = 1;       // the n the blocks were checked for (and are claimed for)
     std::string where;      // the entry's "file:line:col"
     int index = 0;          // the entry's 1-based position, for D9069
+    std::string ordinal;    // "program entry 5" or "step 5"
 };
 
 Bound bind(const instructions::Entry& ic, const instructions::BindContext& ctx) {
@@ -69,6 +70,7 @@ Bound bind(const instructions::Entry& ic, const instructions::BindContext& ctx) 
     Bound b;
     b.where = ic.where.text();
     b.index = ic.index;
+    b.ordinal = ic.ordinal();
     b.en = ops.bit_source("en", true);
     // n: any integer is accepted, and a value outside 1–16 is an operation error at run time
     // (docs/profile-vb.md, "FNC92 TPID"); a register may hold up to 16 channels.
@@ -137,8 +139,7 @@ public:
     // checked for.
     void describe(const image::Image& /*image*/, engine::Tags& out) const override {
         using engine::Number;
-        const std::string at =
-            ", program entry " + std::to_string(b_.index) + " (" + b_.where + ")";
+        const std::string at = ", " + b_.ordinal + " (" + b_.where + ")";
         auto add = [&](std::uint32_t base, const char* block, std::uint32_t w,
                        const std::string& what, Number number) {
             std::string text = std::string("TPID ") + block + "+" + std::to_string(w);
