@@ -206,18 +206,27 @@ private:
             case Step::Pop:
                 return branch(s, name, p);
             case Step::Invert:
+            case Step::RisingResult:
+            case Step::FallingResult: {
                 need_rung(s);
                 if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
-                p.push_back(make_rung_op(rung_, name, RungOp::Invert, 0));
+                const RungOp op = s.spelling.step == Step::Invert         ? RungOp::Invert
+                                  : s.spelling.step == Step::RisingResult ? RungOp::Rising
+                                                                          : RungOp::Falling;
+                p.push_back(make_rung_op(rung_, name, op, 0));
                 return;
+            }
             case Step::Out:
             case Step::OutNot:
             case Step::Set:
                 return coil(s, name, p);
-            case Step::Reset:
+            case Step::Reset: {
                 output(s);
-                p.push_back(make_rst(entry_of(s, {"d"}), context()));
+                Entry e = entry_of(s, {"d"});
+                if (s.spelling.pulse) e.operands.emplace_back("p", Operand{"true", s.where});
+                p.push_back(make_rst(e, context()));
                 return;
+            }
             case Step::PulseRising:
             case Step::PulseFalling: {
                 output(s);
@@ -326,7 +335,8 @@ private:
                                                    " too; the last one in the scan wins"});
             }
         }
-        const CoilOp op = s.spelling.step == Step::Set      ? CoilOp::Set
+        const CoilOp op = s.spelling.step == Step::Set
+                              ? (s.spelling.pulse ? CoilOp::SetOnRising : CoilOp::Set)
                           : s.spelling.step == Step::OutNot ? CoilOp::OutNot
                                                             : CoilOp::Out;
         p.push_back(make_coil(rung_, name, op, d));

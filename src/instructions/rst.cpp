@@ -87,9 +87,10 @@ std::unique_ptr<engine::Instruction> make_rst(const Entry& ic, const BindContext
     Operands ops(ic, ctx);
     const BitSource en = ops.bit_source("en", true);
     const image::Device d = ops.device("d", 1, kResettable);
+    const bool pulse = ops.flag("p", false);  // FATEK's RST P
     ops.finish();
     const Zone z = zone_of(ops, "d", ctx, d, d);
-    return std::make_unique<Rst>(en, z.bits, z.words, "RST", false);
+    return std::make_unique<Rst>(en, z.bits, z.words, "RST", pulse);
 }
 
 std::unique_ptr<engine::Instruction> make_zrst(const Entry& ic, const BindContext& ctx) {

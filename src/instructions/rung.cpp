@@ -105,6 +105,12 @@ public:
             case RungOp::Invert:
                 r.result = !r.result && r.enabled;
                 break;
+            case RungOp::Rising:
+                r.result = rising_(r.result);
+                break;
+            case RungOp::Falling:
+                r.result = falling_(r.result);
+                break;
             case RungOp::Save:
                 r.saved[at_] = r.result;
                 break;
@@ -121,6 +127,8 @@ private:
     std::string_view mnemonic_;
     RungOp op_;
     std::size_t at_;
+    RisingEdge rising_;    // TU's
+    FallingEdge falling_;  // TD's
 };
 
 class CoilStep final : public engine::Instruction {
@@ -144,6 +152,9 @@ public:
             case CoilOp::Set:
                 if (v) ctx.image.write_bit(d_, true);
                 break;
+            case CoilOp::SetOnRising:
+                if (edge_(v)) ctx.image.write_bit(d_, true);
+                break;
         }
     }
 
@@ -154,6 +165,7 @@ private:
     std::string_view mnemonic_;
     CoilOp op_;
     image::Device d_;
+    RisingEdge edge_;  // SET P's
 };
 
 class MasterControl final : public engine::Instruction {

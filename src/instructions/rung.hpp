@@ -62,12 +62,14 @@ enum class RungOp : std::uint8_t {
     Push,      ///< branches[depth] = result
     Read,      ///< result = branches[depth]
     Invert,    ///< result = NOT result
+    Rising,    ///< result = ON for one scan as it turns ON
+    Falling,   ///< result = ON for one scan as it turns OFF
     Save,      ///< saved[depth] = result
     Restore,   ///< result = saved[depth]
 };
 
-/// ANB/ORB, MPS/MRD/MPP (a pop is a read: the depth is the builder's), INV, OUT/LD of a
-/// temporary relay.
+/// ANB/ORB, MPS/MRD/MPP (a pop is a read: the depth is the builder's), INV, TU/TD on their
+/// own, OUT/LD of a temporary relay.
 std::unique_ptr<engine::Instruction> make_rung_op(std::shared_ptr<Rung> rung,
                                                   std::string_view mnemonic,
                                                   RungOp op,
@@ -75,12 +77,13 @@ std::unique_ptr<engine::Instruction> make_rung_op(std::shared_ptr<Rung> rung,
 
 /// What a coil does with the rung's result.
 enum class CoilOp : std::uint8_t {
-    Out,     ///< the device = result
-    OutNot,  ///< the device = NOT result
-    Set,     ///< ON while the result is ON
+    Out,          ///< the device = result
+    OutNot,       ///< the device = NOT result
+    Set,          ///< ON while the result is ON
+    SetOnRising,  ///< ON as the result turns ON (SET P)
 };
 
-/// OUT, OUT NOT, SET on a bit device.
+/// OUT, OUT NOT, SET, SET P on a bit device.
 std::unique_ptr<engine::Instruction> make_coil(std::shared_ptr<Rung> rung,
                                                std::string_view mnemonic,
                                                CoilOp op,

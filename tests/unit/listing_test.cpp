@@ -103,6 +103,52 @@ TEST(FatekListing, OutNotSetRstAndNot) {
     EXPECT_FALSE(p.m(5));
 }
 
+// TU and TD on their own take the differential of the rung's result so far; SET P and RST P act
+// once as their rung turns ON (WinProLadder's words for these, docs/program-language.md).
+TEST(FatekListing, DifferentialsAndPulseFormsOfSetAndRst) {
+    ListingPlc p("fbs", {"ORG X0", "AND X1", "TU", "OUT M10",  //
+                         "ORG X0", "TD", "OUT M11",            //
+                         "ORG X2", "SET P M20",                //
+                         "ORG X3", "RST M20",                  //
+                         "ORG X3", "RST P M21",                //
+                         "ORG X2", "SET M21"});
+    inputs(p, {true, false});
+    p.scan();
+    EXPECT_FALSE(p.m(10));  // X0 AND X1 is still OFF
+    inputs(p, {true, true});
+    p.scan();
+    EXPECT_TRUE(p.m(10));  // it turns ON: one scan
+    p.scan();
+    EXPECT_FALSE(p.m(10));
+    EXPECT_FALSE(p.m(11));
+    inputs(p, {false, true});
+    p.scan();
+    EXPECT_TRUE(p.m(11));  // X0 turns OFF: one scan
+    p.scan();
+    EXPECT_FALSE(p.m(11));
+
+    // SET P M20 while X2 stays ON: RST M20 clears it and it stays clear (a plain SET M21 on the
+    // same X2 comes back every scan after RST P cleared it once).
+    inputs(p, {false, false, true});
+    p.scan();
+    EXPECT_TRUE(p.m(20));
+    EXPECT_TRUE(p.m(21));
+    inputs(p, {false, false, true, true});
+    p.scan();
+    EXPECT_FALSE(p.m(20));
+    EXPECT_TRUE(p.m(21));  // RST P cleared it, then SET M21 set it again in the same scan
+    inputs(p, {false, false, true, false});
+    p.scan();
+    EXPECT_FALSE(p.m(20));  // no new rising edge of X2
+    p.set_m(21, false);
+    inputs(p, {false, false, false, true});
+    p.scan();
+    EXPECT_FALSE(p.m(21));
+    p.set_m(21, true);
+    p.scan();
+    EXPECT_TRUE(p.m(21));  // X3 stayed ON: RST P acted only on its rising edge
+}
+
 TEST(FatekListing, TemporaryRelaysKeepABranchPoint) {
     // X0 ─┬─ X1 ── Y0
     //     └─ X2 ── Y1

@@ -26,20 +26,23 @@ struct ListingLine {
 
 /// What a statement does.
 enum class Step : std::uint8_t {
-    Network,       ///< a contact that starts a network (FATEK's ORG)
-    Load,          ///< a contact that starts a rung, or a block inside one (LD)
-    And,           ///< a contact in series (AND)
-    Or,            ///< a contact in parallel (OR)
-    AndBlock,      ///< the last two blocks in series (ANB, ANDLD)
-    OrBlock,       ///< the last two blocks in parallel (ORB, ORLD)
-    Push,          ///< keeps the result on the branch stack (MPS)
-    Read,          ///< takes the result from the branch stack, leaving it there (MRD)
-    Pop,           ///< takes the result from the branch stack (MPP)
-    Invert,        ///< the result inverted (INV, NOT)
+    Network,        ///< a contact that starts a network (FATEK's ORG)
+    Load,           ///< a contact that starts a rung, or a block inside one (LD)
+    And,            ///< a contact in series (AND)
+    Or,             ///< a contact in parallel (OR)
+    AndBlock,       ///< the last two blocks in series (ANB, ANDLD)
+    OrBlock,        ///< the last two blocks in parallel (ORB, ORLD)
+    Push,           ///< keeps the result on the branch stack (MPS)
+    Read,           ///< takes the result from the branch stack, leaving it there (MRD)
+    Pop,            ///< takes the result from the branch stack (MPP)
+    Invert,         ///< the result inverted (INV, NOT)
+    RisingResult,   ///< the result ON for one scan as it turns ON (FATEK's TU on its own)
+    FallingResult,  ///< the result ON for one scan as it turns OFF (FATEK's TD on its own)
     Out,           ///< the result to a coil; with a T or C operand and a preset, a timer or counter
     OutNot,        ///< the inverted result to a coil (FATEK's OUT NOT)
-    Set,           ///< a coil ON while the result is ON (SET)
-    Reset,         ///< a coil, timer, counter or register cleared while the result is ON (RST)
+    Set,           ///< a coil ON while the result is ON (SET; with `pulse`, as it turns ON)
+    Reset,         ///< a coil, timer, counter or register cleared while the result is ON (RST;
+                   ///< with `pulse`, as it turns ON)
     PulseRising,   ///< a coil ON for one scan when the result turns ON (PLS)
     PulseFalling,  ///< a coil ON for one scan when the result turns OFF (PLF)
     Timer,         ///< a timer with its preset (FATEK's TMR)
@@ -63,6 +66,7 @@ struct Spelling {
     Step step = Step::Load;           ///< what it does
     Contact contact = Contact::Open;  ///< for a contact, how it reads its operand
     std::string_view relation;        ///< for a comparison, "=", "<>", "<", ">", "<=" or ">="
+    bool pulse = false;               ///< for SET and RST, the pulse form (FATEK's SET P, RST P)
 };
 
 /// A function instruction of the family's instruction table, as its listing writes it.

@@ -29,10 +29,16 @@ instructions::Dialect listing_dialect(std::vector<instructions::FunctionSpelling
     d.words.emplace("ANDLD", Spelling{Step::AndBlock, Contact::Open, {}});
     d.words.emplace("ORLD", Spelling{Step::OrBlock, Contact::Open, {}});
     d.words.emplace("NOT", Spelling{Step::Invert, Contact::Open, {}});
+    // TU and TD on their own: the differential of the rung's result so far.
+    d.words.emplace("TU", Spelling{Step::RisingResult, Contact::Open, {}});
+    d.words.emplace("TD", Spelling{Step::FallingResult, Contact::Open, {}});
     d.words.emplace("OUT", Spelling{Step::Out, Contact::Open, {}});
     d.words.emplace("OUT NOT", Spelling{Step::OutNot, Contact::Open, {}});
     d.words.emplace("SET", Spelling{Step::Set, Contact::Open, {}});
     d.words.emplace("RST", Spelling{Step::Reset, Contact::Open, {}});
+    // The pulse forms: each acts once, as the result turns ON.
+    d.words.emplace("SET P", Spelling{Step::Set, Contact::Open, {}, true});
+    d.words.emplace("RST P", Spelling{Step::Reset, Contact::Open, {}, true});
     d.words.emplace("TMR", Spelling{Step::Timer, Contact::Open, {}});
     d.words.emplace("CTR", Spelling{Step::Counter, Contact::Open, {}});
     d.words.emplace("END", Spelling{Step::End, Contact::Open, {}});
