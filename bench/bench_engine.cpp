@@ -1,6 +1,7 @@
 // Scan-engine benchmarks (Google Benchmark): one scan of config/default.yaml with its ten loops
 // running, one scan of 32 TPCTL points with their plant, one scan of a 2,000-step instruction
-// list beside a scan of an empty program (the reference), and the virtual-time rate.
+// list beside a scan of an empty program (the reference), reading and building that list, and
+// the virtual-time rate.
 
 #include <benchmark/benchmark.h>
 
@@ -9,6 +10,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
+#include "plcemu/profiles/profile.hpp"
 
 namespace {
 
@@ -98,6 +100,21 @@ void BM_ScanListing2000Steps(benchmark::State& state) {
     run(state, plc);
 }
 BENCHMARK(BM_ScanListing2000Steps);
+
+// What a start or a reload spends on that program: reading its 2,000 lines in the family's
+// dialect (done twice for the fb and vb, whose config checks look for MBUS and TPSNS), and
+// building it (the rung checks and every operand's binding, after one read).
+void BM_ReadListing2000Lines(benchmark::State& state) {
+    const auto cfg = plcemu::config::parse_config(listing_2000(), "listing-2000.yaml");
+    for (auto _ : state) benchmark::DoNotOptimize(plcemu::profiles::listing_statements(cfg));
+}
+BENCHMARK(BM_ReadListing2000Lines)->Unit(benchmark::kMicrosecond);
+
+void BM_BuildListing2000Steps(benchmark::State& state) {
+    const auto cfg = plcemu::config::parse_config(listing_2000(), "listing-2000.yaml");
+    for (auto _ : state) benchmark::DoNotOptimize(plcemu::daemon::build_program(cfg));
+}
+BENCHMARK(BM_BuildListing2000Steps)->Unit(benchmark::kMicrosecond);
 
 // The reference: the same PLC with no program (specials and plant only).
 void BM_ScanEmptyProgram(benchmark::State& state) {

@@ -1,5 +1,6 @@
 // Reading a listing into statements, and writing them back (plcemu/instructions/listing.hpp).
 
+#include <algorithm>
 #include <cctype>
 #include <cstddef>
 #include <string>
@@ -13,21 +14,35 @@ namespace plcemu::instructions {
 
 namespace {
 
-// A word of a line and where it stands.
+// A word of a line and where it stands. It points into its line: a listing's words are read
+// without copying their text or the file's name, which took most of a line's time.
 struct Word {
-    std::string text;
-    Where where;
+    std::string_view text;
+    int column = 0;                     ///< from the line's first character
+    const ListingLine* line = nullptr;  ///< the line it stands in
+
+    Where where() const {
+        Where w = line->where;
+        w.column += column;
+        return w;
+    }
 };
 
+// ASCII case only, as the vendors' tools: mnemonics and device names are ASCII, and the C
+// library's locale-aware toupper was a tenth of a line's time.
 std::string upper(std::string_view s) {
     std::string u(s);
-    for (char& c : u) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    for (char& c : u) {
+        if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+    }
     return u;
 }
 
 std::string lower(std::string_view s) {
     std::string u(s);
-    for (char& c : u) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (char& c : u) {
+        if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+    }
     return u;
 }
 
@@ -41,9 +56,9 @@ bool digits(std::string_view s) {
 
 // The words of a line: separated by blanks or commas, up to a `;` or `//` comment. A `:`
 // ends a word and stays with it ("S:" "R0", "S:R0" → "S:" "R0").
-std::vector<Word> words_of(const ListingLine& line) {
-    std::vector<Word> out;
-    const std::string& t = line.text;
+void words_of(const ListingLine& line, std::vector<Word>& out) {
+    out.clear();
+    const std::string_view t = line.text;
     std::size_t i = 0;
     while (i < t.size()) {
         const char c = t[i];
@@ -58,11 +73,8 @@ std::vector<Word> words_of(const ListingLine& line) {
             ++i;
         }
         if (i < t.size() && t[i] == ':') ++i;
-        Where w = line.where;
-        w.column += static_cast<int>(start);
-        out.push_back({t.substr(start, i - start), w});
+        out.push_back({t.substr(start, i - start), static_cast<int>(start), &line});
     }
-    return out;
 }
 
 bool is_key(const Word& w) { return w.text.size() > 1 && w.text.back() == ':'; }
@@ -73,9 +85,8 @@ void read_operands(std::vector<Word>::const_iterator it,
                    Statement& s) {
     while (it != end) {
         if (is_key(*it)) {
-            const std::string key =
-                lower(std::string_view(it->text).substr(0, it->text.size() - 1));
-            const Where kw = it->where;
+            const std::string key = lower(it->text.substr(0, it->text.size() - 1));
+            const Where kw = it->where();
             ++it;
             if (it == end || is_key(*it)) {
                 throw BindError(
@@ -86,13 +97,13 @@ void read_operands(std::vector<Word>::const_iterator it,
                     throw BindError(
                         kw, s.mnemonic + ": duplicate operand '" + image::excerpt(key) + "'");
             }
-            s.named.emplace_back(key, Operand{it->text, it->where});
+            s.named.emplace_back(key, Operand{std::string(it->text), it->where()});
         } else {
             if (!s.named.empty()) {
-                throw BindError(it->where, s.mnemonic + ": operand '" + image::excerpt(it->text) +
-                                               "' after named operands needs its name");
+                throw BindError(it->where(), s.mnemonic + ": operand '" + image::excerpt(it->text) +
+                                                 "' after named operands needs its name");
             }
-            s.operands.push_back({it->text, it->where});
+            s.operands.push_back({std::string(it->text), it->where()});
         }
         ++it;
     }
@@ -141,26 +152,25 @@ bool read_function(const Dialect& d,
         const FunctionSpelling* f = by_name(d, first.substr(dot + 1), named_pulse);
         if (digits(number) && number.size() <= 4 && f != nullptr &&
             f->number == std::stoi(number) && (!pulse || f->pulse)) {
-            s.where = it->where;
+            s.where = it->where();
             s.function = f;
             s.pulse = pulse || named_pulse;
             s.mnemonic = std::string(f->name) + (s.pulse ? "P" : "");
             ++it;
             return true;
         }
-        throw BindError(it->where, "'" + image::excerpt(it->text) + "': not a function of " +
-                                       std::string(d.tool) + " here");
+        throw BindError(it->where(), "'" + image::excerpt(it->text) + "': not a function of " +
+                                         std::string(d.tool) + " here");
     }
     if (!prefix.empty() && first.compare(0, prefix.size(), prefix) == 0) {
         std::string rest = first.substr(prefix.size());
         auto next = it + 1;
         if (rest.empty() && next != end &&
-            digits(std::string_view(next->text)
-                       .substr(0, next->text.find_first_not_of("0123456789")))) {
+            digits(next->text.substr(0, next->text.find_first_not_of("0123456789")))) {
             rest = upper(next->text);
             ++next;
         } else if (rest.empty()) {
-            throw BindError(it->where, prefix + ": expected the function's number after it");
+            throw BindError(it->where(), prefix + ": expected the function's number after it");
         }
         std::string number = rest;
         if (!number.empty() && number.back() == 'P') {
@@ -168,8 +178,8 @@ bool read_function(const Dialect& d,
             number.pop_back();
         }
         if (!digits(number) || number.size() > 4) {
-            throw BindError(it->where, "'" + image::excerpt(it->text) + "': expected " + prefix +
-                                           " and a function number");
+            throw BindError(it->where(), "'" + image::excerpt(it->text) + "': expected " + prefix +
+                                             " and a function number");
         }
         const FunctionSpelling* f = by_number(d, std::stoi(number));
         if (f == nullptr) {
@@ -179,13 +189,13 @@ bool read_function(const Dialect& d,
                 known += (known.empty() ? "" : ", ") + prefix + std::to_string(g.number) + " " +
                          std::string(g.name);
             }
-            throw BindError(it->where, prefix + " " + number + ": no such function in " +
-                                           std::string(d.tool) + " here (known: " + known + ")");
+            throw BindError(it->where(), prefix + " " + number + ": no such function in " +
+                                             std::string(d.tool) + " here (known: " + known + ")");
         }
         if (pulse && !f->pulse) {
-            throw BindError(it->where, std::string(f->name) + " has no pulse form");
+            throw BindError(it->where(), std::string(f->name) + " has no pulse form");
         }
-        s.where = it->where;
+        s.where = it->where();
         // The name may follow the number, and must then be this function's.
         if (next != end && !is_key(*next)) {
             bool named_pulse = false;
@@ -195,9 +205,9 @@ bool read_function(const Dialect& d,
                 ++next;
             } else if (!n.empty() && std::isalpha(static_cast<unsigned char>(n[0])) &&
                        n.find_first_of("0123456789") == std::string::npos) {
-                throw BindError(next->where, prefix + std::to_string(f->number) + " is " +
-                                                 std::string(f->name) + ", not '" +
-                                                 image::excerpt(next->text) + "'");
+                throw BindError(next->where(), prefix + std::to_string(f->number) + " is " +
+                                                   std::string(f->name) + ", not '" +
+                                                   image::excerpt(next->text) + "'");
             }
         }
         s.function = f;
@@ -208,7 +218,7 @@ bool read_function(const Dialect& d,
     }
     const FunctionSpelling* f = by_name(d, first, pulse);
     if (f == nullptr) return false;
-    s.where = it->where;
+    s.where = it->where();
     s.function = f;
     s.pulse = pulse;
     s.mnemonic = first;
@@ -220,46 +230,50 @@ bool read_function(const Dialect& d,
 
 std::vector<Statement> read_listing(const std::vector<ListingLine>& lines, const Dialect& dialect) {
     std::vector<Statement> out;
+    // A statement a line at most (comments and operand lines make fewer): one allocation.
+    out.reserve(std::min(lines.size(), kMaxStatements));
+    std::vector<Word> words;
     for (const auto& line : lines) {
-        const std::vector<Word> words = words_of(line);
+        words_of(line, words);
         if (words.empty()) continue;
-        auto it = words.begin();
+        auto it = words.cbegin();
         // A line of operands only continues the function above it (the mnemonic view lists a
         // function's operands below it).
         if (is_key(*it)) {
             if (out.empty() || out.back().function == nullptr) {
-                throw BindError(it->where, "operand '" + image::excerpt(it->text) +
-                                               "' without a function instruction above it");
+                throw BindError(it->where(), "operand '" + image::excerpt(it->text) +
+                                                 "' without a function instruction above it");
             }
-            read_operands(it, words.end(), out.back());
+            read_operands(it, words.cend(), out.back());
             continue;
         }
         if (digits(it->text)) ++it;  // a step number, as --print-program writes it
-        if (it == words.end()) continue;
+        if (it == words.cend()) continue;
         Statement s;
         if (out.size() >= kMaxStatements) {
-            throw BindError(it->where, "the program has more than " +
-                                           std::to_string(kMaxStatements) + " statements; refused");
+            throw BindError(it->where(), "the program has more than " +
+                                             std::to_string(kMaxStatements) +
+                                             " statements; refused");
         }
         s.step = static_cast<int>(out.size()) + 1;
-        if (!read_function(dialect, it, words.end(), s)) {
+        if (!read_function(dialect, it, words.cend(), s)) {
             // The longest spelling first: "LD NOT" before "LD", "OUT NOT" before "OUT".
             const std::string one = upper(it->text);
-            const std::string two = it + 1 != words.end() ? one + " " + upper((it + 1)->text) : "";
-            auto found = dialect.words.end();
+            const std::string two = it + 1 != words.cend() ? one + " " + upper((it + 1)->text) : "";
+            auto found = dialect.words.cend();
             if (!two.empty()) found = dialect.words.find(two);
-            const bool pair = found != dialect.words.end();
+            const bool pair = found != dialect.words.cend();
             if (!pair) found = dialect.words.find(one);
-            if (found == dialect.words.end()) {
-                throw BindError(it->where, "unknown instruction '" + image::excerpt(it->text) +
-                                               "' (not in " + std::string(dialect.tool) + ")");
+            if (found == dialect.words.cend()) {
+                throw BindError(it->where(), "unknown instruction '" + image::excerpt(it->text) +
+                                                 "' (not in " + std::string(dialect.tool) + ")");
             }
-            s.where = it->where;
+            s.where = it->where();
             s.mnemonic = found->first;
             s.spelling = found->second;
             it += pair ? 2 : 1;
         }
-        read_operands(it, words.end(), s);
+        read_operands(it, words.cend(), s);
         out.push_back(std::move(s));
     }
     return out;
