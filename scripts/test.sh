@@ -25,8 +25,12 @@ step() {
 }
 
 build=build-test
+# -O1 (RelWithDebInfo's -O2 otherwise), as AddressSanitizer's own docs advise: the optimizer's
+# passes over instrumented code were most of this build's time, and -O1 takes a third off the
+# slowest files (tcp_listener.cpp 29.7 -> 20.3 s, config.cpp 20.3 -> 13.9 s, listing_test.cpp
+# 18.1 -> 11.7 s) while the stacks keep their lines (-g). The package's build stays -O2.
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLCEMU_SANITIZE=ON -DPLCEMU_WERROR=ON \
-    -DPLCEMU_TESTS=ON >/dev/null
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" -DPLCEMU_TESTS=ON >/dev/null
 cmake --build "$build" -j"$(nproc)"
 
 step "dependencies"
