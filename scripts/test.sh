@@ -58,7 +58,9 @@ fi
 
 if [[ -x scripts/fuzz.sh && -d tests/fuzz ]] && ls tests/fuzz/*.cpp >/dev/null 2>&1; then
     step "fuzz (short)"
-    scripts/fuzz.sh "${PLCEMU_FUZZ_SECONDS:-20}"
+    # 15 s a harness: the regressions replayed and a smoke run of each, which keeps the whole
+    # command under half an hour from a cold clone; long runs are scripts/fuzz.sh's own.
+    scripts/fuzz.sh "${PLCEMU_FUZZ_SECONDS:-15}"
 fi
 
 step "system tests"
