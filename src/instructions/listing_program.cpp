@@ -45,7 +45,9 @@ public:
         engine::Program p;
         p.reserve(statements.size());
         for (const auto& s : statements) {
-            if (ended_) {
+            // NOPs may follow END, as an FX program's unused steps do.
+            const bool nop = s.function == nullptr && s.spelling.step == Step::Nop;
+            if (ended_ && !nop) {
                 throw BindError(s.where, s.mnemonic + ": after END (END ends the program at " +
                                              end_where_.text() + ")");
             }
@@ -247,6 +249,10 @@ private:
                 return master_control(s, p);
             case Step::MasterReset:
                 return master_reset(s, p);
+            case Step::Nop:
+                // A step of its own (the step numbers after it count it), anywhere.
+                if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
+                return;
             case Step::End:
                 if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
                 ended_ = true;

@@ -452,6 +452,20 @@ TEST(VbListing, AnInstructionIsKnownByItsStep) {
     EXPECT_EQ(p.d(9069), 4);
 }
 
+// NOP is a step of its own: it does nothing, counts in the step numbers, stands anywhere (after
+// END too, as an FX program's unused steps) and takes no operand.
+TEST(VbListing, NopIsAStepThatDoesNothing) {
+    ListingPlc p("vb", {"NOP", "LD X0", "NOP", "OUT Y0", "LD X1", "PLS M0", "END", "NOP", "NOP"});
+    inputs(p, {true, true});
+    p.scan();
+    EXPECT_TRUE(p.y(0));
+    EXPECT_TRUE(p.m(0));
+    const auto printed = daemon::print_program(p.plc.config());
+    EXPECT_NE(printed.find("0003  NOP\n0004  OUT Y0\n"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("0007  END\n0008  NOP\n0009  NOP\n"), std::string::npos) << printed;
+    expect_listing_error("vb", {"LD X0", "NOP M0", "OUT Y0"}, 2, 8, "NOP: takes no operand");
+}
+
 TEST(VbListing, CmpPulseFormComparesOncePerRisingEdge) {
     ListingPlc p("vb", {"LD X0", "CMPP D0 D1 Y0"});
     p.set(Area::X, 0, true);

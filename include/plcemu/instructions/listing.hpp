@@ -50,6 +50,7 @@ enum class Step : std::uint8_t {
     MasterControl,  ///< MC Nn coil: the rungs up to MCR Nn run only while the result is ON
     MasterReset,    ///< MCR Nn
     End,            ///< the end of the program (END)
+    Nop,            ///< a step that does nothing (NOP)
 };
 
 /// How a contact reads its operand.

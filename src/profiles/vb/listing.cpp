@@ -42,6 +42,7 @@ instructions::Dialect make() {
     d.words.emplace("MC", Spelling{Step::MasterControl, Contact::Open, {}});
     d.words.emplace("MCR", Spelling{Step::MasterReset, Contact::Open, {}});
     d.words.emplace("END", Spelling{Step::End, Contact::Open, {}});
+    d.words.emplace("NOP", Spelling{Step::Nop, Contact::Open, {}});
     d.function_prefix = "FNC";
     // FNC numbers as the FX family and the VB manual number them (FNC88 PID, FNC92 TPID,
     // FNC149 MBUS, FNC169 HOUR); operands in the order the manuals write them.
