@@ -4,9 +4,10 @@
 #        (default: run)
 set -euo pipefail
 
-# libboost-dev: Boost.Beast's HTTP parser (header-only); nlohmann-json3-dev: the API's JSON.
+# libboost-dev: Boost.Beast's HTTP parser (header-only); nlohmann-json3-dev: the API's JSON;
+# libxxhash-dev: the state file's page sums (header-only).
 want=(cmake g++ make pkg-config libmodbus-dev libasio-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
-      libsystemd-dev libboost-dev nlohmann-json3-dev)
+      libsystemd-dev libboost-dev nlohmann-json3-dev libxxhash-dev)
 for what in "${@:-run}"; do
     case "$what" in
         run) ;;

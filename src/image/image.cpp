@@ -25,6 +25,15 @@ std::size_t Image::area_offset(const Layout& layout, Area a) {
     return off;
 }
 
+Image::Extent Image::extent(const Layout& layout, const Range& r) {
+    const std::uint32_t n = layout.size_of(r.area);
+    if (r.start >= n) return {};
+    const std::size_t width = is_bit_area(r.area) ? 1 : 2;
+    const std::uint64_t end = std::min<std::uint64_t>(std::uint64_t{r.start} + r.count, n);
+    return {area_offset(layout, r.area) + r.start * width,
+            static_cast<std::size_t>(end - r.start) * width};
+}
+
 std::size_t Image::storage_size(const Layout& layout) {
     return area_offset(layout, static_cast<Area>(kAreaCount - 1)) +
            align_up(bytes_of(layout, static_cast<Area>(kAreaCount - 1)));

@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/file.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -518,6 +519,80 @@ TEST_F(StateFileTest, AFileThatCannotGetItsBlocksIsRefusedAndNothingIsLeftBehind
         << "3: opened anyway, 1: another message, 2: not system_error";
     EXPECT_FALSE(fs::exists(path_));
     EXPECT_FALSE(fs::exists(path_ + ".new"));
+}
+
+// docs/operations.md, Retentive memory: a sync writes the pages whose retentive devices (or
+// header) changed, not those where only devices cleared at every start did.
+TEST_F(StateFileTest, ASyncWritesOnlyThePagesWhoseRetentiveDevicesChanged) {
+    StateFile f(path_, layout(), fixed_now());
+    Image img(layout(), f.storage());
+    img.clear();  // every page in the page cache, and changed
+    const std::uint64_t pages = file_size() / 4096;
+    auto written = [&, last = std::uint64_t{0}]() mutable {
+        EXPECT_TRUE(f.sync());
+        const std::uint64_t n = f.pages_synced() - last;
+        last = f.pages_synced();
+        return n;
+    };
+    EXPECT_EQ(written(), pages) << "the first sync writes the whole file";
+    EXPECT_EQ(written(), 0u) << "nothing changed";
+    // R4128 (not retentive by default) shares its page with R5000 (retentive).
+    img.set_word(Area::R, 4128, 1);
+    img.set_bit(Area::M, 1920, true);
+    EXPECT_EQ(written(), 0u) << "only devices cleared at every start changed";
+    img.set_word(Area::D, 100, 7);
+    EXPECT_EQ(written(), 1u);
+    img.set_word(Area::D, 100, 7);
+    EXPECT_EQ(written(), 0u) << "the same value again";
+    img.set_word(Area::D, 100, 8);
+    img.set_word(Area::D, 101, 9);
+    EXPECT_EQ(written(), 1u) << "two devices of one page";
+    img.set_word(Area::R, 0, 1);
+    img.set_word(Area::D, 3000, 1);
+    img.set_bit(Area::M, 900, true);
+    EXPECT_EQ(written(), 3u) << "three pages";
+    img.set_word(Area::R, 5000, 3);
+    EXPECT_EQ(written(), 1u) << "a retentive device beside R4128";
+    // New ranges: every page is written once, then R4128's changes count.
+    auto more = layout().retentive;
+    more.push_back({Area::R, 4128, 1});
+    f.set_retentive(more);
+    EXPECT_EQ(written(), pages);
+    img.set_word(Area::R, 4128, 2);
+    EXPECT_EQ(written(), 1u);
+    EXPECT_EQ(written(), 0u);
+}
+
+// A page written back and dropped from the page cache is on the disk: it is not read back in
+// to be summed, and once back and changed it is written again.
+TEST_F(StateFileTest, APageOutsideThePageCacheIsLeftOnTheDiskUntilItIsBack) {
+    StateFile f(path_, layout(), fixed_now());
+    Image img(layout(), f.storage());
+    img.clear();
+    ASSERT_TRUE(f.sync());
+    const std::uint64_t before = f.pages_synced();
+    // Drop the page of D3000 from the page cache (it is clean: just written).
+    auto* page = reinterpret_cast<std::byte*>(&img.words(Area::D)[3000]);
+    page -= reinterpret_cast<std::uintptr_t>(page) % 4096;
+    ASSERT_EQ(::madvise(page, 4096, MADV_DONTNEED), 0);
+    const int fd = ::open(path_.c_str(), O_RDONLY);
+    ASSERT_GE(fd, 0);
+    const auto at = static_cast<off_t>(image::kDataOffset + (page - f.storage().data()));
+    ASSERT_EQ(::posix_fadvise(fd, at, 4096, POSIX_FADV_DONTNEED), 0);
+    unsigned char in_cache = 1;
+    ASSERT_EQ(::mincore(page, 4096, &in_cache), 0);
+    if ((in_cache & 1) != 0) {
+        ::close(fd);
+        GTEST_SKIP() << "this file system keeps clean pages in its cache";
+    }
+    ASSERT_TRUE(f.sync());
+    EXPECT_EQ(f.pages_synced(), before);
+    ASSERT_EQ(::mincore(page, 4096, &in_cache), 0);
+    EXPECT_EQ(in_cache & 1, 0) << "the sync read the page back in";
+    img.set_word(Area::D, 3000, 5);
+    ASSERT_TRUE(f.sync());
+    EXPECT_EQ(f.pages_synced(), before + 1);
+    ::close(fd);
 }
 
 TEST_F(StateFileTest, ChangedRetentiveRangesKeepOnlyDevicesRetentiveBeforeAndNow) {

@@ -30,6 +30,12 @@ public:
     static std::size_t storage_size(const Layout& layout);
     /// Byte offset of an area in the storage block.
     static std::size_t area_offset(const Layout& layout, Area a);
+    /// Where a range's devices lie in the storage block (cut at the end of its area).
+    struct Extent {
+        std::size_t offset = 0;  ///< first byte
+        std::size_t size = 0;    ///< bytes (0: the range holds no device of the area)
+    };
+    static Extent extent(const Layout& layout, const Range& r);
 
     /// The layout this image was built with.
     const Layout& layout() const { return layout_; }

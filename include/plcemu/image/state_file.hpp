@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <ctime>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -93,11 +94,17 @@ public:
     /// Where a rejected file was moved ("" when none was).
     const std::string& moved_aside() const { return moved_aside_; }
 
-    /// Records new retentive ranges in the header (config reload).
+    /// Records new retentive ranges in the header (config reload); the next sync writes every
+    /// page.
     void set_retentive(const std::vector<Range>& retentive);
-    /// Writes the mapping to disk (msync MS_SYNC). Safe from another thread. False when the
-    /// kernel could not (an I/O error; the data stays in the mapping and the next sync retries).
+    /// Writes to disk (msync MS_SYNC) every page of the file whose retentive devices or header
+    /// changed since it was last written: the first sync, and the first after set_retentive(),
+    /// write them all. A page whose only changes are to devices cleared at every start is left
+    /// to the kernel's own writeback. Safe from another thread. False when the kernel could not
+    /// (an I/O error; those pages stay due and the next sync retries them).
     bool sync() noexcept;
+    /// Pages written to disk by sync() so far.
+    std::uint64_t pages_synced() const;
     /// Syncs, stores the data checksum, marks the file closed and unmaps it. Idempotent.
     void close() noexcept;
 
@@ -114,6 +121,32 @@ private:
     void release() noexcept;
     void move_aside(const std::string& why, std::time_t now);
     void write_header_checksum() noexcept;
+    void plan_sync(const std::vector<Range>& retentive);
+    void sum_pages(std::vector<std::uint64_t>& sums) const noexcept;
+    bool sync_pages(std::size_t first, std::size_t end) noexcept;
+
+    // Bytes whose changes must reach the disk within a sync period, each inside one page of
+    // the mapping (the header page whole, the retentive ranges' devices), in file order.
+    struct Piece {
+        std::uint32_t page;
+        std::uint32_t offset;
+        std::uint32_t size;
+    };
+    // Where a page stands (due_): unchanged since written, to be written, written just now.
+    static constexpr std::uint8_t kClean = 0;
+    static constexpr std::uint8_t kDue = 1;
+    static constexpr std::uint8_t kWritten = 2;
+    // What sync() keeps, per page of the mapping, under sync_mutex_ (sync() runs on another
+    // thread than the rest).
+    mutable std::mutex sync_mutex_;
+    Layout layout_;                        // the sizes, to place ranges
+    std::vector<Piece> pieces_;            // see Piece
+    std::vector<std::uint64_t> synced_;    // the sum of its pieces when it was last written
+    std::vector<std::uint64_t> sums_;      // the sums of the sync under way, before its msyncs
+    std::vector<std::uint64_t> after_;     // and after them
+    std::vector<std::uint8_t> due_;        // kClean, kDue or kWritten
+    std::vector<unsigned char> resident_;  // mincore(): bit 0 set when in the page cache
+    std::uint64_t pages_synced_ = 0;
 
     std::string path_;
     std::string name_;  // the last component of path_
