@@ -159,11 +159,12 @@ StateFile::StateFile(const std::string& path, const Layout& layout, std::time_t 
         open_directory();
         lock();
         std::string why;
-        if (!try_open(layout, why)) {
+        if (try_open(layout, why)) {
+            set_retentive(layout.retentive);
+        } else {
             if (!why.empty()) move_aside(why, now);
             create(layout, now);
         }
-        set_retentive(layout.retentive);
     } catch (...) {
         release();
         unlock();
@@ -171,6 +172,7 @@ StateFile::StateFile(const std::string& path, const Layout& layout, std::time_t 
         throw;
     }
     close_directory();
+    if (origin_ == StateOrigin::Created) return;  // made "open", its ranges recorded, on disk
     StateFileHeader h;
     std::memcpy(&h, base_, sizeof h);
     h.state = kStateOpen;
@@ -387,9 +389,10 @@ void StateFile::create(const Layout& layout, std::time_t now) {
             throw_errno("state file " + tmp + ": cannot write");
         }
         map(total);
-        write_header_checksum();
-        // Whole and on disk under its temporary name before it takes the real one.
-        if (::msync(base_, mapped_, MS_SYNC) != 0 || ::fsync(fd_) != 0) {
+        set_retentive(layout.retentive);  // the header whole, its checksum too
+        // Whole and on disk under its temporary name before it takes the real one (fsync
+        // writes the mapping's changed pages as well: one flush of the disk, not two).
+        if (::fsync(fd_) != 0) {
             throw_errno("state file " + tmp + ": cannot sync");
         }
         if (::renameat(dir_fd_, tmp_name.c_str(), dir_fd_, name_.c_str()) != 0)
