@@ -94,7 +94,9 @@ void SyncThread::run() {
             image::StateFile* file = it->file;
             syncing_ = id;
             lock.unlock();
+            const std::uint64_t pages = file->pages_synced();
             const int error = file->sync() ? 0 : errno;
+            census_.pages_synced.fetch_add(file->pages_synced() - pages, std::memory_order_relaxed);
             lock.lock();
             it = find(id);
             if (it != entries_.end()) synced(*it, error);

@@ -44,9 +44,12 @@ void help(std::string& out, const char* name, const char* type, const char* text
 template <typename T>
 void sample(std::string& out, const char* name, const std::string& labels, T value) {
     out += name;
-    out += '{';
-    out += labels;
-    out += "} ";
+    if (!labels.empty()) {
+        out += '{';
+        out += labels;
+        out += '}';
+    }
+    out += ' ';
     if constexpr (std::is_floating_point_v<T>) {
         out += Json(value).dump();
     } else {
@@ -144,6 +147,11 @@ void process(std::string& out, const listener::Census& census) {
            census.syncs.load(std::memory_order_relaxed));
     sample(out, "plcemu_state_syncs_total", "outcome=\"failed\"",
            census.sync_failures.load(std::memory_order_relaxed));
+    help(out, "plcemu_state_pages_written_total", "counter",
+         "State-file pages the syncs wrote to disk since start (a sync writes the pages whose "
+         "retentive devices changed).");
+    sample(out, "plcemu_state_pages_written_total", "",
+           census.pages_synced.load(std::memory_order_relaxed));
 }
 
 }  // namespace

@@ -173,3 +173,34 @@ def test_state_file_syncs_are_counted(start_plcemud, tmp_path):
     m = metrics(hp)
     assert count(m, "plcemu_state_syncs_total", outcome="ok") >= first + 3
     assert count(m, "plcemu_state_syncs_total", outcome="failed") == 0
+
+
+def test_a_sync_writes_only_the_pages_whose_retentive_devices_changed(start_plcemud, tmp_path):
+    """docs/operations.md, "Retentive memory": with no program, nothing retentive changes by
+    itself; a write to non-retentive devices (M0, R3500, on pages that also hold retentive ones)
+    writes no page, a write to a retentive register (R100) one."""
+    d, hp = start(start_plcemud,
+                  f"persistence: {{enabled: true, file: {tmp_path}/p.state, sync_ms: 50}}\n")
+
+    def pages():
+        return count(metrics(hp), "plcemu_state_pages_written_total")
+
+    def after_syncs(n):
+        """The pages written once `n` more syncs have run."""
+        s0 = count(metrics(hp), "plcemu_state_syncs_total", outcome="ok")
+        wait_for(lambda: count(metrics(hp), "plcemu_state_syncs_total", outcome="ok") >= s0 + n
+                 or None, timeout=5, what=f"{n} syncs")
+        return pages()
+
+    # The first syncs write the file whole (a page changed while written is written again).
+    settled = after_syncs(3)
+    assert settled >= 9, "the first sync writes every page of the 9-page file"
+    assert after_syncs(3) == settled, "nothing retentive changes by itself"
+    c = d.client()
+    assert not c.write_coil(2000, True, slave=1).isError()  # M0
+    assert not c.write_register(3500, 7, slave=1).isError()  # R3500
+    assert after_syncs(3) == settled, "only devices cleared at every start changed"
+    assert not c.write_register(100, 7, slave=1).isError()  # R100, retentive
+    assert after_syncs(3) == settled + 1
+    m = metrics(hp)
+    assert count(m, "plcemu_state_syncs_total", outcome="failed") == 0

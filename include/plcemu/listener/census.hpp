@@ -39,6 +39,7 @@ struct Census {
     // The state files are synced on a thread of their own.
     std::atomic<std::uint64_t> syncs{0};          ///< state-file syncs that reached the disk
     std::atomic<std::uint64_t> sync_failures{0};  ///< syncs the kernel refused (msync failed)
+    std::atomic<std::uint64_t> pages_synced{0};   ///< state-file pages the syncs wrote to disk
 };
 
 }  // namespace plcemu::listener
