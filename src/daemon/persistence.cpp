@@ -8,6 +8,7 @@
 #include <cstring>
 #include <system_error>
 
+#include "daemon/background.hpp"
 #include "plcemu/daemon/plc.hpp"
 
 namespace plcemu::daemon {
@@ -59,6 +60,7 @@ void SyncThread::remove(Id id) {
 }
 
 void SyncThread::run() {
+    yield_to_the_loop();
     std::unique_lock lock(mutex_);
     while (!stop_) {
         changed_ = false;

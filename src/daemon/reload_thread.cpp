@@ -4,6 +4,8 @@
 
 #include <system_error>
 
+#include "daemon/background.hpp"
+
 namespace plcemu::daemon {
 
 void ReloadThread::start(const std::function<void()>& work, const std::function<void()>& deliver) {
@@ -12,6 +14,7 @@ void ReloadThread::start(const std::function<void()>& work, const std::function<
     try {
         // The lambda holds copies: a thread that cannot be had leaves `work` and `deliver` here.
         thread_ = std::thread([shared, work, deliver] {
+            yield_to_the_loop();
             work();
             std::lock_guard lock(shared->mutex);
             if (!shared->abandoned) deliver();

@@ -9,6 +9,8 @@
 #include <system_error>
 #include <thread>
 
+#include "daemon/background.hpp"
+
 namespace plcemu::daemon {
 
 /// A queue of objects to destroy and the thread that destroys them.
@@ -50,6 +52,7 @@ public:
 
 private:
     void run() {
+        yield_to_the_loop();
         std::unique_lock lock(mutex_);
         for (;;) {
             wake_.wait(lock, [this] { return stopped_ || !queue_.empty(); });

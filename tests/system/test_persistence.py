@@ -326,3 +326,24 @@ def test_persistence_can_be_disabled(start_plcemud, tmp_path):
     assert not list(tmp_path.glob("*.state"))
     d = restart(start_plcemud, d, cfg)
     assert read(d.client(), D0) == [0]
+
+
+# --- the sync thread beside the loop
+
+
+def test_the_sync_thread_yields_to_the_event_loop(start_plcemud, tmp_path):
+    """docs/architecture.md, Threads: the threads beside the event loop run at a nice value 10
+    above the process's, the loop at the process's own."""
+    d = start_plcemud(config(tmp_path / "nice.state"))
+    pid = d.proc.pid
+
+    def nice(tid):
+        # /proc/PID/task/TID/stat: the 19th field, counted after the command's closing ")".
+        stat = Path(f"/proc/{pid}/task/{tid}/stat").read_text()
+        return int(stat[stat.rindex(")") + 2:].split()[16])
+
+    process = os.nice(0)  # started with this test's own
+    assert nice(pid) == process, "the main thread runs the loop"
+    tasks = [int(t) for t in os.listdir(f"/proc/{pid}/task")]
+    others = sorted(nice(t) for t in tasks if t != pid)
+    assert min(process + 10, 19) in others, (process, others)

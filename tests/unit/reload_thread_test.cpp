@@ -4,7 +4,10 @@
 #include "daemon/reload_thread.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -17,6 +20,23 @@ using namespace std::chrono_literals;
 
 void wait_for(const std::atomic<bool>& flag) {
     for (int i = 0; i < 500 && !flag; ++i) std::this_thread::sleep_for(10ms);
+}
+
+// Preparing a big config takes seconds of a core: the thread yields to the event loop (its
+// nice value 10 above the process's; docs/architecture.md, "Threads").
+TEST(ReloadThread, PreparesBelowTheCallersPriority) {
+    ReloadThread t;
+    auto seen = std::make_shared<std::atomic<int>>(-100);
+    auto delivered = std::make_shared<std::atomic<bool>>(false);
+    const int process = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::getpid()));
+    const int mine = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()));
+    t.start([seen] { *seen = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid())); },
+            [delivered] { *delivered = true; });
+    wait_for(*delivered);
+    ASSERT_TRUE(*delivered);
+    EXPECT_EQ(*seen, std::min(process + 10, 19));
+    EXPECT_EQ(::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid())), mine);
+    t.join();
 }
 
 TEST(ReloadThread, DeliversWhatItPreparedOnItsThread) {

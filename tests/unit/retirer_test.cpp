@@ -3,7 +3,10 @@
 #include "daemon/retirer.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <thread>
@@ -42,6 +45,23 @@ TEST(Retirer, DestroysOffTheCallersThreadInOrderWithoutBlockingIt) {
     r.stop();
     EXPECT_EQ(log, (std::vector<int>{0, 1, 2, 3, 4}));
     EXPECT_NE(where, std::this_thread::get_id());
+}
+
+// Destroying a big program takes a while: the destroying thread yields to the event loop (its
+// nice value 10 above the process's; docs/architecture.md, "Threads").
+TEST(Retirer, DestroysBelowTheCallersPriority) {
+    struct Niceness {
+        int* seen;
+        ~Niceness() { *seen = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid())); }
+    };
+    const int process = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::getpid()));
+    const int mine = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()));
+    int seen = -100;
+    Retirer<Niceness> r;
+    r.retire(std::unique_ptr<Niceness>(new Niceness{&seen}));
+    r.stop();
+    EXPECT_EQ(seen, std::min(process + 10, 19));
+    EXPECT_EQ(::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid())), mine);
 }
 
 // Stopping twice is harmless, and an object retired after the stop is not lost: the next stop
