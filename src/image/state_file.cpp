@@ -487,8 +487,17 @@ void StateFile::plan_sync(const std::vector<Range>& retentive) {
         }
         done = std::max(done, end);
     }
-    std::lock_guard lock(sync_mutex_);
-    pieces_ = std::move(pieces);
+    // Handed over under a lock of its own: a reload on the loop never waits for a sync's msync.
+    std::lock_guard lock(plan_mutex_);
+    planned_ = std::move(pieces);
+    replanned_ = true;
+}
+
+void StateFile::take_plan() {
+    std::lock_guard lock(plan_mutex_);
+    if (!replanned_) return;
+    pieces_ = std::move(planned_);
+    replanned_ = false;
     const std::size_t pages = mapped_ / kPage;
     synced_.assign(pages, 0);
     sums_.assign(pages, 0);
@@ -517,6 +526,9 @@ bool StateFile::sync() noexcept {
     // after a power loss: they are cleared at the next start.
     std::lock_guard lock(sync_mutex_);
     if (base_ == nullptr) return true;
+    take_plan();
+    // The loop writes into the mapping meanwhile, as it did while the kernel read it for msync:
+    // a sum taken across a write differs from both sides of it, and its page is written.
     // A page outside the page cache cannot be dirty (a dirty page is written before it is
     // dropped), and reading it to sum it would bring it in: pages of retentive devices nobody
     // has used stay on the disk alone. One still due is written once it is back.
@@ -568,13 +580,12 @@ void StateFile::sum_pages(std::vector<std::uint64_t>& sums) const noexcept {
 
 bool StateFile::sync_pages(std::size_t first, std::size_t end) noexcept {
     if (::msync(base_ + first * kPage, (end - first) * kPage, MS_SYNC) != 0) return false;
-    pages_synced_ += end - first;
+    pages_synced_.fetch_add(end - first, std::memory_order_relaxed);
     return true;
 }
 
 std::uint64_t StateFile::pages_synced() const {
-    std::lock_guard lock(sync_mutex_);
-    return pages_synced_;
+    return pages_synced_.load(std::memory_order_relaxed);
 }
 
 void StateFile::close() noexcept {

@@ -3,6 +3,7 @@
 // written into the image is in the kernel's page cache the moment it is written and survives the
 // process being killed at any instant. See docs/operations.md ("Retentive memory") for the format.
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <ctime>
@@ -122,6 +123,7 @@ private:
     void move_aside(const std::string& why, std::time_t now);
     void write_header_checksum() noexcept;
     void plan_sync(const std::vector<Range>& retentive);
+    void take_plan();
     void sum_pages(std::vector<std::uint64_t>& sums) const noexcept;
     bool sync_pages(std::size_t first, std::size_t end) noexcept;
 
@@ -136,17 +138,21 @@ private:
     static constexpr std::uint8_t kClean = 0;
     static constexpr std::uint8_t kDue = 1;
     static constexpr std::uint8_t kWritten = 2;
-    // What sync() keeps, per page of the mapping, under sync_mutex_ (sync() runs on another
-    // thread than the rest).
-    mutable std::mutex sync_mutex_;
-    Layout layout_;                        // the sizes, to place ranges
+    Layout layout_;  // the sizes, to place ranges
+    // The pieces set_retentive() planned, until sync() takes them.
+    std::mutex plan_mutex_;
+    std::vector<Piece> planned_;
+    bool replanned_ = false;
+    // What sync() keeps, per page of the mapping, under sync_mutex_ (held by sync(), on another
+    // thread than the rest, and by close()).
+    std::mutex sync_mutex_;
     std::vector<Piece> pieces_;            // see Piece
     std::vector<std::uint64_t> synced_;    // the sum of its pieces when it was last written
     std::vector<std::uint64_t> sums_;      // the sums of the sync under way, before its msyncs
     std::vector<std::uint64_t> after_;     // and after them
     std::vector<std::uint8_t> due_;        // kClean, kDue or kWritten
     std::vector<unsigned char> resident_;  // mincore(): bit 0 set when in the page cache
-    std::uint64_t pages_synced_ = 0;
+    std::atomic<std::uint64_t> pages_synced_{0};
 
     std::string path_;
     std::string name_;  // the last component of path_
