@@ -9,8 +9,11 @@ namespace {
 
 constexpr std::size_t kAlign = 64;
 
+// Bytes one device of the area takes: a byte per bit, two per word.
+std::size_t device_bytes(Area a) { return is_bit_area(a) ? 1 : 2; }
+
 std::size_t bytes_of(const Layout& l, Area a) {
-    return static_cast<std::size_t>(l.size_of(a)) * (is_bit_area(a) ? 1 : 2);
+    return static_cast<std::size_t>(l.size_of(a)) * device_bytes(a);
 }
 
 std::size_t align_up(std::size_t n) { return (n + kAlign - 1) / kAlign * kAlign; }
@@ -28,7 +31,7 @@ std::size_t Image::area_offset(const Layout& layout, Area a) {
 Image::Extent Image::extent(const Layout& layout, const Range& r) {
     const std::uint32_t n = layout.size_of(r.area);
     if (r.start >= n) return {};
-    const std::size_t width = is_bit_area(r.area) ? 1 : 2;
+    const std::size_t width = device_bytes(r.area);
     const std::uint64_t end = std::min<std::uint64_t>(std::uint64_t{r.start} + r.count, n);
     return {area_offset(layout, r.area) + r.start * width,
             static_cast<std::size_t>(end - r.start) * width};

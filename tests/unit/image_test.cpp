@@ -50,6 +50,27 @@ TEST(Image, WordOfBitsIsLowBitFirst) {
     EXPECT_EQ(img.read_word({Area::M, 800, true}), 0x8005);
 }
 
+// Where a range's devices lie in the block (the state file sums retentive ranges by it).
+TEST(Image, ARangesExtentIsWhereItsDevicesLie) {
+    const Layout l = testing::fbs_layout();
+    Image img(l);
+    const auto at = [&](const std::uint8_t* p) {
+        return static_cast<std::size_t>(reinterpret_cast<const std::byte*>(p) -
+                                        img.storage().data());
+    };
+    const auto words = Image::extent(l, {Area::R, 100, 3});
+    EXPECT_EQ(words.offset, at(reinterpret_cast<const std::uint8_t*>(&img.words(Area::R)[100])));
+    EXPECT_EQ(words.size, 6u);
+    const auto bits = Image::extent(l, {Area::M, 800, 600});
+    EXPECT_EQ(bits.offset, at(&img.bits(Area::M)[800]));
+    EXPECT_EQ(bits.size, 600u);
+    // Cut at the end of its area; past it, nothing.
+    const auto cut = Image::extent(l, {Area::R, l.size_of(Area::R) - 2, 10});
+    EXPECT_EQ(cut.size, 4u);
+    EXPECT_EQ(Image::extent(l, {Area::R, l.size_of(Area::R), 1}).size, 0u);
+    EXPECT_EQ(Image::extent(l, {Area::R, 0xFFFFFFF0u, 0x20}).size, 0u);
+}
+
 TEST(Image, ClearNonRetentiveKeepsOnlyRetentiveRanges) {
     // docs/operations.md, Retentive memory: M800-M1399, S500-S999, R0-R2999, D0-D3999, R5000-R8071,
     // C100-C139 and C200-C239 current values are retentive by default.
