@@ -71,6 +71,11 @@ private:
         throw BindError(s.where, s.mnemonic + ": " + message);
     }
 
+    // ANB, ORB, INV, TU, TD, MPS, MRD, MPP, NOP and END stand alone.
+    void no_operand(const Statement& s) const {
+        if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
+    }
+
     // An Entry for the operand checks of Operands: the statement's operands under `keys`.
     Entry entry_of(const Statement& s, std::initializer_list<const char*> keys) const {
         if (s.operands.size() != keys.size() || !s.named.empty()) {
@@ -194,7 +199,7 @@ private:
             case Step::AndBlock:
             case Step::OrBlock:
                 need_rung(s);
-                if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
+                no_operand(s);
                 if (blocks_ == 0) fail(s, "no block opened by LD to join");
                 --blocks_;
                 after_output_ = false;
@@ -211,7 +216,7 @@ private:
             case Step::RisingResult:
             case Step::FallingResult: {
                 need_rung(s);
-                if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
+                no_operand(s);
                 const RungOp op = s.spelling.step == Step::Invert         ? RungOp::Invert
                                   : s.spelling.step == Step::RisingResult ? RungOp::Rising
                                                                           : RungOp::Falling;
@@ -251,10 +256,10 @@ private:
                 return master_reset(s, p);
             case Step::Nop:
                 // A step of its own (the step numbers after it count it), anywhere.
-                if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
+                no_operand(s);
                 return;
             case Step::End:
-                if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
+                no_operand(s);
                 ended_ = true;
                 end_where_ = s.where;
                 return;
@@ -286,7 +291,7 @@ private:
 
     void branch(const Statement& s, std::string_view name, engine::Program& p) {
         need_rung(s);
-        if (!s.operands.empty() || !s.named.empty()) fail(s, "takes no operand");
+        no_operand(s);
         if (s.spelling.step == Step::Push) {
             if (branches_ >= Rung::kBranches) {
                 fail(s, "the branch stack holds " + std::to_string(Rung::kBranches) + " results");
