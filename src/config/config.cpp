@@ -16,6 +16,7 @@
 
 #include "config/comm_fault_section.hpp"
 #include "config/config_file.hpp"
+#include "config/fingerprint.hpp"
 #include "config/listener_sections.hpp"
 #include "config/yaml_tree.hpp"
 #include "plcemu/config/family.hpp"
@@ -1072,6 +1073,7 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors&
             c.index = static_cast<int>(i);
             c.log = log;
             if (!e["http"]) c.http = http;
+            c.fingerprint = fingerprint(c, e, e["http"] ? nullptr : &root["http"]);
             Taken mine(c, e);
             check_shared(r, e, c, mine, out, taken, clashes);
             clashes.add(out.size(), c, mine);
@@ -1118,6 +1120,7 @@ Config read_config(const Node& root, const std::string& name) {
         return read_root(r, root);
     });
     c.path = name;
+    c.fingerprint = fingerprint(c, root, nullptr);
     return c;
 }
 

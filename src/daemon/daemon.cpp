@@ -225,6 +225,12 @@ public:
                                                 std::to_string(next.station));
         }
         // The state file stays the one in use until a restart, and later reloads compare with it.
+        if (next.persistence.enabled != cfg_->persistence.enabled ||
+            next.persistence.file != cfg_->persistence.file) {
+            // What runs is then not what the file says: no later reload finds it unchanged, and
+            // each says again where the image stays.
+            next.fingerprint = {};
+        }
         next.persistence.enabled = cfg_->persistence.enabled;
         next.persistence.file = cfg_->persistence.file;
         // Moved, not copied: a program of 100,000 instructions costs a second to copy.
@@ -269,6 +275,12 @@ public:
         spdlog::info("reload: {}done; station {}, image kept", prefix_,
                      int(plc_->engine().station()));
         return old;
+    }
+
+    // A reload that found this `plcs:` entry as it was: nothing of the PLC is touched (its
+    // program, plant, presets and master port run on). At debug: the Runtime says how many.
+    void keep() const {
+        spdlog::debug("reload: {}no setting changed; running on untouched", prefix_);
     }
 
 private:
@@ -345,7 +357,8 @@ public:
 
     int run() {
         std::vector<config::Config> loaded = load(config_path_, overrides_);
-        spdlog::set_level(spdlog::level::from_str(loaded.front().log.level));
+        log_level_ = loaded.front().log.level;
+        spdlog::set_level(spdlog::level::from_str(log_level_));
         // Everything the config can get wrong, found before any file or port is touched.
         probe_all(loaded);
         for (auto& c : loaded) {
@@ -450,8 +463,16 @@ private:
     // why they were rejected.
     struct Prepared {
         std::vector<config::Config> configs;
-        std::vector<engine::Program> programs;
-        std::vector<std::string> errors;  // a config's errors, one per line
+        std::vector<engine::Program> programs;  // empty for an unchanged PLC's
+        std::vector<bool> unchanged;            // the PLCs whose config is as it runs
+        std::vector<std::string> errors;        // a config's errors, one per line
+    };
+
+    // What a reload leaves behind, freed off the loop: the PLCs it replaced, and the configs it
+    // read for PLCs that did not change (thousands of them take tens of milliseconds to free).
+    struct Leftovers {
+        std::vector<std::unique_ptr<Plc>> plcs;
+        std::vector<config::Config> configs;
     };
 
     // SIGHUP: the new config is read, validated and its programs built on a thread of its own (a
@@ -466,14 +487,28 @@ private:
         notify_.reloading();
         spdlog::info("SIGHUP: reloading {}", config_path_);
         auto p = std::make_shared<Prepared>();
+        // With `plcs:`, a reload is a download to the PLCs whose entry changed; the PLC of a
+        // single-PLC file is restarted at every reload (the STOP->RUN the profiles' docs
+        // describe), changed or not.
+        std::vector<config::Fingerprint> running;
+        if (hosts_.front()->config().index >= 0) {
+            running.reserve(hosts_.size());
+            for (const auto& h : hosts_) running.push_back(h->config().fingerprint);
+        }
         // The work owns copies of what it reads: a shutdown may leave it running after the
         // Runtime is gone.
-        auto work = [p, path = config_path_, overrides = overrides_] {
+        auto work = [p, path = config_path_, overrides = overrides_, running = std::move(running)] {
             try {
                 p->configs = load(path, overrides);
+                // A PLC whose config reads as it did is neither built nor touched: 5,000 PLCs
+                // with one setpoint changed rebuild one (docs/operations.md, "Reload").
+                p->unchanged.assign(p->configs.size(), false);
+                for (std::size_t i = 0; i < p->configs.size() && i < running.size(); ++i) {
+                    p->unchanged[i] = p->configs[i].fingerprint == running[i];
+                }
                 // Built on images of their own (the live ones are not touched), and never
                 // scanned: their programs, bound and checked, are the ones the live PLCs will run.
-                p->programs = probe_all(p->configs);
+                p->programs = probe_all(p->configs, p->unchanged);
             } catch (const config::ConfigError& e) {
                 p->errors = e.lines();
             } catch (const std::exception& e) {
@@ -533,25 +568,42 @@ private:
         }
         if (auto why = listeners_.unit_clash(p.configs, stations); !why.empty()) return why;
         if (!listeners_.stage(p.configs)) return "a listener could not be opened";
-        std::vector<std::unique_ptr<Plc>> replaced;
+        auto left = std::make_unique<Leftovers>();
+        // One process, one log: `log:` is no PLC's setting, and never makes one change.
+        const std::string level = p.configs.front().log.level;
+        std::size_t kept = 0;
         for (std::size_t i = 0; i < hosts_.size(); ++i) {
-            replaced.push_back(hosts_[i]->apply(std::move(p.configs[i]), std::move(p.programs[i])));
+            if (p.unchanged[i]) {
+                hosts_[i]->keep();
+                ++kept;
+                continue;
+            }
+            auto old = hosts_[i]->apply(std::move(p.configs[i]), std::move(p.programs[i]));
+            if (old) left->plcs.push_back(std::move(old));
         }
         listeners_.apply(members());
-        // The previous PLCs are freed off the loop (a program may be large); nothing on the loop
-        // refers to them any more: routers, scan drivers and simulator units were replaced.
-        for (auto& old : replaced) {
-            if (old) retirer_.retire(std::move(old));
+        if (level != log_level_) {
+            spdlog::info("reload: log.level: {} -> {}", log_level_, level);
+            spdlog::set_level(spdlog::level::from_str(level));
+            log_level_ = level;
         }
-        spdlog::set_level(spdlog::level::from_str(hosts_.front()->config().log.level));
+        if (hosts_.front()->config().index >= 0) {
+            spdlog::info("reload: applied to {} of {} PLCs; {} unchanged run on untouched",
+                         hosts_.size() - kept, hosts_.size(), kept);
+        }
+        // Freed off the loop (a program may be large); nothing on the loop refers to them any
+        // more: routers, scan drivers and simulator units were replaced.
+        left->configs = std::move(p.configs);
+        retirer_.retire(std::move(left));
         return {};
     }
 
     std::string config_path_;
     Overrides overrides_;
+    std::string log_level_;  // `log.level` in force
     asio::io_context io_{1};
     Notifier notify_;
-    Retirer<Plc> retirer_;
+    Retirer<Leftovers> retirer_;
     ScanTimer scan_timer_{io_};
     // Every PLC's queued steps, a slice per turn of the loop.
     StepRounds step_rounds_{io_};
@@ -584,12 +636,17 @@ engine::Program probe(const config::Config& c) {
     }
 }
 
-std::vector<engine::Program> probe_all(const std::vector<config::Config>& configs) {
+std::vector<engine::Program> probe_all(const std::vector<config::Config>& configs,
+                                       const std::vector<bool>& skip) {
     config::Errors errors;
     std::vector<engine::Program> programs;
     programs.reserve(configs.size());
-    for (const auto& c : configs) {
-        errors.attempt([&] { programs.push_back(probe(c)); });
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+        if (i < skip.size() && skip[i]) {
+            programs.emplace_back();
+            continue;
+        }
+        errors.attempt([&] { programs.push_back(probe(configs[i])); });
     }
     errors.raise();
     return programs;

@@ -27,7 +27,10 @@ engine::Program probe(const config::Config& config);
 
 /// probe() for every PLC of a file, in order: the errors of each are reported together, as the
 /// loader reports a file's (config::Errors). Throws config::ConfigError.
-std::vector<engine::Program> probe_all(const std::vector<config::Config>& configs);
+/// `skip`: the PLCs not to build (a reload's unchanged ones), whose programs are left empty;
+/// none when empty.
+std::vector<engine::Program> probe_all(const std::vector<config::Config>& configs,
+                                       const std::vector<bool>& skip = {});
 
 /// Runs until SIGINT or SIGTERM. Throws config::ConfigError for a bad config and
 /// std::system_error when a listener cannot be opened. Returns the exit status.

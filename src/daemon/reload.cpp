@@ -184,7 +184,6 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     cmp("persistence.init",
         std::string(a.persistence.init == config::InitPolicy::Always ? "always" : "fresh"),
         std::string(b.persistence.init == config::InitPolicy::Always ? "always" : "fresh"));
-    cmp("log.level", a.log.level, b.log.level);
     return out;
 }
 

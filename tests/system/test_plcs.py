@@ -14,6 +14,7 @@ from pymodbus.client import ModbusTcpClient
 
 from conftest import Daemon, free_port, port_open, raw_exchange, run_plcemud, spawn_plcs
 from rtu_pty import PtyPair, RawLine, frame as frame_of
+from test_http_api import get, parse_metrics
 
 D0 = 6000  # fbs: holding 6000 is D0 (retentive by default)
 VB_D200 = 200  # vb: holding 200 is D200 (latched)
@@ -93,7 +94,8 @@ def test_three_plcs_keep_their_own_images_maps_state_and_programs(tmp_path, port
         Path(d.config_path).write_text(plcs_config(ports, tmp_path, b_dest="R2"))
         d.proc.send_signal(signal.SIGHUP)
         assert d.wait_log("reload: plcs[1] (line-b): done"), d.log_text()
-        assert d.wait_log("reload: plcs[2]: done"), d.log_text()
+        assert d.wait_log("reload: applied to 1 of 3 PLCs; 2 unchanged run on untouched"), \
+            d.log_text()
         time.sleep(0.2)
         assert reg(b, 2, unit=2) == 9
         assert reg(a, 2) == 0
@@ -478,7 +480,7 @@ def test_two_stations_behind_one_listener_and_one_on_its_own(tmp_path):
         moved = free_port()
         Path(d.config_path).write_text(shared_tcp_config(moved, own, b_dest="R2"))
         d.proc.send_signal(signal.SIGHUP)
-        assert d.wait_log("reload: plcs[2] (own): done"), d.log_text()
+        assert d.wait_log("reload: applied to 2 of 3 PLCs"), d.log_text()
         assert d.wait_log(f"listening on tcp 127.0.0.1:{moved}"), d.log_text()
         assert not port_open(shared)
         m = client_on(d, moved)
@@ -623,8 +625,7 @@ def test_reload_checks_units_against_the_stations_in_force(tmp_path):
         for n in (1, 2):
             Path(d.config_path).write_text(shared_tcp_config(shared, own, b_dest=f"R{n + 2}"))
             d.proc.send_signal(signal.SIGHUP)
-            wait_count(d, "reload: plcs[2] (own): done", n)
-            assert d.log_text().count("reload: plcs[0] (a): done; station 5, image kept") == n
+            wait_count(d, "reload: applied to 1 of 3 PLCs", n)
             assert reg(s, D0, unit=5) == 11 and reg(s, D0, unit=2) == 22, n
     finally:
         assert d.stop() == 0
@@ -646,7 +647,7 @@ def test_a_shared_line_that_cannot_be_reopened_at_a_reload(tmp_path):
         missing = later / "plcemu-rtu-a"  # where PtyPair(later) will put its device
         Path(d.config_path).write_text(with_programs(multidrop_config(missing, port)))
         d.proc.send_signal(signal.SIGHUP)
-        assert d.wait_log("reload: plcs[2] (st3): done"), d.log_text()
+        assert d.wait_log("reload: applied to 3 of 3 PLCs"), d.log_text()
         assert d.wait_log(f"reload: rtu: cannot open {missing}: No such file or directory; serving "
                           "without the serial port for plcs[0] (st1), plcs[1] (st2), plcs[2] (st3)"
                           ), d.log_text()
@@ -667,7 +668,8 @@ def test_a_shared_line_that_cannot_be_reopened_at_a_reload(tmp_path):
         line = RawLine(back.master)  # the old line's own is closed by multidrop()
         try:
             d.proc.send_signal(signal.SIGHUP)
-            wait_count(d, "reload: plcs[2] (st3): done", 2)
+            # Nothing changed: no PLC is rebuilt, but the line is tried again.
+            assert d.wait_log("reload: applied to 0 of 3 PLCs; 3 unchanged"), d.log_text()
             assert d.wait_log(f"listening on rtu {missing}"), d.log_text()
             assert line.request(2, fc06(0, 42), 8) == fc06(0, 42)
             deadline = time.monotonic() + 2
@@ -695,5 +697,60 @@ def test_falling_behind_real_time_names_the_plc(tmp_path, ports):
         # The two PLCs share a deadline, so either may be woken (and log) first.
         assert d.wait_log("plcs[1] (line-b): scan: more than 1 s behind real time"), d.log_text()
         assert d.wait_log("plcs[0] (line-a): scan: more than 1 s behind real time"), d.log_text()
+    finally:
+        assert d.stop() == 0
+
+
+def reload_config(hp, p0, p1, b_preset, head=""):
+    """Two fbs PLCs, a and b, and the console beside them; b presets R100 with `b_preset`;
+    `head` goes first (a comment moves every line below it)."""
+    entry = ("  - {{name: {n}, profile: fbs, modbus: {{tcp: {{bind: 127.0.0.1, port: {p}}}}}, "
+             "persistence: {{enabled: false}}, init: {{R100: {v}}}}}\n")
+    return (f"{head}http: {{bind: 127.0.0.1, port: {hp}}}\nplcs:\n" +
+            entry.format(n="a", p=p0, v=5) + entry.format(n="b", p=p1, v=b_preset))
+
+
+def scans(hp):
+    m = parse_metrics(get(hp, "/metrics").body.decode())
+    return (m[("plcemu_scans_total", (("plc", "a"),))], m[("plcemu_scans_total", (("plc", "b"),))])
+
+
+def test_a_reload_rebuilds_only_the_plcs_whose_entry_changed(tmp_path):
+    """docs/operations.md, "Reload (SIGHUP)": with `plcs:`, a PLC whose entry reads as it did
+    (wherever its lines now stand) runs on untouched; the one whose entry changed is rebuilt.
+    /metrics counts each PLC's scans since it was built."""
+    hp, p0, p1 = free_port(), free_port(), free_port()
+    d = spawn(tmp_path, reload_config(hp, p0, p1, 7), [hp, p0, p1])
+    try:
+        deadline = time.monotonic() + 10
+        while min(scans(hp)) < 100:
+            assert time.monotonic() < deadline
+            time.sleep(0.05)
+        a0, b0 = scans(hp)
+        # b's preset changes; a comment first moves every line of both entries.
+        Path(d.config_path).write_text(reload_config(hp, p0, p1, 8, head="# moved\n\n"))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: applied to 1 of 2 PLCs; 1 unchanged run on untouched"), \
+            d.log_text()
+        assert d.wait_log("reload: plcs[1] (b): init: changed"), d.log_text()
+        assert "reload: plcs[0] (a):" not in d.log_text(), d.log_text()
+        a1, b1 = scans(hp)
+        assert a1 > a0, (a0, a1)  # a's program was not restarted
+        assert b1 < b0, (b0, b1)  # b's was
+        assert reg(client_on(d, p1), 100) == 7  # retained values win over presets at a reload
+
+        # `log:` is the process's: a new level changes no PLC.
+        while scans(hp)[1] < 100:
+            assert time.monotonic() < deadline + 10
+            time.sleep(0.05)
+        a1, b1 = scans(hp)
+        Path(d.config_path).write_text("log: {level: warn}\n" +
+                                       reload_config(hp, p0, p1, 8, head="# moved\n\n"))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: log.level: info -> warn"), d.log_text()
+        time.sleep(0.2)  # the reload is through, its last lines below the new level
+        a2, b2 = scans(hp)
+        assert a2 > a1 and b2 > b1, (a1, b1, a2, b2)
+        assert "applied to 0 of 2" not in d.log_text()  # said at info, now below the level
     finally:
         assert d.stop() == 0

@@ -176,6 +176,13 @@ struct LogConfig {
 };
 
 /// A whole configuration.
+/// A sum of what a PLC's config was read from (config/fingerprint.hpp): equal sums, the same PLC.
+struct Fingerprint {
+    std::uint64_t low = 0;   ///< the sum's low half
+    std::uint64_t high = 0;  ///< its high half
+    bool operator==(const Fingerprint&) const = default;
+};
+
 struct Config {
     std::string path;  ///< file it was read from
     std::string name;  ///< `name:` of a `plcs:` entry
@@ -206,6 +213,9 @@ struct Config {
     SimulatorConfig simulator;      ///< simulator-control unit
     PersistenceConfig persistence;  ///< retentive state file
     LogConfig log;                  ///< logging
+    /// What the loader read it from, summed; a reload leaves running untouched a PLC whose sum is
+    /// unchanged (docs/operations.md, "Reload"). Zero in a Config built without the loader.
+    Fingerprint fingerprint;
 };
 
 /// Reads a serial line's settings (`modbus.rtu`, or a profile's own port) into `rtu`; `what`
