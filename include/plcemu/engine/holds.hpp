@@ -33,13 +33,20 @@ public:
     void put(image::Image& image) const noexcept;
 
 private:
-    struct Bit {
-        image::Area area;
-        std::uint32_t index;
-        std::uint8_t value;
+    // One bit a discrete of each bit area: disabled or not, and its value at the last take().
+    // 5,000 PLCs of an FBs hold 2 × 4,000 bits each here; a record per discrete that may be
+    // disabled took 52 KB a PLC, half the process's memory. The words are all there from the
+    // start: nothing is allocated on the request path.
+    struct Bits {
+        std::vector<std::uint64_t> held;
+        std::vector<std::uint64_t> value;
+        std::uint32_t size = 0;  // discretes in the area
     };
-    std::array<std::vector<std::uint8_t>, image::kAreaCount> flags_;
-    std::vector<Bit> bits_;  // the disabled ones, with their values at the last take()
+    // Calls `f(area, index)` for each disabled discrete.
+    template <class F>
+    void each_held(F f) const;
+
+    std::array<Bits, image::kAreaCount> areas_;
     std::uint32_t count_ = 0;
 };
 
