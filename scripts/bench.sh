@@ -399,11 +399,11 @@ YAML
 # N copies of config/default.yaml's PLC in one `plcs:` process, each on its own port with its own
 # state file: the time to start, the CPU share of one core while nobody polls (scans every 10 ms,
 # plants running), then one client per PLC polling FC03 (R0-R9) every second: its latency and
-# overruns, the peak RSS, a reload of the whole config with one PLC's setpoint changed (how long
-# until it was applied, and the longest any polling client waited meanwhile), and the
-# scan-start lateness every PLC logs when the daemon stops (the worst PLC's p99 and the median
-# PLC's). Run for 500 PLCs, and for BENCH_PLCS as well when that is another count, so that each
-# figure of a large run is printed beside the 500-PLC one.
+# overruns, a reload of the whole config with one PLC's setpoint changed (how long until it was
+# applied, and the longest any polling client waited meanwhile), the peak RSS and the RSS once
+# the reload is over, and the scan-start lateness every PLC logs when the daemon stops (the
+# worst PLC's p99 and the median PLC's). Run for 500 PLCs, and for BENCH_PLCS as well when that
+# is another count, so that each figure of a large run is printed beside the 500-PLC one.
 many_plcs_run() {
     local n=$1 dir=$TMP/plcs$1 cfg base started up hz t0 t1 c0 c1 poll poll_pid done_lines
     mkdir -p "$dir"
@@ -465,7 +465,12 @@ many_plcs_run() {
     wait "$poll_pid" || true
     emit < <(grep -E '\.(max|p99|errors|overruns) ' "$TMP/reload_poll.txt")
     if alive "$SERVER_PID"; then
-        emit < <(awk -v n="plcs$n" '/^VmHWM:/ { printf "%s.peak_rss %.1f MB\n", n, $2 / 1024 }' \
+        # The RSS once the reload's leftovers are freed (the retirer's thread frees them in the
+        # background: a second is ample), beside the peak the reload reached.
+        sleep 1
+        emit < <(awk -v n="plcs$n" '
+            /^VmHWM:/ { printf "%s.peak_rss %.1f MB\n", n, $2 / 1024 }
+            /^VmRSS:/ { printf "%s.rss_after_reload %.1f MB\n", n, $2 / 1024 }' \
             "/proc/$SERVER_PID/status")
     fi
     # Closing thousands of state files (each synced) takes a while.
@@ -490,7 +495,7 @@ bench_many_plcs() {
     ((n == 500)) && return 0
     many_plcs_run "$n"
     note "plcs: $n PLCs beside 500"
-    for name in start idle_cpu fc03.p99 fc03.max fc03.overruns peak_rss reload \
+    for name in start idle_cpu fc03.p99 fc03.max fc03.overruns peak_rss rss_after_reload reload \
         reload_fc03.max scan_lateness.p99_worst_plc; do
         [[ -n ${FIG[plcs$n.$name]:-} && -n ${FIG[plcs500.$name]:-} ]] || continue
         echo "# plcs.$name: ${FIG[plcs500.$name]} at 500, ${FIG[plcs$n.$name]} at $n"

@@ -14,6 +14,7 @@
 #include "daemon/notify.hpp"
 #include "daemon/retirer.hpp"
 #include "daemon/persistence.hpp"
+#include "daemon/release_memory.hpp"
 #include "daemon/reload.hpp"
 #include "daemon/reload_thread.hpp"
 #include "daemon/scan_driver.hpp"
@@ -509,6 +510,9 @@ private:
                 // Built on images of their own (the live ones are not touched), and never
                 // scanned: their programs, bound and checked, are the ones the live PLCs will run.
                 p->programs = probe_all(p->configs, p->unchanged);
+                // The YAML's trees and the probed PLCs are gone; the process's memory falls
+                // back before the swap adds the new PLCs.
+                release_freed_memory();
             } catch (const config::ConfigError& e) {
                 p->errors = e.lines();
             } catch (const std::exception& e) {

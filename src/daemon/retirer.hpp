@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "daemon/background.hpp"
+#include "daemon/release_memory.hpp"
 
 namespace plcemu::daemon {
 
@@ -61,6 +62,7 @@ private:
             queue_.pop_front();
             lock.unlock();
             p.reset();
+            release_freed_memory();
             lock.lock();
         }
     }
