@@ -3,12 +3,18 @@
 #include <dirent.h>
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 
 #include <string>
 
 namespace plcemu::daemon {
 
 long open_descriptors() noexcept {
+    // Linux 6.2 on gives the count as the directory's size: one call, where reading the
+    // directory formats an entry for each of the 15,000 descriptors of 5,000 PLCs (20 ms on the
+    // event loop, at each reload). Earlier kernels say 0, and the entries are counted.
+    struct stat st {};
+    if (::stat("/proc/self/fd", &st) == 0 && st.st_size > 0) return static_cast<long>(st.st_size);
     DIR* dir = ::opendir("/proc/self/fd");
     if (dir == nullptr) return -1;
     long n = 0;
