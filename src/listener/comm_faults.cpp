@@ -28,7 +28,12 @@ void CommFaults::set(const CommFaultSettings& s) {
     s_ = s;
     active_ = s_.any();
     // Counters and generator restart, so the same switch gives the same sequence every time.
-    random_.seed(s_.seed);
+    if (s_.drop_probability > 0 || s_.delay_min_ms != s_.delay_max_ms) {
+        if (!random_) random_ = std::make_unique<std::mt19937>();
+        random_->seed(s_.seed);
+    } else {
+        random_.reset();
+    }
     matched_ = 0;
     served_.clear();
 
@@ -78,7 +83,7 @@ Verdict CommFaults::judge(const Asked& a) noexcept {
     if (s_.drop_every > 0) {
         v.drop = ++matched_ % s_.drop_every == 0;
     } else if (s_.drop_probability > 0) {
-        v.drop = std::uniform_real_distribution<double>(0.0, 1.0)(random_) < s_.drop_probability;
+        v.drop = std::uniform_real_distribution<double>(0.0, 1.0)(*random_) < s_.drop_probability;
     }
     if (a.carrier == Carrier::Stream && s_.disconnect_after) {
         bool close = *s_.disconnect_after == 0;
@@ -105,7 +110,7 @@ Verdict CommFaults::judge(const Asked& a) noexcept {
         const std::uint32_t ms = s_.delay_min_ms == s_.delay_max_ms
                                      ? s_.delay_max_ms
                                      : std::uniform_int_distribution<std::uint32_t>(
-                                           s_.delay_min_ms, s_.delay_max_ms)(random_);
+                                           s_.delay_min_ms, s_.delay_max_ms)(*random_);
         v.fate.delay = std::chrono::milliseconds(ms);
         ++figures_.delayed;
     }

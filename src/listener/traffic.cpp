@@ -25,7 +25,8 @@ void Traffic::record(const Client& client, const Exchange& e) {
     if (e.error != 0) ++c.refusals;
     c.last = e.at;
     count(e);
-    ring_[next_] = e;
+    if (!ring_) ring_ = std::make_unique<std::array<Exchange, kKept>>();
+    (*ring_)[next_] = e;
     next_ = (next_ + 1) % kKept;
     size_ = std::min(size_ + 1, kKept);
 }
@@ -54,7 +55,9 @@ void Traffic::gone(std::uint64_t client) noexcept {
 std::vector<Exchange> Traffic::exchanges() const {
     std::vector<Exchange> v;
     v.reserve(size_);
-    for (std::size_t i = 0; i < size_; ++i) v.push_back(ring_[(next_ + kKept - size_ + i) % kKept]);
+    for (std::size_t i = 0; i < size_; ++i) {
+        v.push_back((*ring_)[(next_ + kKept - size_ + i) % kKept]);  // size_ > 0: it was made
+    }
     return v;
 }
 
