@@ -1012,7 +1012,12 @@ bool per_plc_key(const std::string& key) {
 
 // `plcs:` — a list of entries, each a single-PLC config with an optional `name:`; only `log:`
 // and `http:` may stand beside it.
-std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors& errors) {
+// `doc` is the file, `root` its tree without the entries, which are made one at a time: 5,000
+// entries as one tree would take more memory than the PLCs they describe.
+std::vector<Config> read_plcs(const YamlDocument& doc,
+                              const Node& root,
+                              const std::string& file,
+                              Errors& errors) {
     Reader top(errors);
     for (const auto& [key, value] : root.entries) {
         if (key.is_scalar() && per_plc_key(key.text)) {
@@ -1032,7 +1037,7 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors&
     }
     top.check_keys(rest, "config", {"plcs", "log", "http"});
     const Node& list = root["plcs"];
-    if (!list.is_sequence() || list.items.empty()) {
+    if (!list.is_sequence() || doc.items() == 0) {
         top.fail(list, "plcs: expected a list of PLC configs, each with at least 'profile:'");
     }
     LogConfig log;
@@ -1043,11 +1048,11 @@ std::vector<Config> read_plcs(const Node& root, const std::string& file, Errors&
     std::vector<Config> out;
     std::vector<Taken> taken;
     Clashes clashes;
-    out.reserve(list.items.size());
-    taken.reserve(list.items.size());
+    out.reserve(doc.items());
+    taken.reserve(doc.items());
     // Each entry on its own: the errors of one are recorded, named by it, and the next is read.
-    for (std::size_t i = 0; i < list.items.size(); ++i) {
-        const Node& e = list.items[i];
+    for (std::size_t i = 0; i < doc.items(); ++i) {
+        const Node e = doc.item(i);
         std::string label = "plcs[" + std::to_string(i) + "]";
         Reader r(errors);
         const std::size_t errors_before = errors.size();
@@ -1127,9 +1132,10 @@ Config read_config(const Node& root, const std::string& name) {
 Config load_config(const std::string& path) { return parse_config(read_config_file(path), path); }
 
 std::vector<Config> parse_plcs(const std::string& text, const std::string& name) {
-    const Node root = parse_yaml_tree(text, name);
+    YamlDocument doc(text, name);
+    const Node root = doc.tree_without_items("plcs");
     if (root.is_map() && root["plcs"]) {
-        return collecting([&](Errors& errors) { return read_plcs(root, name, errors); });
+        return collecting([&](Errors& errors) { return read_plcs(doc, root, name, errors); });
     }
     std::vector<Config> one;
     one.push_back(read_config(root, name));
