@@ -31,6 +31,10 @@ using Clock = std::chrono::steady_clock;
 // Room for many pipelined requests; a protocol's frames are at most a quarter of it (a protocol
 // with sessions: its largest request fills at most half of a buffer sized for it).
 constexpr std::size_t kBufferSize = 4096;
+// What a connection reads into until a read fills it (the client sends more than one request
+// at a time, or a large one): a client asking one request at a time, as SCADA polling does,
+// never needs more, and 5,000 of them would hold 15 MB more (docs/performance.md).
+constexpr std::size_t kFirstBuffer = 512;
 // What a session may have queued for a client that does not take it (live updates): beyond it
 // the client is too far behind and is closed.
 constexpr std::size_t kMaxQueued = 4 << 20;
@@ -120,6 +124,9 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
 
 // One client: reads its protocol's frames into its own buffer, serves a few complete ones per turn
 // and writes their replies. While replies are waiting for the client to take them, it is not read.
+// A connection's buffer once it has been filled.
+std::size_t full_buffer(std::size_t max_frame) { return std::max(kBufferSize, 2 * max_frame); }
+
 class Connection : public std::enable_shared_from_this<Connection>, public Outlet {
 public:
     Connection(tcp::socket s,
@@ -132,7 +139,7 @@ public:
           server_(std::move(server)),
           peer_(std::move(peer)),
           client_(make_client(peer_, protocol)),
-          buf_(std::max(kBufferSize, 2 * max_frame)),
+          buf_(std::min(kFirstBuffer, full_buffer(max_frame))),
           last_request_(Clock::now()),
           ticks_(socket_.get_executor()),
           hold_(socket_.get_executor()) {}
@@ -162,10 +169,7 @@ public:
     void start(StreamProtocol& protocol) {
         session_ = protocol.open(*this);
         // A protocol that answers in place writes one frame at a time into reply_.
-        if (!session_) {
-            reply_.resize(max_frame_);
-            out_.reserve(kFramesPerTurn * max_frame_);
-        }
+        if (!session_) reply_.resize(max_frame_);
         // Non-blocking for good: a reply that does not fit is left to an asynchronous write.
         asio::error_code ec;
         socket_.non_blocking(true, ec);
@@ -237,6 +241,10 @@ private:
                     return;
                 }
                 self->used_ += n;
+                // Filled: the client has more to say than the buffer holds.
+                if (self->used_ == self->buf_.size()) {
+                    self->buf_.resize(std::max(self->buf_.size(), full_buffer(self->max_frame_)));
+                }
                 self->serve();
             });
     }

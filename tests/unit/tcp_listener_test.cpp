@@ -25,10 +25,12 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// Lines ending in '\n', answered in upper case; a line starting with '!' is bad.
-class Lines final : public StreamProtocol {
+// Lines ending in '\n' of up to `Max` bytes, answered in upper case; a line starting with '!' is
+// bad.
+template <std::size_t Max>
+class LinesOf final : public StreamProtocol {
 public:
-    std::size_t max_frame() const noexcept override { return 64; }
+    std::size_t max_frame() const noexcept override { return Max; }
     Split split(std::span<const std::uint8_t> buffered) const noexcept override {
         if (!buffered.empty() && buffered[0] == '!') return {Cut::Bad, 0, "bad line"};
         const auto end = std::find(buffered.begin(), buffered.end(), std::uint8_t{'\n'});
@@ -51,6 +53,7 @@ public:
 private:
     UnitTable units_;
 };
+using Lines = LinesOf<64>;
 
 // A listener on a free port of 127.0.0.1 carrying protocol `P`, and a client's helpers.
 template <typename P>
@@ -113,6 +116,29 @@ TEST_F(TcpListenerTest, AFrameLongerThanTheProtocolAllowsClosesTheConnection) {
     asio::write(s, asio::buffer(std::string(100, 'x')));
     EXPECT_TRUE(closed(s));
     EXPECT_EQ(protocol_.answered, 0);
+}
+
+// A connection reads into a small buffer until a read fills it: a frame longer than that, and
+// a client that sends many frames at once, are served as with the full buffer from the start.
+using GrowingBufferTest = Seated<LinesOf<3000>>;
+
+TEST_F(GrowingBufferTest, FramesLongerThanTheFirstBufferAndManyAtOnceAreServed) {
+    auto s = connect();
+    const std::string long_line = std::string(2500, 'a') + "\n";
+    asio::write(s, asio::buffer(long_line));
+    EXPECT_EQ(read(s, long_line.size()), std::string(2500, 'A') + "\n");
+    std::string many;
+    std::string upper;
+    for (int i = 0; i < 1000; ++i) {
+        many += "line" + std::to_string(i) + "\n";
+        upper += "LINE" + std::to_string(i) + "\n";
+    }
+    asio::write(s, asio::buffer(many + std::string(2000, 'b')));
+    EXPECT_EQ(read(s, upper.size()), upper);
+    asio::write(s, asio::buffer(std::string("b\n")));
+    EXPECT_EQ(read(s, 2002), std::string(2001, 'B') + "\n");
+    EXPECT_EQ(protocol_.answered, 1002);
+    EXPECT_EQ(listener_->connections(), 1u);
 }
 
 // The descriptors the daemon can give clients are shared by every listener of the process: at
