@@ -25,10 +25,33 @@ void Traffic::record(const Client& client, const Exchange& e) {
     if (e.error != 0) ++c.refusals;
     c.last = e.at;
     count(e);
-    if (!ring_) ring_ = std::make_unique<std::array<Exchange, kKept>>();
-    (*ring_)[next_] = e;
+    if (!ring_) ring_ = std::make_unique<std::array<Kept, kKept>>();
+    const auto simulator = static_cast<std::uint8_t>(e.simulator ? kSimulator : 0);
+    (*ring_)[next_] = {e.at,
+                       e.client,
+                       e.address,
+                       e.count,
+                       static_cast<std::uint8_t>(protocol_number(e.protocol) | simulator),
+                       e.unit,
+                       e.function,
+                       e.error};
     next_ = (next_ + 1) % kKept;
     size_ = std::min(size_ + 1, kKept);
+}
+
+std::uint8_t Traffic::protocol_number(std::string_view protocol) {
+    // The names are the protocols' own constants: compared by address first.
+    for (std::size_t i = 0; i < protocols_.size(); ++i) {
+        const std::string_view p = protocols_[i];
+        if ((p.data() == protocol.data() && p.size() == protocol.size()) || p == protocol) {
+            return static_cast<std::uint8_t>(i);
+        }
+    }
+    // A PLC is reached by a few protocols (the daemon knows four), far fewer than the number's
+    // seven bits hold; past them the last would be named.
+    if (protocols_.size() == kSimulator) return kSimulator - 1;
+    protocols_.push_back(protocol);
+    return static_cast<std::uint8_t>(protocols_.size() - 1);
 }
 
 void Traffic::count(const Exchange& e) {
@@ -56,7 +79,9 @@ std::vector<Exchange> Traffic::exchanges() const {
     std::vector<Exchange> v;
     v.reserve(size_);
     for (std::size_t i = 0; i < size_; ++i) {
-        v.push_back((*ring_)[(next_ + kKept - size_ + i) % kKept]);  // size_ > 0: it was made
+        const Kept& k = (*ring_)[(next_ + kKept - size_ + i) % kKept];  // size_ > 0: made
+        v.push_back({k.at, k.client, protocols_[k.protocol & ~kSimulator], k.unit, k.function,
+                     k.error, (k.protocol & kSimulator) != 0, k.address, k.count});
     }
     return v;
 }

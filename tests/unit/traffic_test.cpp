@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <string_view>
+
 namespace plcemu::listener {
 namespace {
 
@@ -80,6 +83,45 @@ TEST(Traffic, KeepsTheLastExchangesOnly) {
     EXPECT_EQ(x.front().address, 10);
     EXPECT_EQ(x.back().address, Traffic::kKept + 9);
     EXPECT_EQ(t.clients()[0].requests, Traffic::kKept + 10);
+}
+
+// The ring keeps each exchange in fewer bytes (its protocol as a number): every field comes back
+// as it was recorded, whichever protocol carried it, its name as a protocol gave it.
+TEST(Traffic, KeptExchangesComeBackWholeWhateverCarriedThem) {
+    Traffic t;
+    const Client a = make_client("10.0.0.1:5000", "modbus-tcp");
+    const Client b = make_client("/dev/ttyS0", "fatek", Carrier::Line);
+    const std::string rtu = "modbus-rtu";  // a name with an address of its own
+    for (std::size_t i = 0; i < Traffic::kKept + 3; ++i) {
+        const Client& c = i % 3 == 1 ? b : a;
+        Exchange e;
+        e.at = std::chrono::system_clock::time_point(std::chrono::milliseconds(1000 + i));
+        e.client = c.id;
+        e.protocol = i % 3 == 2 ? std::string_view(rtu) : c.protocol;
+        e.unit = static_cast<std::uint8_t>(i);
+        e.function = static_cast<std::uint8_t>(i * 7);
+        e.error = static_cast<std::uint8_t>(i % 5);
+        e.simulator = i % 4 == 0;
+        e.address = static_cast<std::uint16_t>(65535 - i);
+        e.count = static_cast<std::uint16_t>(i * 3);
+        t.record(c, e);
+    }
+    const auto x = t.exchanges();
+    ASSERT_EQ(x.size(), Traffic::kKept);
+    for (std::size_t k = 0; k < x.size(); ++k) {
+        const std::size_t i = k + 3;
+        SCOPED_TRACE(i);
+        EXPECT_EQ(x[k].at,
+                  std::chrono::system_clock::time_point(std::chrono::milliseconds(1000 + i)));
+        EXPECT_EQ(x[k].client, i % 3 == 1 ? b.id : a.id);
+        EXPECT_EQ(x[k].protocol, i % 3 == 0 ? "modbus-tcp" : i % 3 == 1 ? "fatek" : "modbus-rtu");
+        EXPECT_EQ(x[k].unit, static_cast<std::uint8_t>(i));
+        EXPECT_EQ(x[k].function, static_cast<std::uint8_t>(i * 7));
+        EXPECT_EQ(x[k].error, i % 5);
+        EXPECT_EQ(x[k].simulator, i % 4 == 0);
+        EXPECT_EQ(x[k].address, 65535 - i);
+        EXPECT_EQ(x[k].count, i * 3);
+    }
 }
 
 }  // namespace
