@@ -265,7 +265,7 @@ void read_listing_file(const Reader& r, const Node& file, std::vector<ListingLin
     if (name.empty()) r.fail(file, "program.file: expected a file name");
     // Relative to the directory of the config file that names it, as a state file is.
     const std::filesystem::path target(name);
-    const std::filesystem::path base = std::filesystem::path(file.pos.file).parent_path();
+    const std::filesystem::path base = std::filesystem::path(file.pos.file.str()).parent_path();
     const std::string path = target.is_absolute() || base.empty() ? name : (base / target).string();
     std::string text;
     try {
@@ -980,7 +980,7 @@ void check_shared(const Reader& r,
             r.fail(where(entry, {"persistence", "file"}),
                    "persistence.file: '" + excerpt(default_state_file(c), kPath) + "' is also " +
                        o.label + "'s state file ('" + excerpt(default_state_file(o), kPath) +
-                       "' at " + at.file + ":" + std::to_string(at.line) + ":" +
+                       "' at " + at.file.str() + ":" + std::to_string(at.line) + ":" +
                        std::to_string(at.column) + "; both are " + excerpt(mine.state_file, kPath) +
                        ")");
         }

@@ -19,12 +19,12 @@ using image::excerpt;
 
 std::string format_error(const Position& p, const std::string& m) {
     // Line 0: the error is about the file as a whole (e.g. it cannot be opened).
-    if (p.line <= 0) return p.file + ": " + m;
+    if (p.line <= 0) return p.file.str() + ": " + m;
     const std::string line = std::to_string(p.line);
     const std::string column = std::to_string(p.column);
     std::string out;
-    out.reserve(p.file.size() + line.size() + column.size() + m.size() + 4);
-    out += p.file;
+    out.reserve(p.file.str().size() + line.size() + column.size() + m.size() + 4);
+    out += p.file.str();
     out += ':';
     out += line;
     out += ':';

@@ -5,7 +5,8 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <sstream>
+#include <istream>
+#include <streambuf>
 #include <string_view>
 #include <type_traits>
 #include <utility>
@@ -28,7 +29,7 @@ constexpr std::size_t kMaxDepth = 64;
 
 constexpr std::uint32_t kNone = UINT32_MAX;
 
-Position position(const std::string& file, int line, int column) {
+Position position(const FileName& file, int line, int column) {
     return line < 0 || column < 0 ? Position{file, 1, 1} : Position{file, line + 1, column + 1};
 }
 
@@ -69,10 +70,10 @@ struct YamlDocument::Graph final : public YAML::EventHandler {
         std::uint32_t next;
     };
 
-    explicit Graph(std::string name)
-        : file(std::move(name)) {}
+    explicit Graph(const std::string& name)
+        : file(name) {}
 
-    const std::string file;
+    const FileName file;  // shared by every position made
     std::vector<Record> records;
     std::vector<Link> links;
     std::string scalars;
@@ -262,7 +263,15 @@ private:
 YamlDocument::YamlDocument(const std::string& text, const std::string& name)
     : graph_(std::make_unique<Graph>(name)) {
     try {
-        std::istringstream in(text);
+        // The parser reads a stream: this one reads the text where it is (an istringstream
+        // would copy it, 5.5 MB for 5,000 PLCs; std::ispanstream is C++23).
+        struct TextBuffer : std::streambuf {
+            explicit TextBuffer(const std::string& t) {
+                char* p = const_cast<char*>(t.data());  // only read: a get area is char*
+                setg(p, p, p + t.size());
+            }
+        } buffer(text);
+        std::istream in(&buffer);
         YAML::Parser parser(in);
         parser.HandleNextDocument(*graph_);
     } catch (const YAML::Exception& e) {

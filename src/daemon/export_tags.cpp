@@ -67,7 +67,7 @@ std::string joined(const std::vector<std::string>& parts) {
 }
 
 std::string where(const config::Position& p) {
-    return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column);
+    return p.file.str() + ":" + std::to_string(p.line) + ":" + std::to_string(p.column);
 }
 
 /// What the config itself says of devices: `init:` presets and the drives of the plant.

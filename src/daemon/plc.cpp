@@ -26,7 +26,7 @@ image::Layout plc_layout(const config::Config& config) {
 
 namespace {
 
-instructions::Where where_of(const config::Position& p) { return {p.file, p.line, p.column}; }
+instructions::Where where_of(const config::Position& p) { return {p.file.str(), p.line, p.column}; }
 
 config::ConfigError config_error(const instructions::BindError& e) {
     const auto& w = e.where();

@@ -33,7 +33,7 @@ std::vector<instructions::Statement> listing_statements(const config::Config& co
     std::vector<instructions::ListingLine> lines;
     lines.reserve(config.listing.size());
     for (const auto& l : config.listing) {
-        lines.push_back({l.text, {l.pos.file, l.pos.line, l.pos.column}});
+        lines.push_back({l.text, {l.pos.file.str(), l.pos.line, l.pos.column}});
     }
     try {
         return instructions::read_listing(lines, *dialect);

@@ -22,7 +22,7 @@ ConfigFailure config_failure(const std::function<void()>& load) {
 void expect_config_error(
     const ConfigFailure& f, const std::string& file, int line, int col, const std::string& needle) {
     ASSERT_TRUE(f.thrown) << "accepted";
-    EXPECT_EQ(f.pos.file, file);
+    EXPECT_EQ(f.pos.file.str(), file);
     EXPECT_EQ(f.pos.line, line) << f.what;
     EXPECT_EQ(f.pos.column, col) << f.what;
     const std::string prefix = file + ":" + std::to_string(line) + ":" + std::to_string(col) + ": ";
@@ -42,7 +42,7 @@ void expect_config_errors(const ConfigFailure& f,
     for (std::size_t i = 0; i < expected.size(); ++i) {
         const auto& want = expected[i];
         const auto& got = f.all[i];
-        EXPECT_EQ(got.pos.file, file) << all;
+        EXPECT_EQ(got.pos.file.str(), file) << all;
         EXPECT_EQ(got.pos.line, want.line) << "error " << i << "\n" << all;
         EXPECT_EQ(got.pos.column, want.col) << "error " << i << "\n" << all;
         const std::string prefix =

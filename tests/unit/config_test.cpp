@@ -342,7 +342,7 @@ TEST(Config, ProgramErrors) {
 TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
     const ConfigFailure f = parse_error("profile: fbs\nmodbus: {tcp: {port: 1}\n");
     ASSERT_TRUE(f.thrown);
-    EXPECT_EQ(f.pos.file, "t.yaml");
+    EXPECT_EQ(f.pos.file.str(), "t.yaml");
     EXPECT_GE(f.pos.line, 2) << f.what;
     EXPECT_GE(f.pos.column, 1) << f.what;
     expect_error("profile: fbs\n  station: 1\n", 2, 10, "");

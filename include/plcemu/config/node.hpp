@@ -4,6 +4,7 @@
 // its own sections (config::Config::sections) with the same Reader.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -11,11 +12,34 @@
 
 namespace plcemu::config {
 
+/// A file's name as positions carry it: one copy, shared by every position read from the file
+/// (5,000 PLCs' configs hold hundreds of thousands of positions, docs/performance.md).
+class FileName {
+public:
+    FileName() = default;
+    FileName(std::string name)  // NOLINT(google-explicit-constructor): a name is a file name
+        : name_(std::make_shared<const std::string>(std::move(name))) {}
+    FileName(const char* name)  // NOLINT(google-explicit-constructor)
+        : FileName(std::string(name)) {}
+    /// The name; "" when none was given.
+    const std::string& str() const noexcept {
+        static const std::string none;
+        return name_ ? *name_ : none;
+    }
+    operator const std::string&() const noexcept { return str(); }  // NOLINT: reads as a string
+    bool empty() const noexcept { return str().empty(); }
+
+private:
+    std::shared_ptr<const std::string> name_;
+};
+
+inline bool operator==(const FileName& a, const FileName& b) { return a.str() == b.str(); }
+
 /// Where something stands in a config file (1-based line and column).
 struct Position {
-    std::string file;  ///< file name as given
-    int line = 0;      ///< 1-based line
-    int column = 0;    ///< 1-based column
+    FileName file;   ///< file name as given
+    int line = 0;    ///< 1-based line
+    int column = 0;  ///< 1-based column
 };
 
 /// One node of a config file.

@@ -111,7 +111,7 @@ const TemperatureModule* multiplexed_module(const std::vector<TemperatureModule>
 }
 
 std::string position_text(const config::Position& p) {
-    return p.file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column);
+    return p.file.str() + ":" + std::to_string(p.line) + ":" + std::to_string(p.column);
 }
 
 std::string declared_at(const TemperatureModule& module) { return position_text(module.pos); }
