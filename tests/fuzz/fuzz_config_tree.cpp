@@ -42,7 +42,7 @@ public:
     Node value(int depth) {
         skip_space();
         Node n;
-        n.pos = {std::string(fuzz::kConfigName), line_, column()};
+        n.pos = {file_, line_, column()};
         if (depth > kMaxDepth) {
             deep_ = true;
             pos_ = in_.size();
@@ -166,6 +166,8 @@ private:
     }
 
     std::string_view in_;
+    // One name for every position, as the YAML reader shares its file's.
+    const config::FileName file_{std::string(fuzz::kConfigName)};
     std::size_t pos_ = 0;
     std::size_t line_start_ = 0;  // where the current line starts
     int line_ = 1;
