@@ -404,6 +404,12 @@ YAML
 # the reload is over, and the scan-start lateness every PLC logs when the daemon stops (the
 # worst PLC's p99 and the median PLC's). Run for 500 PLCs, and for BENCH_PLCS as well when that
 # is another count, so that each figure of a large run is printed beside the 500-PLC one.
+# The server's RSS now, as figure NAME.
+rss() {
+    emit < <(awk -v n="$1" '/^VmRSS:/ { printf "%s %.1f MB\n", n, $2 / 1024 }' \
+        "/proc/$SERVER_PID/status")
+}
+
 many_plcs_run() {
     local n=$1 dir=$TMP/plcs$1 cfg base started up hz t0 t1 c0 c1 poll poll_pid done_lines
     mkdir -p "$dir"
@@ -429,6 +435,7 @@ many_plcs_run() {
     t1=$(date +%s.%N)
     emit < <(awk -v n="plcs$n.idle_cpu" -v c="$((c1 - c0))" -v hz="$hz" -v a="$t0" -v b="$t1" \
         'BEGIN { printf "%s %.1f %%\n", n, 100 * c / hz / (b - a) }')
+    rss "plcs$n.rss_idle"
     # Each PLC holds three descriptors (its listener, its state file and the file's lock) and
     # a client one more: where the hard limit cannot hold them all, fewer PLCs are polled (the
     # daemon keeps the rest of its descriptors for itself, and further clients wait at accept).
@@ -445,6 +452,9 @@ many_plcs_run() {
         --label "plcs$n.reload_fc03" >"$TMP/reload_poll.txt" &
     poll_pid=$!
     sleep "$((WARMUP_SECONDS + 1))"
+    # What the clients cost beside the RSS at rest: each its connection, each PLC its ring of
+    # exchanges.
+    rss "plcs$n.rss_polled"
     done_lines=$(grep -c 'reload: applied to ' "$TMP/plcs$n.log" || true)
     t0=$(date +%s.%N)
     kill -HUP "$SERVER_PID"
@@ -495,8 +505,8 @@ bench_many_plcs() {
     ((n == 500)) && return 0
     many_plcs_run "$n"
     note "plcs: $n PLCs beside 500"
-    for name in start idle_cpu fc03.p99 fc03.max fc03.overruns peak_rss rss_after_reload reload \
-        reload_fc03.max scan_lateness.p99_worst_plc; do
+    for name in start idle_cpu fc03.p99 fc03.max fc03.overruns rss_idle rss_polled peak_rss \
+        rss_after_reload reload reload_fc03.max scan_lateness.p99_worst_plc; do
         [[ -n ${FIG[plcs$n.$name]:-} && -n ${FIG[plcs500.$name]:-} ]] || continue
         echo "# plcs.$name: ${FIG[plcs500.$name]} at 500, ${FIG[plcs$n.$name]} at $n"
     done
