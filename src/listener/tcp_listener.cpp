@@ -33,7 +33,7 @@ using Clock = std::chrono::steady_clock;
 constexpr std::size_t kBufferSize = 4096;
 // What a connection reads into until a read fills it (the client sends more than one request
 // at a time, or a large one): a client asking one request at a time, as SCADA polling does,
-// never needs more, and 5,000 of them would hold 15 MB more (docs/performance.md).
+// never needs more, and 4,900 of them would hold 17 MB more (docs/performance.md).
 constexpr std::size_t kFirstBuffer = 512;
 // What a session may have queued for a client that does not take it (live updates): beyond it
 // the client is too far behind and is closed.
@@ -122,11 +122,11 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
     bool stopped = false;
 };
 
-// One client: reads its protocol's frames into its own buffer, serves a few complete ones per turn
-// and writes their replies. While replies are waiting for the client to take them, it is not read.
 // A connection's buffer once it has been filled.
 std::size_t full_buffer(std::size_t max_frame) { return std::max(kBufferSize, 2 * max_frame); }
 
+// One client: reads its protocol's frames into its own buffer, serves a few complete ones per turn
+// and writes their replies. While replies are waiting for the client to take them, it is not read.
 class Connection : public std::enable_shared_from_this<Connection>, public Outlet {
 public:
     Connection(tcp::socket s,
