@@ -26,14 +26,10 @@ public:
         static const std::string none;
         return name_ ? *name_ : none;
     }
-    operator const std::string&() const noexcept { return str(); }  // NOLINT: reads as a string
-    bool empty() const noexcept { return str().empty(); }
 
 private:
     std::shared_ptr<const std::string> name_;
 };
-
-inline bool operator==(const FileName& a, const FileName& b) { return a.str() == b.str(); }
 
 /// Where something stands in a config file (1-based line and column).
 struct Position {
