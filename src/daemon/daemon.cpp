@@ -450,12 +450,26 @@ private:
         });
     }
 
+    // What `systemctl status` shows: each PLC's station and endpoints, as many PLCs as one
+    // message carries, then how many more there are. Made only when a manager listens.
     std::string status_line() const {
+        if (!notify_.listening()) return {};
+        // A PLC's part and its separator take more than 8 bytes ("; station 1"): no more PLCs
+        // than this can show, and only theirs are described.
+        constexpr std::size_t kMost = Notifier::kStatusRoom / 8;
+        constexpr std::size_t kTail = 32;  // "; and 4999 more PLCs"
+        const std::vector<std::string> described = listeners_.describe_all(kMost);
         std::string s;
-        const std::vector<std::string> described = listeners_.describe_all();
         for (std::size_t i = 0; i < hosts_.size(); ++i) {
-            s += (s.empty() ? "" : "; ") +
-                 hosts_[i]->status_line(i < described.size() ? described[i] : std::string());
+            const std::string part =
+                hosts_[i]->status_line(i < described.size() ? described[i] : std::string());
+            const bool last = i + 1 == hosts_.size();
+            if (i > 0 && s.size() + 2 + part.size() + (last ? 0 : kTail) > Notifier::kStatusRoom) {
+                const std::size_t more = hosts_.size() - i;
+                s += "; and " + std::to_string(more) + (more == 1 ? " more PLC" : " more PLCs");
+                break;
+            }
+            s += (i == 0 ? "" : "; ") + part;
         }
         return s;
     }

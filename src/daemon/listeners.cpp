@@ -572,11 +572,13 @@ std::string Listeners::unit_clash(const std::vector<config::Config>& next,
     return {};
 }
 
-std::vector<std::string> Listeners::describe_all() const {
-    std::vector<std::string> out(plcs_.size());
+std::vector<std::string> Listeners::describe_all(std::size_t plcs) const {
+    std::vector<std::string> out(std::min(plcs, plcs_.size()));
     for (const auto* list : {&tcp_, &reopened_}) {
         for (const auto& l : *list) {
             if (!l->open()) continue;
+            // Its members are in `plcs:` order.
+            if (l->members.empty() || l->members.front() >= out.size()) continue;
             const std::string words = ", " + l->what() + " " + l->where();
             for (const std::size_t i : l->members) {
                 if (i < out.size()) out[i] += words;

@@ -68,8 +68,9 @@ public:
     /// Closes every listener.
     void stop();
     /// For each PLC, by index, ", tcp ADDR:PORT, rtu DEVICE, fatek tcp ADDR:PORT ...": its open
-    /// listeners, for the status line and the console, in one pass over the listeners.
-    std::vector<std::string> describe_all() const;
+    /// listeners, for the status line and the console, in one pass over the listeners; only the
+    /// first `plcs` PLCs when fewer are asked for.
+    std::vector<std::string> describe_all(std::size_t plcs = SIZE_MAX) const;
 
     struct Listener;
 

@@ -2,14 +2,30 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cstdlib>
+
 #ifdef PLCEMU_HAVE_SYSTEMD
     #include <systemd/sd-daemon.h>
 #endif
 
 namespace plcemu::daemon {
 
+namespace {
+
+// `status` cut to Notifier::kStatusRoom bytes, not inside a UTF-8 sequence.
+std::string fitted(const std::string& status) {
+    if (status.size() <= Notifier::kStatusRoom) return status;
+    std::size_t n = Notifier::kStatusRoom;
+    while (n > 0 && (static_cast<unsigned char>(status[n]) & 0xC0) == 0x80) --n;
+    return status.substr(0, n);
+}
+
+}  // namespace
+
 Notifier::Notifier() {
 #ifdef PLCEMU_HAVE_SYSTEMD
+    const char* socket = std::getenv("NOTIFY_SOCKET");
+    listening_ = socket != nullptr && *socket != '\0';
     std::uint64_t usec = 0;
     // 0 = the manager's environment asks for no pings (or names another PID).
     if (sd_watchdog_enabled(0, &usec) > 0) interval_ = std::chrono::microseconds(usec);
@@ -29,9 +45,11 @@ void Notifier::send(const std::string& text) noexcept {
 #endif
 }
 
-void Notifier::ready(const std::string& status) noexcept { send("READY=1\nSTATUS=" + status); }
+void Notifier::ready(const std::string& status) noexcept {
+    send("READY=1\nSTATUS=" + fitted(status));
+}
 
-void Notifier::status(const std::string& status) noexcept { send("STATUS=" + status); }
+void Notifier::status(const std::string& status) noexcept { send("STATUS=" + fitted(status)); }
 
 void Notifier::reloading() noexcept { send("RELOADING=1\nSTATUS=reloading the configuration"); }
 

@@ -3,6 +3,7 @@
 // pings. Built without libsystemd (PLCEMU_HAVE_SYSTEMD undefined) every call does nothing.
 
 #include <chrono>
+#include <cstddef>
 #include <string>
 
 namespace plcemu::daemon {
@@ -14,6 +15,16 @@ public:
 
     /// Reads the watchdog interval the manager asked for (WatchdogSec=, WATCHDOG_USEC).
     Notifier();
+
+    /// The longest status a message carries: systemd ignores a whole notification of
+    /// NOTIFY_BUFFER_MAX (PIPE_BUF, 4,096) bytes or more, READY=1 included, so ready() and
+    /// status() cut a longer one (at a character's start).
+    static constexpr std::size_t kStatusRoom =
+        4095 - std::char_traits<char>::length("READY=1\nSTATUS=");
+
+    /// True when a service manager listens (NOTIFY_SOCKET is set): a status need not be made
+    /// otherwise.
+    bool listening() const { return listening_; }
 
     /// READY=1 with a status line: every listener is open.
     void ready(const std::string& status) noexcept;
@@ -37,6 +48,7 @@ public:
 private:
     void send(const std::string& text) noexcept;
 
+    bool listening_ = false;
     std::chrono::microseconds interval_{0};
     Clock::time_point last_ping_{};
     unsigned long pings_ = 0;

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import PLCEMUD, REPO, port_open
+from conftest import PLCEMUD, REPO, port_open, spawn_plcs
 
 D0 = 6000
 R3000 = 3000  # not retentive
@@ -39,7 +39,9 @@ class NotifySocket:
                 return self.messages
             self.sock.settimeout(left)
             try:
-                self.messages.append(self.sock.recv(4096).decode())
+                # Larger than systemd takes (it ignores 4,096 bytes or more): a message too long
+                # is seen whole here, and its length checked.
+                self.messages.append(self.sock.recv(1 << 20).decode())
             except socket.timeout:
                 return self.messages
 
@@ -95,6 +97,35 @@ def test_ready_is_sent_once_the_listener_is_open(start_plcemud, notify, tmp_path
     # READY=1 is sent after the listener opened; by now it must accept connections.
     assert port_open(d.port)
     assert "STATUS=station 1, tcp 127.0.0.1:" in ready
+
+
+def test_ready_fits_the_message_systemd_takes_with_many_plcs(notify, tmp_path):
+    """systemd ignores a notification of 4,096 bytes or more, READY=1 with it: a Type=notify
+    unit of many PLCs would never start. The status names the PLCs that fit, then the rest."""
+    # 150 distinct free ports: each held open until all are had.
+    held = [socket.create_server(("127.0.0.1", 0)) for _ in range(150)]
+    ports = [h.getsockname()[1] for h in held]
+    for h in held:
+        h.close()
+    text = "plcs:\n" + "".join(
+        f"  - {{name: oven-{i}, profile: fbs, persistence: {{enabled: false}},"
+        f" modbus: {{tcp: {{bind: 127.0.0.1, port: {p}}}}}}}\n" for i, p in enumerate(ports))
+    d = spawn_plcs(tmp_path, text, ports)
+    try:
+        ready = notify.wait_for("READY=1")
+        assert ready is not None, d.log_text()
+        assert len(ready.encode()) < 4096
+        assert ready.startswith(f"READY=1\nSTATUS=plcs[0] (oven-0): station 1, tcp 127.0.0.1:{ports[0]}; "
+                                f"plcs[1] (oven-1): station 1, tcp 127.0.0.1:{ports[1]}; "), ready
+        shown = ready.count("station 1, tcp")
+        assert 20 < shown < 150
+        assert ready.endswith(f"; and {150 - shown} more PLCs"), ready[-200:]
+        notify.messages.clear()
+        d.proc.send_signal(signal.SIGHUP)
+        again = notify.wait_for("READY=1")
+        assert again == ready
+    finally:
+        d.stop()
 
 
 def test_watchdog_pings_come_from_the_scan_loop_at_half_the_interval(start_plcemud, notify,

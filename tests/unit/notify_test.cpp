@@ -61,10 +61,13 @@ public:
     std::optional<std::string> next() const {
         pollfd p{fd_, POLLIN, 0};
         if (::poll(&p, 1, 200) <= 0) return std::nullopt;
-        char buf[4096];
-        const auto n = ::recv(fd_, buf, sizeof buf, 0);
+        // Larger than systemd takes (it ignores 4,096 bytes or more): a message too long is seen
+        // whole here.
+        std::string buf(1 << 16, '\0');
+        const auto n = ::recv(fd_, buf.data(), buf.size(), 0);
         if (n < 0) return std::nullopt;
-        return std::string(buf, static_cast<std::size_t>(n));
+        buf.resize(static_cast<std::size_t>(n));
+        return buf;
     }
 
 private:
@@ -91,6 +94,35 @@ TEST(Notifier, SendsReadyStatusReloadingAndStopping) {
     n.watchdog(Notifier::Clock::now());
     EXPECT_EQ(m.next(), std::nullopt);
     EXPECT_EQ(n.pings(), 0u);
+}
+
+// systemd ignores a whole notification of 4,096 bytes or more (READY=1 with it): a status too
+// long is cut, and not inside a character.
+TEST(Notifier, AStatusTooLongForTheManagerIsCutToFitAtACharactersStart) {
+    FakeManager m(nullptr);
+    ASSERT_TRUE(m.bound());
+    Notifier n;
+    EXPECT_TRUE(n.listening());
+    std::string status = "x";
+    for (int i = 0; i < 3000; ++i) status += "\xc3\xa9";  // "é", two bytes
+    n.ready(status);
+    const auto ready = m.next();
+    ASSERT_TRUE(ready.has_value());
+    EXPECT_EQ(ready->size(), 4094u);  // 4095 would cut the last "é" in two
+    EXPECT_EQ(ready->substr(0, 16), "READY=1\nSTATUS=x");
+    EXPECT_EQ(ready->substr(ready->size() - 2), "\xc3\xa9");
+    n.status(status);
+    const auto plain = m.next();
+    ASSERT_TRUE(plain.has_value());
+    EXPECT_EQ(*plain, "STATUS=" + ready->substr(15));
+    // A status that fits goes whole.
+    n.status(status.substr(0, 3999));
+    EXPECT_EQ(m.next(), "STATUS=" + status.substr(0, 3999));
+}
+
+TEST(Notifier, NoManagerNoListening) {
+    ::unsetenv("NOTIFY_SOCKET");
+    EXPECT_FALSE(Notifier().listening());
 }
 
 TEST(Notifier, PingsTheWatchdogAtMostEveryHalfInterval) {
