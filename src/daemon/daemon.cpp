@@ -369,9 +369,9 @@ public:
         std::vector<const config::Config*> configs;
         for (const auto& h : hosts_) configs.push_back(&h->config());
         const char* state_directory = std::getenv("STATE_DIRECTORY");
-        std::vector<OpenedState> opened =
-            open_state_files(configs, state_directory ? state_directory : "", std::time(nullptr));
-        for (std::size_t i = 0; i < hosts_.size(); ++i) hosts_[i]->open(std::move(opened[i]));
+        // Each PLC is built as soon as its state file is had, while the next files are made.
+        open_state_files(configs, state_directory ? state_directory : "", std::time(nullptr),
+                         [this](std::size_t i, OpenedState s) { hosts_[i]->open(std::move(s)); });
         listeners_.open(members());
         // PLCs start their scans spread over the scan period in slots of 1 ms, as PLCs powered
         // up one by one drift apart: 500 PLCs of 10 ms scans then wake the loop ten times a

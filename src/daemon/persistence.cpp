@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <condition_variable>
 #include <cstring>
+#include <mutex>
 #include <system_error>
+#include <thread>
 
 #include "daemon/background.hpp"
 #include "plcemu/daemon/plc.hpp"
@@ -128,15 +131,19 @@ void SyncThread::synced(Entry& e, int error) {
     e.failing = true;
 }
 
-std::vector<OpenedState> open_state_files(const std::vector<const config::Config*>& configs,
-                                          const std::string& state_directory,
-                                          std::time_t now) {
-    std::vector<OpenedState> out(configs.size());
+void open_state_files(const std::vector<const config::Config*>& configs,
+                      const std::string& state_directory,
+                      std::time_t now,
+                      const std::function<void(std::size_t, OpenedState)>& opened) {
+    const std::size_t count = configs.size();
+    std::vector<OpenedState> out(count);
+    std::vector<char> done(count, 0);  // out[i] is final (under `mutex`)
+    std::mutex mutex;
+    std::condition_variable cv;  // only the calling thread waits on it
     std::atomic<std::size_t> next{0};
-    const auto work = [&] {
-        for (std::size_t i = next++; i < configs.size(); i = next++) {
-            const config::Config& c = *configs[i];
-            if (!c.persistence.enabled) continue;
+    const auto make = [&](std::size_t i) {
+        const config::Config& c = *configs[i];
+        if (c.persistence.enabled) {
             try {
                 out[i].file = std::make_unique<image::StateFile>(
                     config::state_file_path(c, state_directory), plc_layout(c), now);
@@ -144,22 +151,56 @@ std::vector<OpenedState> open_state_files(const std::vector<const config::Config
                 out[i].error = std::current_exception();
             }
         }
+        {
+            std::lock_guard lock(mutex);
+            done[i] = 1;
+        }
+        cv.notify_one();
+    };
+    const auto work = [&] {
+        for (std::size_t i = next++; i < count; i = next++) make(i);
     };
     // The threads wait for the disk, not for a core: more than the cores, few enough that a
     // small config starts none.
     constexpr std::size_t kThreads = 8;
     constexpr std::size_t kPerThread = 32;
-    const std::size_t n = std::min(kThreads, configs.size() / kPerThread);
-    std::vector<std::thread> threads;
+    struct Threads {
+        std::atomic<std::size_t>& next;
+        std::size_t count;
+        std::vector<std::thread> list;
+        // However the calling thread leaves: no file is begun any more, and the threads end
+        // before what they write into goes.
+        ~Threads() {
+            next = count;
+            for (auto& t : list) t.join();
+        }
+    } threads{next, count, {}};
     try {
-        for (std::size_t t = 0; t < n; ++t) threads.emplace_back(work);
+        for (std::size_t t = 0; t < std::min(kThreads, count / kPerThread); ++t) {
+            threads.list.emplace_back(work);
+        }
     } catch (const std::system_error&) {
         // No further thread to be had (a process limit): the ones started and this one share
         // the files.
     }
-    work();
-    for (auto& t : threads) t.join();
-    return out;
+    for (std::size_t i = 0; i < count; ++i) {
+        for (;;) {
+            {
+                std::lock_guard lock(mutex);
+                if (done[i] != 0) break;
+            }
+            // Rather than wait, the calling thread makes the first file no thread has begun
+            // (the i-th itself when there are no threads).
+            if (const std::size_t j = next++; j < count) {
+                make(j);
+                continue;
+            }
+            std::unique_lock lock(mutex);
+            cv.wait(lock, [&] { return done[i] != 0; });
+            break;
+        }
+        opened(i, std::move(out[i]));
+    }
 }
 
 }  // namespace plcemu::daemon

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <ctime>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -72,12 +73,16 @@ struct OpenedState {
 };
 
 /// Opens the state file of every config with persistence, a few at a time on threads of their
-/// own: made anew, a file costs three fsyncs, and 5,000 of them one after another keep a start
+/// own: made anew, a file costs two fsyncs, and 5,000 of them one after another keep a start
 /// waiting for the disk for seconds, where the disk's journal commits the fsyncs of files made
 /// at once together. `state_directory` is $STATE_DIRECTORY (or empty). Each file is opened as
-/// the PLC would have opened it itself; the PLCs log its notes and throw its error, in order.
-std::vector<OpenedState> open_state_files(const std::vector<const config::Config*>& configs,
-                                          const std::string& state_directory,
-                                          std::time_t now);
+/// the PLC would have opened it itself. `opened(i, state)` is called on the calling thread for
+/// every config in order, as soon as its file is had, while the threads make the next ones (a
+/// start builds each PLC meanwhile); what it throws stops the making of files not yet begun and
+/// comes out of open_state_files once the threads ended.
+void open_state_files(const std::vector<const config::Config*>& configs,
+                      const std::string& state_directory,
+                      std::time_t now,
+                      const std::function<void(std::size_t, OpenedState)>& opened);
 
 }  // namespace plcemu::daemon

@@ -19,7 +19,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <system_error>
+#include <thread>
 
 #include "daemon/persistence.hpp"
 #include "daemon/reload.hpp"
@@ -695,6 +697,66 @@ TEST_F(StateFileTest, ReloadKeepsTheWholeImageAndDoesNotCountAPowerUp) {
     EXPECT_EQ(reloaded.image().word(Area::R, 3000), 9);
     EXPECT_EQ(reloaded.image().word(Area::R, 4005), 0x0203);
     EXPECT_EQ(reloaded.engine().station(), 5);
+}
+
+// ---- every PLC's state file at a start
+
+// 100 configs start three threads; the PLCs are built in order as their files come.
+TEST_F(StateFileTest, StateFilesComeToTheStartInOrderEachOpenOrWithItsError) {
+    std::vector<config::Config> cfgs(100, plc_config());
+    for (std::size_t i = 0; i < cfgs.size(); ++i) {
+        cfgs[i].persistence.file = (dir_ / ("plc" + std::to_string(i) + ".state")).string();
+    }
+    cfgs[40].persistence.enabled = false;
+    cfgs[70].persistence.file = (dir_ / "missing" / "plc70.state").string();
+    std::vector<const config::Config*> ptrs;
+    ptrs.reserve(cfgs.size());
+    for (const auto& c : cfgs) ptrs.push_back(&c);
+    std::vector<std::size_t> order;
+    daemon::open_state_files(ptrs, "", fixed_now(), [&](std::size_t i, daemon::OpenedState s) {
+        order.push_back(i);
+        if (i == 40) {
+            EXPECT_EQ(s.file, nullptr);
+            EXPECT_EQ(s.error, nullptr);
+        } else if (i == 70) {
+            EXPECT_EQ(s.file, nullptr);
+            EXPECT_NE(s.error, nullptr);
+        } else {
+            ASSERT_NE(s.file, nullptr) << i;
+            EXPECT_EQ(s.file->path(), cfgs[i].persistence.file);
+            EXPECT_EQ(s.error, nullptr);
+        }
+    });
+    std::vector<std::size_t> expected(cfgs.size());
+    std::iota(expected.begin(), expected.end(), 0);
+    EXPECT_EQ(order, expected);
+    EXPECT_FALSE(fs::exists(dir_ / "plc40.state"));
+    EXPECT_TRUE(fs::exists(dir_ / "plc99.state"));
+}
+
+// What the start throws on a PLC's file comes out once the threads ended: nothing is made after.
+TEST_F(StateFileTest, AStartStoppedByOnePlcMakesNoFileAfterItReturns) {
+    std::vector<config::Config> cfgs(200, plc_config());
+    for (std::size_t i = 0; i < cfgs.size(); ++i) {
+        cfgs[i].persistence.file = (dir_ / ("plc" + std::to_string(i) + ".state")).string();
+    }
+    std::vector<const config::Config*> ptrs;
+    ptrs.reserve(cfgs.size());
+    for (const auto& c : cfgs) ptrs.push_back(&c);
+    std::size_t calls = 0;
+    EXPECT_THROW(daemon::open_state_files(ptrs, "", fixed_now(),
+                                          [&](std::size_t i, daemon::OpenedState) {
+                                              ++calls;
+                                              if (i == 3) throw std::runtime_error("PLC 3");
+                                          }),
+                 std::runtime_error);
+    EXPECT_EQ(calls, 4u);
+    const auto count = [&] {
+        return std::distance(fs::directory_iterator(dir_), fs::directory_iterator{});
+    };
+    const auto after = count();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    EXPECT_EQ(count(), after);
 }
 
 // ---- where the state file lives
