@@ -478,9 +478,10 @@ private:
     // why they were rejected.
     struct Prepared {
         std::vector<config::Config> configs;
-        std::vector<engine::Program> programs;  // empty for an unchanged PLC's
-        std::vector<bool> unchanged;            // the PLCs whose config is as it runs
-        std::vector<std::string> errors;        // a config's errors, one per line
+        std::vector<engine::Program> programs;        // empty for an unchanged PLC's
+        std::vector<bool> unchanged;                  // the PLCs whose config is as it runs
+        std::vector<std::string> errors;              // a config's errors, one per line
+        std::shared_ptr<const Listeners::Plan> plan;  // the listeners the configs ask for
     };
 
     // What a reload leaves behind, freed off the loop: the PLCs it replaced, and the configs it
@@ -524,6 +525,7 @@ private:
                 // Built on images of their own (the live ones are not touched), and never
                 // scanned: their programs, bound and checked, are the ones the live PLCs will run.
                 p->programs = probe_all(p->configs, p->unchanged);
+                p->plan = Listeners::plan(p->configs);
                 // The YAML's trees and the probed PLCs are gone; the process's memory falls
                 // back before the swap adds the new PLCs.
                 release_freed_memory();
@@ -575,17 +577,21 @@ private:
                 return p.configs[i].label + ": was " + hosts_[i]->config().label +
                        "; restart plcemud to rename or reorder PLCs";
             }
+            // A PLC whose config reads as it runs has nothing to refuse.
+            if (p.unchanged[i]) continue;
             if (auto why = hosts_[i]->refusal(p.configs[i]); !why.empty()) return why;
         }
-        if (auto why = listeners_.refusal(p.configs); !why.empty()) return why;
+        if (auto why = listeners_.refusal(p.configs, *p.plan); !why.empty()) return why;
         // Unit IDs are compared as they will be: with the stations masters set through R4055
         // that the reload keeps.
         std::vector<std::uint8_t> stations;
         for (std::size_t i = 0; i < hosts_.size(); ++i) {
             stations.push_back(hosts_[i]->station_under(p.configs[i]));
         }
-        if (auto why = listeners_.unit_clash(p.configs, stations); !why.empty()) return why;
-        if (!listeners_.stage(p.configs)) return "a listener could not be opened";
+        if (auto why = listeners_.unit_clash(p.configs, stations, *p.plan); !why.empty()) {
+            return why;
+        }
+        if (!listeners_.stage(p.configs, p.plan)) return "a listener could not be opened";
         auto left = std::make_unique<Leftovers>();
         // One process, one log: `log:` is no PLC's setting, and never makes one change.
         const std::string level = p.configs.front().log.level;

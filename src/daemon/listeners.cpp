@@ -210,6 +210,27 @@ struct Listeners::Listener {
     std::unique_ptr<listener::SerialListener> line;
 };
 
+struct Listeners::Plan {
+    std::vector<Group> all;                    // every listener `next` asks for
+    std::vector<std::vector<std::size_t>> of;  // for each PLC, its groups in `all`
+};
+
+namespace {
+
+template <typename Plcs>
+std::shared_ptr<const Listeners::Plan> plan_of(const Plcs& plcs) {
+    auto p = std::make_shared<Listeners::Plan>();
+    p->all = group(plcs, kAll);
+    p->of = groups_of(p->all, plcs.size());
+    return p;
+}
+
+}  // namespace
+
+std::shared_ptr<const Listeners::Plan> Listeners::plan(const std::vector<config::Config>& next) {
+    return plan_of(next);
+}
+
 struct Listeners::Staged {
     std::size_t kept = 0;             // index into tcp_ when `fresh` is null
     std::unique_ptr<Listener> fresh;  // a new listener
@@ -241,6 +262,7 @@ std::unique_ptr<Listeners::Listener> tcp_listener(const Group& g,
 
 void Listeners::open(const std::vector<ListenerMember>& plcs) {
     plcs_ = plcs;
+    in_force_ = plan_of(plcs);
     // Modbus TCP ports open last: a client that waits for one (the system tests, a supervisor's
     // probe) finds every other listener of the process open by then.
     open_reopened(plcs, true);
@@ -349,17 +371,14 @@ void Listeners::raise_fd_limit(std::size_t plcs) {
         limit < 0 || in_use < 0 ? -1 : std::max(0L, limit - (in_use - room_.open) - kFdHeadroom);
 }
 
-std::string Listeners::refusal(const std::vector<config::Config>& next) const {
-    std::vector<Group> before;
-    for (const auto* list : {&tcp_, &reopened_}) {
-        for (const auto& l : *list) {
-            before.push_back({l->key, l->protocol, l->section, l->carrier, l->members});
-        }
-    }
-    const std::vector<Group> after = group(next, kAll);
-    const auto before_of = groups_of(before, next.size());
-    const auto after_of = groups_of(after, next.size());
-    for (std::size_t i = 0; i < next.size(); ++i) {
+std::string Listeners::refusal(const std::vector<config::Config>& next, const Plan& plan) const {
+    // The listeners as they are: the plan of the configs last opened or applied.
+    const std::vector<Group>& before = in_force_->all;
+    const auto& before_of = in_force_->of;
+    const std::vector<Group>& after = plan.all;
+    const auto& after_of = plan.of;
+    // A reload keeps the number of PLCs (the daemon refuses it first otherwise).
+    for (std::size_t i = 0; i < next.size() && i < before_of.size(); ++i) {
         for (const auto& [groups, of] :
              {std::pair{&std::as_const(before), &before_of}, std::pair{&after, &after_of}}) {
             for (const std::size_t k : (*of)[i]) {
@@ -380,8 +399,9 @@ std::string Listeners::refusal(const std::vector<config::Config>& next) const {
     return {};
 }
 
-bool Listeners::stage(const std::vector<config::Config>& next) {
+bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<const Plan> plan) {
     staged_.clear();
+    staged_plan_.reset();
     stopped_for_stage_.clear();
     // The running TCP listener of each PLC and section.
     std::map<std::pair<std::size_t, std::string_view>, std::size_t> running_of;
@@ -389,7 +409,8 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
         for (const std::size_t i : tcp_[t]->members)
             running_of.try_emplace({i, tcp_[t]->section}, t);
     }
-    for (const auto& g : group(next, {Carrier::Tcp})) {
+    for (const auto& g : plan->all) {
+        if (g.carrier != Carrier::Tcp) continue;
         // The running listener of the same PLCs, if any (refusal() made sure the members are
         // the same ones when shared).
         const std::size_t first = g.members.front();
@@ -437,6 +458,7 @@ bool Listeners::stage(const std::vector<config::Config>& next) {
             return false;
         }
     }
+    staged_plan_ = std::move(plan);
     return true;
 }
 
@@ -445,6 +467,7 @@ void Listeners::unstage() {
         if (s.fresh) s.fresh->stop();
     }
     staged_.clear();
+    staged_plan_.reset();
     // The previous listeners again, after a reload that had to close them failed.
     for (std::size_t i : stopped_for_stage_) {
         Listener& t = *tcp_[i];
@@ -480,6 +503,7 @@ void Listeners::apply(const std::vector<ListenerMember>& plcs) {
     }
     tcp_ = std::move(now);
     plcs_ = plcs;
+    in_force_ = std::move(staged_plan_);
     route(plcs);
     raise_fd_limit(plcs.size());
     // UDP listeners and serial lines are reopened with their new settings (and a device that
@@ -528,7 +552,8 @@ std::string Listeners::holder(std::size_t index, std::uint8_t unit) const {
 }
 
 std::string Listeners::unit_clash(const std::vector<config::Config>& next,
-                                  const std::vector<std::uint8_t>& stations) const {
+                                  const std::vector<std::uint8_t>& stations,
+                                  const Plan& plan) const {
     // "station 5 (in force: set through R4055, the config says 1)".
     auto station = [&](std::size_t i) {
         std::string s = "station " + std::to_string(stations[i]);
@@ -544,7 +569,7 @@ std::string Listeners::unit_clash(const std::vector<config::Config>& next,
                    station(i) + " is also its simulator.unit";
         }
     }
-    for (const auto& g : group(next, kAll)) {
+    for (const auto& g : plan.all) {
         if (!by_unit(g.protocol)) continue;
         const std::string what = (is_modbus(g.protocol) ? "" : std::string(g.protocol) + " ") +
                                  (g.carrier == Carrier::Serial ? "serial line "

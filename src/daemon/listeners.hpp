@@ -37,13 +37,19 @@ public:
     /// Opens every listener the PLCs name; throws when one cannot be had.
     void open(const std::vector<ListenerMember>& plcs);
 
-    /// Why the configs `next` cannot be applied without a restart (they change which PLCs share a
-    /// listener), or empty.
-    std::string refusal(const std::vector<config::Config>& next) const;
-    /// A reload's first half: opens the TCP listeners `next` asks for and the running ones do
-    /// not provide, before anything changes. False (and logged) when one cannot be had; then
-    /// nothing changed.
-    bool stage(const std::vector<config::Config>& next);
+    /// What the configs `next` ask of the listeners: which PLCs share which one. A function of
+    /// the configs alone: a reload makes it on its own thread (at 5,000 PLCs it takes
+    /// milliseconds the loop need not spend), and refusal(), unit_clash() and stage() read it.
+    struct Plan;
+    static std::shared_ptr<const Plan> plan(const std::vector<config::Config>& next);
+
+    /// Why the configs `next` (`plan` theirs) cannot be applied without a restart (they change
+    /// which PLCs share a listener), or empty.
+    std::string refusal(const std::vector<config::Config>& next, const Plan& plan) const;
+    /// A reload's first half: opens the TCP listeners `next` (`plan` theirs) asks for and the
+    /// running ones do not provide, before anything changes. False (and logged) when one cannot
+    /// be had; then nothing changed.
+    bool stage(const std::vector<config::Config>& next, std::shared_ptr<const Plan> plan);
     /// Undoes stage().
     void unstage();
     /// A reload's second half, after the PLCs took their new configs: the staged listeners
@@ -56,11 +62,12 @@ public:
     /// does (docs/configuration.md, "Sharing a listener").
     std::string holder(std::size_t index, std::uint8_t unit) const;
 
-    /// Why the configs `next`, whose PLCs would take the `stations` given (the stations in force
-    /// after the reload), cannot be applied: two PLCs on one of the listeners `next` asks for
-    /// would answer one unit ID. Empty when none would.
+    /// Why the configs `next` (`plan` theirs), whose PLCs would take the `stations` given (the
+    /// stations in force after the reload), cannot be applied: two PLCs on one of the listeners
+    /// `next` asks for would answer one unit ID. Empty when none would.
     std::string unit_clash(const std::vector<config::Config>& next,
-                           const std::vector<std::uint8_t>& stations) const;
+                           const std::vector<std::uint8_t>& stations,
+                           const Plan& plan) const;
 
     /// The connections of every stream listener open now.
     std::vector<listener::ConnectionFigures> connections() const;
@@ -85,7 +92,9 @@ private:
     listener::ClientRoom room_;  // what the descriptor limit leaves the clients of every listener
     std::vector<std::unique_ptr<Listener>> tcp_;       // TCP listeners (kept across reloads)
     std::vector<std::unique_ptr<Listener>> reopened_;  // UDP and serial: reopened at a reload
-    std::vector<ListenerMember> plcs_;  // every PLC, by index, as last opened or applied
+    std::vector<ListenerMember> plcs_;         // every PLC, by index, as last opened or applied
+    std::shared_ptr<const Plan> in_force_;     // plcs_'s plan: what the listeners are
+    std::shared_ptr<const Plan> staged_plan_;  // stage()'s, for apply()
     // What stage() prepared for apply(): per new TCP listener, the running one it keeps (index
     // into tcp_) or a new one.
     struct Staged;

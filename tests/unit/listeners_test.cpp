@@ -101,11 +101,22 @@ protected:
     // (then nothing changed).
     bool reload(const std::string& text) {
         const std::vector<config::Config> next = configs(text);
-        if (!listeners_.stage(next)) return false;
+        if (!listeners_.stage(next, Listeners::plan(next))) return false;
         auto old = std::move(plcs_);
         plcs_ = build(next);
         listeners_.apply(members());
         return true;
+    }
+
+    // What a reload to `text` would be refused for, and the unit IDs that would clash, as the
+    // daemon asks (with the configs' plan).
+    std::string refusal(const std::string& text) const {
+        const auto next = configs(text);
+        return listeners_.refusal(next, *Listeners::plan(next));
+    }
+    std::string unit_clash(const std::vector<config::Config>& next,
+                           const std::vector<std::uint8_t>& stations) const {
+        return listeners_.unit_clash(next, stations, *Listeners::plan(next));
     }
 
     // The port of the PLC at `index`'s TCP listener, from describe_all() (", tcp 127.0.0.1:PORT").
@@ -244,21 +255,21 @@ TEST_F(ListenersTest, ChangingWhichPlcsShareAListenerIsRefused) {
     const std::string why =
         "plcs[0] (a): the PLCs sharing its tcp listener changed; restart "
         "plcemud to apply it";
-    EXPECT_EQ(listeners_.refusal(configs(two_plcs(p, free_port()))), why);
-    EXPECT_EQ(listeners_.refusal(configs(two_plcs(p, 0))), why);
+    EXPECT_EQ(refusal(two_plcs(p, free_port())), why);
+    EXPECT_EQ(refusal(two_plcs(p, 0)), why);
     // The same PLCs on the same listener, or on another one together, can be applied.
-    EXPECT_EQ(listeners_.refusal(configs(two_plcs(p, p, 8))), "");
+    EXPECT_EQ(refusal(two_plcs(p, p, 8)), "");
     const std::uint16_t q = free_port();
-    EXPECT_EQ(listeners_.refusal(configs(two_plcs(q, q))), "");
+    EXPECT_EQ(refusal(two_plcs(q, q)), "");
 }
 
 TEST_F(ListenersTest, SeparatePlcsThatComeToShareAListenerAreRefused) {
     open(two_plcs(0, 0));
     const std::uint16_t p = free_port();
-    EXPECT_EQ(listeners_.refusal(configs(two_plcs(p, p))),
+    EXPECT_EQ(refusal(two_plcs(p, p)),
               "plcs[0] (a): the PLCs sharing its tcp listener changed; restart plcemud to apply "
               "it");
-    EXPECT_EQ(listeners_.refusal(configs(two_plcs(p, 0))), "");
+    EXPECT_EQ(refusal(two_plcs(p, 0)), "");
 }
 
 TEST_F(ListenersTest, UnitClashNamesThePlcsAndTheListener) {
@@ -266,20 +277,20 @@ TEST_F(ListenersTest, UnitClashNamesThePlcsAndTheListener) {
     open(two_plcs(p, p));
     const auto next = configs(two_plcs(p, p));
     const std::string where = " on the shared tcp listener 127.0.0.1:" + std::to_string(p);
-    EXPECT_EQ(listeners_.unit_clash(next, {1, 2}), "");
-    EXPECT_EQ(listeners_.unit_clash(next, {1, 1}),
+    EXPECT_EQ(unit_clash(next, {1, 2}), "");
+    EXPECT_EQ(unit_clash(next, {1, 1}),
               "plcs[1] (b): its station 1 (in force: set through R4055; the config says 2) is "
               "also plcs[0] (a)'s station 1" +
                   where);
-    EXPECT_EQ(listeners_.unit_clash(next, {202, 2}),
+    EXPECT_EQ(unit_clash(next, {202, 2}),
               "plcs[0] (a): its station 202 (in force: set through R4055; the config says 1) is "
               "also plcs[1] (b)'s simulator unit" +
                   where);
-    EXPECT_EQ(listeners_.unit_clash(next, {201, 2}),
+    EXPECT_EQ(unit_clash(next, {201, 2}),
               "plcs[0] (a): its station 201 (in force: set through R4055; the config says 1) is "
               "also its simulator.unit");
     // On listeners of their own, two PLCs may answer one unit ID.
-    EXPECT_EQ(listeners_.unit_clash(configs(two_plcs(0, 0)), {1, 1}), "");
+    EXPECT_EQ(unit_clash(configs(two_plcs(0, 0)), {1, 1}), "");
 }
 
 TEST_F(ListenersTest, HolderNamesWhatElseAnswersAUnitOnThePlcsListeners) {
