@@ -484,11 +484,13 @@ private:
         std::shared_ptr<const Listeners::Plan> plan;  // the listeners the configs ask for
     };
 
-    // What a reload leaves behind, freed off the loop: the PLCs it replaced, and the configs it
-    // read for PLCs that did not change (thousands of them take tens of milliseconds to free).
+    // What a reload leaves behind, freed off the loop (and before the memory is given back):
+    // the PLCs it replaced, the configs it read for PLCs that did not change (thousands of them
+    // take tens of milliseconds to free) and the listeners' plan its thread made.
     struct Leftovers {
         std::vector<std::unique_ptr<Plc>> plcs;
         std::vector<config::Config> configs;
+        std::shared_ptr<const Listeners::Plan> plan;
     };
 
     // SIGHUP: the new config is read, validated and its programs built on a thread of its own (a
@@ -618,6 +620,7 @@ private:
         // Freed off the loop (a program may be large); nothing on the loop refers to them any
         // more: routers, scan drivers and simulator units were replaced.
         left->configs = std::move(p.configs);
+        left->plan = std::move(p.plan);
         retirer_.retire(std::move(left));
         return {};
     }
