@@ -396,20 +396,20 @@ YAML
 }
 
 # ---- Hook: many PLCs in one process ----------------------------------------------------------
-# N copies of config/default.yaml's PLC in one `plcs:` process, each on its own port with its own
-# state file: the time to start, the CPU share of one core while nobody polls (scans every 10 ms,
-# plants running), then one client per PLC polling FC03 (R0-R9) every second: its latency and
-# overruns, a reload of the whole config with one PLC's setpoint changed (how long until it was
-# applied, and the longest any polling client waited meanwhile), the peak RSS and the RSS once
-# the reload is over, and the scan-start lateness every PLC logs when the daemon stops (the
-# worst PLC's p99 and the median PLC's). Run for 500 PLCs, and for BENCH_PLCS as well when that
-# is another count, so that each figure of a large run is printed beside the 500-PLC one.
 # The server's RSS now, as figure NAME.
 rss() {
     emit < <(awk -v n="$1" '/^VmRSS:/ { printf "%s %.1f MB\n", n, $2 / 1024 }' \
         "/proc/$SERVER_PID/status")
 }
 
+# N copies of config/default.yaml's PLC in one `plcs:` process, each on its own port with its own
+# state file: the time to start, the CPU share of one core while nobody polls (scans every 10 ms,
+# plants running), then one client per PLC polling FC03 (R0-R9) every second: its latency and
+# overruns, a reload of the whole config with one PLC's setpoint changed (how long until it was
+# applied, and the longest any polling client waited meanwhile), the RSS at rest, while polled,
+# at its peak and once the reload is over, and the scan-start lateness every PLC logs when the daemon stops (the
+# worst PLC's p99 and the median PLC's). Run for 500 PLCs, and for BENCH_PLCS as well when that
+# is another count, so that each figure of a large run is printed beside the 500-PLC one.
 many_plcs_run() {
     local n=$1 dir=$TMP/plcs$1 cfg base started up hz t0 t1 c0 c1 poll poll_pid done_lines
     mkdir -p "$dir"
