@@ -74,16 +74,15 @@ struct Group {
 const config::Config& config_of(const config::Config& c) { return c; }
 const config::Config& config_of(const ListenerMember& m) { return *m.config; }
 
-// Every step below is linear in the PLCs (a map from key, from PLC): a config of 5,000 PLCs is
-// grouped, refused and staged at a reload on the loop, where a quadratic step would hold every
-// client for seconds.
+// Every listener the PLCs ask for, each with its members. Every step below is linear in the
+// PLCs (a map from key, from PLC): a config of 5,000 PLCs is grouped, refused and staged at a
+// reload, where a quadratic step would hold every client for seconds.
 template <typename Plcs>
-std::vector<Group> group(const Plcs& plcs, std::initializer_list<Carrier> carriers) {
+std::vector<Group> group(const Plcs& plcs) {
     std::vector<Group> out;
     std::unordered_map<std::string, std::size_t> at;  // key -> its group in `out`
     for (std::size_t i = 0; i < plcs.size(); ++i) {
         for (const auto& l : config::listeners_of(config_of(plcs[i]))) {
-            if (std::find(carriers.begin(), carriers.end(), l.carrier) == carriers.end()) continue;
             // Appended piece by piece: GCC 12's -Wrestrict takes `"#" + std::string&&` at -O2
             // for an overlapping copy (a false positive that -Werror would make fatal).
             std::string k;
@@ -105,8 +104,6 @@ std::vector<Group> group(const Plcs& plcs, std::initializer_list<Carrier> carrie
     }
     return out;
 }
-
-constexpr std::initializer_list<Carrier> kAll{Carrier::Tcp, Carrier::Udp, Carrier::Serial};
 
 // For each PLC, the groups (indexes into `groups`) it is a member of.
 std::vector<std::vector<std::size_t>> groups_of(const std::vector<Group>& groups,
@@ -220,7 +217,7 @@ namespace {
 template <typename Plcs>
 std::shared_ptr<const Listeners::Plan> plan_of(const Plcs& plcs) {
     auto p = std::make_shared<Listeners::Plan>();
-    p->all = group(plcs, kAll);
+    p->all = group(plcs);
     p->of = groups_of(p->all, plcs.size());
     return p;
 }
@@ -266,11 +263,14 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
     // Modbus TCP ports open last: a client that waits for one (the system tests, a supervisor's
     // probe) finds every other listener of the process open by then.
     open_reopened(plcs, true);
-    auto groups = group(plcs, {Carrier::Tcp});
+    std::vector<const Group*> groups;
+    for (const auto& g : in_force_->all) {
+        if (g.carrier == Carrier::Tcp) groups.push_back(&g);
+    }
     std::stable_partition(groups.begin(), groups.end(),
-                          [](const Group& g) { return g.protocol != "modbus-tcp"; });
-    for (const auto& g : groups) {
-        auto t = tcp_listener(g, plcs, &room_);
+                          [](const Group* g) { return g->protocol != "modbus-tcp"; });
+    for (const Group* g : groups) {
+        auto t = tcp_listener(*g, plcs, &room_);
         t->tcp = std::make_unique<listener::TcpListener>(io_, *t->stream, t->options);
         tcp_.push_back(std::move(t));
     }
@@ -281,7 +281,8 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
 }
 
 void Listeners::open_reopened(const std::vector<ListenerMember>& plcs, bool at_start) {
-    for (const auto& g : group(plcs, {Carrier::Udp, Carrier::Serial})) {
+    for (const auto& g : in_force_->all) {
+        if (g.carrier == Carrier::Tcp) continue;
         auto r = std::make_unique<Listener>(g);
         const config::Config& c = *plcs[g.members.front()].config;
         const config::ListenerConfig l = *listener_in(c, g.section);

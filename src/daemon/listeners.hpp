@@ -82,6 +82,7 @@ public:
     struct Listener;
 
 private:
+    // Opens the UDP listeners and serial lines of the plan in force.
     void open_reopened(const std::vector<ListenerMember>& plcs, bool at_start);
     void route(const std::vector<ListenerMember>& plcs);
     void describe_seats();
