@@ -227,9 +227,12 @@ public:
 private:
     void read() {
         if (closed_) return;
-        // After a short read, Asio (1.22) marks the socket exhausted and queues the next read
-        // without trying it first: one recv per request, issued when epoll says data is there.
-        // (A wait-then-recv costs an epoll_ctl per request instead; measured with perf.)
+        // Asio tries a queued read at once (a recv) unless the last one read nothing: when the
+        // client has not sent its next request yet, that recv fails with EAGAIN and the read
+        // waits for epoll (about one request in seven under a 16-connection load). The other
+        // ways cost more: a wait-then-recv makes an epoll_ctl per request, and deferring the
+        // read behind the other ready handlers saved the EAGAINs but no throughput
+        // (docs/performance.md, "Servers compared in alternating rounds").
         if (reading_ || close_after_write_ || holding_) return;
         reading_ = true;
         socket_.async_read_some(
