@@ -362,6 +362,7 @@ public:
         spdlog::set_level(spdlog::level::from_str(log_level_));
         // Everything the config can get wrong, found before any file or port is touched.
         probe_all(loaded);
+        Listeners::reserve_descriptors(loaded);
         for (auto& c : loaded) {
             hosts_.push_back(std::make_unique<Host>(io_, scan_timer_, step_rounds_, syncs_,
                                                     listeners_, hosts_.size(), std::move(c)));

@@ -25,23 +25,35 @@ long open_descriptors() noexcept {
     return n - 1;  // the directory's own
 }
 
+namespace {
+
+rlim_t needed_for(int max_clients) {
+    return static_cast<rlim_t>(max_clients) + static_cast<rlim_t>(kFdReserve);
+}
+
+}  // namespace
+
+void raise_soft_fd_limit(int max_clients) noexcept {
+    rlimit rl{};
+    if (::getrlimit(RLIMIT_NOFILE, &rl) != 0) return;
+    const rlim_t needed = needed_for(max_clients);
+    const bool raisable = rl.rlim_max == RLIM_INFINITY || rl.rlim_max > rl.rlim_cur;
+    if (rl.rlim_cur == RLIM_INFINITY || rl.rlim_cur >= needed || !raisable) return;
+    // The soft limit is ours to raise, up to the hard one (as systemd's LimitNOFILE= is).
+    rlimit raised = rl;
+    raised.rlim_cur = rl.rlim_max == RLIM_INFINITY || rl.rlim_max >= needed ? needed : rl.rlim_max;
+    if (::setrlimit(RLIMIT_NOFILE, &raised) == 0) {
+        spdlog::info("descriptor limit raised from {} to {}{} for modbus.tcp.max_clients {}",
+                     static_cast<long>(rl.rlim_cur), static_cast<long>(raised.rlim_cur),
+                     raised.rlim_cur < needed ? " (the hard limit)" : "", max_clients);
+    }
+}
+
 long ensure_fd_limit(int max_clients) noexcept {
+    raise_soft_fd_limit(max_clients);
     rlimit rl{};
     if (::getrlimit(RLIMIT_NOFILE, &rl) != 0) return -1;
-    const rlim_t needed = static_cast<rlim_t>(max_clients) + static_cast<rlim_t>(kFdReserve);
-    const bool raisable = rl.rlim_max == RLIM_INFINITY || rl.rlim_max > rl.rlim_cur;
-    if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < needed && raisable) {
-        // The soft limit is ours to raise, up to the hard one (as systemd's LimitNOFILE= is).
-        rlimit raised = rl;
-        raised.rlim_cur =
-            rl.rlim_max == RLIM_INFINITY || rl.rlim_max >= needed ? needed : rl.rlim_max;
-        if (::setrlimit(RLIMIT_NOFILE, &raised) == 0) {
-            spdlog::info("descriptor limit raised from {} to {}{} for modbus.tcp.max_clients {}",
-                         static_cast<long>(rl.rlim_cur), static_cast<long>(raised.rlim_cur),
-                         raised.rlim_cur < needed ? " (the hard limit)" : "", max_clients);
-            rl = raised;
-        }
-    }
+    const rlim_t needed = needed_for(max_clients);
     if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < needed) {
         const auto limit = static_cast<long>(rl.rlim_cur);
         const long in_use = open_descriptors();

@@ -14,8 +14,13 @@ inline constexpr long kFdHeadroom = 16;
 /// Descriptors open now, or -1 where /proc is not there.
 long open_descriptors() noexcept;
 
-/// Raises the soft RLIMIT_NOFILE up to the hard one when `max_clients` + kFdReserve need it, and
-/// logs a warning when even the hard limit is too low. Returns the soft limit in force.
+/// Raises the soft RLIMIT_NOFILE up to the hard one when `max_clients` + kFdReserve need it
+/// (logged when it does). Nothing is said when even the hard limit is too low: ensure_fd_limit
+/// says it once the listeners are open.
+void raise_soft_fd_limit(int max_clients) noexcept;
+
+/// raise_soft_fd_limit(), then a warning when even the hard limit is too low. Returns the soft
+/// limit in force.
 long ensure_fd_limit(int max_clients) noexcept;
 
 }  // namespace plcemu::daemon

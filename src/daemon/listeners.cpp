@@ -23,6 +23,12 @@ namespace {
 // Descriptors a PLC needs besides its clients: its state file, a serial line, a master port.
 constexpr int kPerPlc = 4;
 
+// What `plcs` PLCs need, beside the descriptors a process keeps (kFdReserve): `clients`, the
+// clients of every TCP listener together, and each further PLC's own.
+int descriptors_for(int clients, std::size_t plcs) {
+    return clients + kPerPlc * static_cast<int>(plcs - 1);
+}
+
 // A network listener's settings.
 listener::TcpOptions net_options(const config::ListenerConfig& l) {
     const config::TcpConfig& t = *l.net;
@@ -228,6 +234,17 @@ std::shared_ptr<const Listeners::Plan> Listeners::plan(const std::vector<config:
     return plan_of(next);
 }
 
+void Listeners::reserve_descriptors(const std::vector<config::Config>& configs) {
+    if (configs.empty()) return;
+    int clients = 0;
+    for (const auto& g : group(configs)) {
+        if (g.carrier != Carrier::Tcp) continue;
+        if (const auto l = listener_in(configs[g.members.front()], g.section))
+            clients += l->net->max_clients;
+    }
+    raise_soft_fd_limit(descriptors_for(clients, configs.size()));
+}
+
 struct Listeners::Staged {
     std::size_t kept = 0;             // index into tcp_ when `fresh` is null
     std::unique_ptr<Listener> fresh;  // a new listener
@@ -363,7 +380,7 @@ void Listeners::raise_fd_limit(std::size_t plcs) {
     // One descriptor per client of every listener, and the few each further PLC holds.
     int clients = 0;
     for (const auto& t : tcp_) clients += t->options.net.max_clients;
-    const long limit = ensure_fd_limit(clients + kPerPlc * static_cast<int>(plcs - 1));
+    const long limit = ensure_fd_limit(descriptors_for(clients, plcs));
     // The clients of all listeners together may take what is left once the daemon's own
     // descriptors and a reload's files are counted: beyond it they wait at accept, and a
     // reload can still open its config.

@@ -34,6 +34,10 @@ public:
     Listeners(const Listeners&) = delete;
     Listeners& operator=(const Listeners&) = delete;
 
+    /// Raises the soft descriptor limit for what the PLCs of `configs` open at a start (their
+    /// state files and listeners) and for the clients of their listeners, before any of it is
+    /// opened: the state files of a few hundred PLCs alone exceed the usual 1,024.
+    static void reserve_descriptors(const std::vector<config::Config>& configs);
     /// Opens every listener the PLCs name; throws when one cannot be had.
     void open(const std::vector<ListenerMember>& plcs);
 

@@ -51,6 +51,24 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
+def free_ports(count: int) -> list:
+    """`count` distinct TCP ports on 127.0.0.1 that nothing listens on: each is held until all
+    are had (free_port() twice may give the same one)."""
+    held = [socket.create_server(("127.0.0.1", 0)) for _ in range(count)]
+    ports = [h.getsockname()[1] for h in held]
+    for h in held:
+        h.close()
+    return ports
+
+
+def plcs_lines(ports, entry: str = "persistence: {enabled: false}") -> str:
+    """A `plcs:` config of one fbs PLC per port, `oven-0`, `oven-1`, ..., each entry with
+    `entry` ("{i}" in it is the PLC's index) beside its TCP listener."""
+    return "plcs:\n" + "".join(
+        f"  - {{name: oven-{i}, profile: fbs, {entry.replace('{i}', str(i))},"
+        f" modbus: {{tcp: {{bind: 127.0.0.1, port: {p}}}}}}}\n" for i, p in enumerate(ports))
+
+
 def port_open(port: int, host: str = "127.0.0.1") -> bool:
     try:
         with socket.create_connection((host, port), timeout=0.2):
@@ -165,9 +183,11 @@ def start_plcemud(tmp_path):
         d.stop()
 
 
-def spawn_plcs(tmp_path: Path, text: str, ports, host="127.0.0.1", name="plant") -> Daemon:
+def spawn_plcs(tmp_path: Path, text: str, ports, host="127.0.0.1", name="plant",
+               **popen) -> Daemon:
     """plcemud on a `plcs:` config written to tmp_path/<name>.yaml (no --port: each PLC names
-    its own), once every one of `ports` listens on `host`. The caller stops it."""
+    its own), once every one of `ports` listens on `host`; `popen` goes to subprocess.Popen.
+    The caller stops it."""
     config_path = tmp_path / f"{name}.yaml"
     config_path.write_text(text)
     log_path = tmp_path / f"plcemud-{time.monotonic_ns()}.log"
@@ -176,7 +196,7 @@ def spawn_plcs(tmp_path: Path, text: str, ports, host="127.0.0.1", name="plant")
     with open(log_path, "wb") as log:
         proc = subprocess.Popen(
             [PLCEMUD, "-c", str(config_path)],
-            stdin=subprocess.DEVNULL, stdout=log, stderr=log, env=env, cwd=tmp_path,
+            stdin=subprocess.DEVNULL, stdout=log, stderr=log, env=env, cwd=tmp_path, **popen,
         )
     d = Daemon(proc, ports[0], config_path, log_path)
     deadline = time.monotonic() + START_TIMEOUT_S

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import PLCEMUD, REPO, port_open, spawn_plcs
+from conftest import PLCEMUD, REPO, free_ports, plcs_lines, port_open, spawn_plcs
 
 D0 = 6000
 R3000 = 3000  # not retentive
@@ -102,15 +102,8 @@ def test_ready_is_sent_once_the_listener_is_open(start_plcemud, notify, tmp_path
 def test_ready_fits_the_message_systemd_takes_with_many_plcs(notify, tmp_path):
     """systemd ignores a notification of 4,096 bytes or more, READY=1 with it: a Type=notify
     unit of many PLCs would never start. The status names the PLCs that fit, then the rest."""
-    # 150 distinct free ports: each held open until all are had.
-    held = [socket.create_server(("127.0.0.1", 0)) for _ in range(150)]
-    ports = [h.getsockname()[1] for h in held]
-    for h in held:
-        h.close()
-    text = "plcs:\n" + "".join(
-        f"  - {{name: oven-{i}, profile: fbs, persistence: {{enabled: false}},"
-        f" modbus: {{tcp: {{bind: 127.0.0.1, port: {p}}}}}}}\n" for i, p in enumerate(ports))
-    d = spawn_plcs(tmp_path, text, ports)
+    ports = free_ports(150)
+    d = spawn_plcs(tmp_path, plcs_lines(ports), ports)
     try:
         ready = notify.wait_for("READY=1")
         assert ready is not None, d.log_text()

@@ -9,7 +9,10 @@ import resource
 import socket
 import subprocess
 
-from conftest import BASE_CONFIG, PLCEMUD, raw_exchange, run_plcemud
+import pytest
+
+from conftest import (BASE_CONFIG, PLCEMUD, free_ports, plcs_lines, raw_exchange, run_plcemud,
+                      spawn_plcs)
 
 RLO = "\u202e"  # RIGHT-TO-LEFT OVERRIDE
 READ_R0 = b"\x03\x00\x00\x00\x01"
@@ -106,3 +109,26 @@ def test_a_limit_raised_to_the_hard_limit_says_so(start_plcemud):
     assert "descriptor limit raised from 64 to 100 (the hard limit) for modbus.tcp.max_clients 64" \
         in log, log
     assert "the limit is 100 and cannot be raised (hard limit 100): about " in log, log
+
+
+def test_a_start_of_hundreds_of_plcs_raises_the_limit_before_their_state_files(tmp_path):
+    """Each PLC holds its state file, the file's lock and its listener: 400 PLCs need more
+    than the usual soft limit of 1,024 before any listener is open, so the limit is raised
+    first (the start used to fail with "Too many open files" at the 340th port or so)."""
+    soft, hard = 1024, resource.getrlimit(resource.RLIMIT_NOFILE)[1]
+    if hard != resource.RLIM_INFINITY and hard < 2000:
+        pytest.skip(f"the hard descriptor limit here ({hard}) leaves nothing to raise")
+    count = 400
+    ports = free_ports(count)
+    text = plcs_lines(ports, f"persistence: {{file: {tmp_path}/oven-{{i}}.state}}")
+    d = spawn_plcs(tmp_path, text, ports, preexec_fn=limited(soft, hard))
+    try:
+        log = d.log_text()
+        assert "descriptor limit raised from 1024 to " in log, log[-2000:]
+        assert "Too many open files" not in log
+        # The last PLC answers from its own state file.
+        with socket.create_connection(("127.0.0.1", ports[-1]), timeout=3) as s:
+            assert raw_exchange(s, READ_R0)[0] == 3
+        assert (tmp_path / f"oven-{count - 1}.state").stat().st_size > 0
+    finally:
+        d.stop()
