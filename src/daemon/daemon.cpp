@@ -599,6 +599,7 @@ private:
         // One process, one log: `log:` is no PLC's setting, and never makes one change.
         const std::string level = p.configs.front().log.level;
         std::size_t kept = 0;
+        bool all_built = true;  // else a PLC runs on its previous config
         for (std::size_t i = 0; i < hosts_.size(); ++i) {
             if (p.unchanged[i]) {
                 hosts_[i]->keep();
@@ -606,9 +607,13 @@ private:
                 continue;
             }
             auto old = hosts_[i]->apply(std::move(p.configs[i]), std::move(p.programs[i]));
-            if (old) left->plcs.push_back(std::move(old));
+            if (old) {
+                left->plcs.push_back(std::move(old));
+            } else {
+                all_built = false;
+            }
         }
-        listeners_.apply(members());
+        listeners_.apply(members(), all_built);
         if (level != log_level_) {
             spdlog::info("reload: log.level: {} -> {}", log_level_, level);
             spdlog::set_level(spdlog::level::from_str(level));

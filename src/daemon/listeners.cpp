@@ -427,15 +427,26 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
         for (const std::size_t i : tcp_[t]->members)
             running_of.try_emplace({i, tcp_[t]->section}, t);
     }
+    // The running listener of the same PLCs as `g`, if any (refusal() made sure the members are
+    // the same ones when shared).
+    const auto running_for = [&](const Group& g) {
+        const auto found = running_of.find({g.members.front(), g.section});
+        return found == running_of.end()
+                   ? tcp_.end()
+                   : tcp_.begin() + static_cast<std::ptrdiff_t>(found->second);
+    };
+    // The running listeners this reload keeps; the others close once it is applied.
+    std::vector<bool> kept(tcp_.size(), false);
     for (const auto& g : plan->all) {
         if (g.carrier != Carrier::Tcp) continue;
-        // The running listener of the same PLCs, if any (refusal() made sure the members are
-        // the same ones when shared).
+        const auto running = running_for(g);
+        if (running != tcp_.end() && (*running)->key == g.key)
+            kept[static_cast<std::size_t>(running - tcp_.begin())] = true;
+    }
+    for (const auto& g : plan->all) {
+        if (g.carrier != Carrier::Tcp) continue;
         const std::size_t first = g.members.front();
-        const auto found = running_of.find({first, g.section});
-        auto running = found == running_of.end()
-                           ? tcp_.end()
-                           : tcp_.begin() + static_cast<std::ptrdiff_t>(found->second);
+        const auto running = running_for(g);
         Staged s;
         if (running != tcp_.end() && (*running)->key == g.key) {
             s.kept = static_cast<std::size_t>(running - tcp_.begin());
@@ -451,21 +462,28 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
             staged_.push_back(std::move(s));
             continue;
         } catch (const std::exception& e) {
+            // The port may be held by running listeners this reload closes anyway: the PLC's
+            // own on another address (127.0.0.1 -> 0.0.0.0), or another PLC's that moves
+            // elsewhere. They go first; if the new one still fails, they come back.
+            const auto port = s.fresh->options.net.port;
+            bool freed = false;
+            for (std::size_t t = 0; port != 0 && t < tcp_.size(); ++t) {
+                Listener& held = *tcp_[t];
+                if (kept[t] || !held.tcp || held.options.net.port != port) continue;
+                spdlog::info("reload: {}closing {} {} to listen on {}:{}", prefix, held.what(),
+                             held.where(), s.fresh->options.net.bind, port);
+                held.tcp->stop();
+                held.tcp.reset();
+                stopped_for_stage_.push_back(t);
+                freed = true;
+            }
             // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
-            if (running == tcp_.end() || s.fresh->options.net.port == 0 ||
-                s.fresh->options.net.port != (*running)->options.net.port || !(*running)->tcp) {
+            if (!freed) {
                 spdlog::error("reload: {}{}", prefix, e.what());
                 unstage();
                 return false;
             }
         }
-        // Same port, new address (127.0.0.1 -> 0.0.0.0): the old listener holds the port, so it
-        // goes first; if the new one still fails, the old one comes back.
-        spdlog::info("reload: {}closing {} {} to listen on {}:{}", prefix, (*running)->what(),
-                     (*running)->where(), s.fresh->options.net.bind, s.fresh->options.net.port);
-        (*running)->tcp->stop();
-        (*running)->tcp.reset();
-        stopped_for_stage_.push_back(static_cast<std::size_t>(running - tcp_.begin()));
         try {
             s.fresh->tcp =
                 std::make_unique<listener::TcpListener>(io_, *s.fresh->stream, s.fresh->options);
@@ -499,7 +517,7 @@ void Listeners::unstage() {
     stopped_for_stage_.clear();
 }
 
-void Listeners::apply(const std::vector<ListenerMember>& plcs) {
+void Listeners::apply(const std::vector<ListenerMember>& plcs, bool as_staged) {
     std::vector<std::unique_ptr<Listener>> now;
     for (auto& s : staged_) {
         if (s.fresh) {
@@ -524,7 +542,7 @@ void Listeners::apply(const std::vector<ListenerMember>& plcs) {
     // A copy: the staged plan was made on the reload's thread, and its thousands of small
     // blocks, kept, would hold that thread's heap pages after the reload (27 MB more RSS at
     // 5,000 PLCs). The copy costs the loop about a millisecond there.
-    in_force_ = std::make_shared<const Plan>(*staged_plan_);
+    in_force_ = as_staged ? std::make_shared<const Plan>(*staged_plan_) : plan_of(plcs);
     staged_plan_.reset();
     route(plcs);
     raise_fd_limit(plcs.size());

@@ -59,7 +59,10 @@ public:
     /// A reload's second half, after the PLCs took their new configs: the staged listeners
     /// replace the old ones, kept ones take the new limits, UDP listeners and serial lines are
     /// reopened with their new settings, and every unit table learns the PLCs' new seats.
-    void apply(const std::vector<ListenerMember>& plcs);
+    /// `as_staged` is false when a PLC could not be built on its new config and runs on its old
+    /// one (in `plcs`): the UDP listeners and serial lines, and what the next reload compares
+    /// with, are then those of the configs the PLCs run.
+    void apply(const std::vector<ListenerMember>& plcs, bool as_staged = true);
 
     /// What answers `unit` on a listener of the PLC at `index`, other than that PLC's station:
     /// "plcs[1] (b)'s station on tcp 127.0.0.1:1502", "its simulator unit"; empty when nothing

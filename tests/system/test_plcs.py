@@ -507,6 +507,62 @@ def test_two_stations_behind_one_listener_and_one_on_its_own(tmp_path):
         assert d.stop() == 0
 
 
+def two_ovens(a_port, b_port):
+    return f"""\
+plcs:
+  - name: a
+    profile: fbs
+    persistence: {{enabled: false}}
+    init: {{R0: [111]}}
+    modbus: {{tcp: {{bind: 127.0.0.1, port: {a_port}}}}}
+  - name: b
+    profile: fbs
+    persistence: {{enabled: false}}
+    init: {{R0: [222]}}
+    modbus: {{tcp: {{bind: 127.0.0.1, port: {b_port}}}}}
+"""
+
+
+def r0_on(port):
+    with socket.create_connection(("127.0.0.1", port), timeout=3) as s:
+        reply = raw_exchange(s, b"\x03\x00\x00\x00\x01")
+    assert reply is not None and reply[0] == 3, reply
+    return int.from_bytes(reply[2:4], "big")
+
+
+def test_a_reload_gives_a_port_one_plc_leaves_to_another(tmp_path):
+    """A port freed by the same reload is not "in use": the PLC leaving it lets go of it first
+    (and gets it back if the reload fails), so ports can move between PLCs, even swap."""
+    p1, p2, p3 = free_port(), free_port(), free_port()
+    d = spawn(tmp_path, two_ovens(p1, p2), [p1, p2])
+    try:
+        assert (r0_on(p1), r0_on(p2)) == (111, 222)
+        # b takes a's port, a moves to a new one.
+        Path(d.config_path).write_text(two_ovens(p3, p1))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: applied to 2 of 2 PLCs"), d.log_text()
+        assert (r0_on(p3), r0_on(p1)) == (111, 222)
+        assert not port_open(p2)
+        assert f"reload: plcs[1] (b): closing tcp 127.0.0.1:{p1} to listen on 127.0.0.1:{p1}" \
+            in d.log_text()
+        # A swap: each PLC's port is held by the other's listener until the reload closes it.
+        Path(d.config_path).write_text(two_ovens(p1, p3))
+        d.proc.send_signal(signal.SIGHUP)
+        wait_count(d, "reload: applied to 2 of 2 PLCs", 2)
+        assert (r0_on(p1), r0_on(p3)) == (111, 222)
+        # A port nobody in the daemon gives up is still refused, and what ran goes on.
+        with socket.create_server(("127.0.0.1", 0)) as other:
+            taken = other.getsockname()[1]
+            Path(d.config_path).write_text(two_ovens(taken, p1))
+            d.proc.send_signal(signal.SIGHUP)
+            assert d.wait_log("configuration rejected"), d.log_text()
+        assert f"cannot listen on tcp 127.0.0.1:{taken}" in d.log_text()
+        assert (r0_on(p1), r0_on(p3)) == (111, 222)
+        assert d.proc.poll() is None
+    finally:
+        assert d.stop() == 0
+
+
 # --- Unit IDs in force: R4055 and reloads (docs/configuration.md, "Sharing a listener") ---
 
 R4055 = 4055  # fbs: the station; 55h in the high byte sets it

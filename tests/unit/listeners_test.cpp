@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plcemu/config/config.hpp"
@@ -154,6 +155,12 @@ protected:
         EXPECT_EQ(reply[7], 0x03);
         return static_cast<std::uint8_t>(reply[9]) << 8 | static_cast<std::uint8_t>(reply[10]);
     }
+    // Holding register 0 of `unit` read on a new connection to 127.0.0.1:`port`, or -1 when
+    // nothing listens there or no reply came.
+    int r0_at(std::uint16_t port, std::uint8_t unit) {
+        auto s = connect(port);
+        return s.is_open() ? read_r0(s, unit) : -1;
+    }
     // True when the listener closed `s` within 2 s.
     bool closed(asio::ip::tcp::socket& s) { return testing::closed(io_, s); }
 
@@ -247,6 +254,59 @@ TEST_F(ListenersTest, APortThatCannotBeHadFailsStageAndChangesNothing) {
     EXPECT_TRUE(reload(two_plcs(busy, 0)));
     EXPECT_EQ(listeners_.describe_all().at(0), ", tcp 127.0.0.1:" + std::to_string(busy));
     EXPECT_FALSE(listening(p1));
+}
+
+TEST_F(ListenersTest, APortAnotherPlcLeavesIsTakenAndASwapGoesThrough) {
+    const std::uint16_t p1 = free_port();
+    const std::uint16_t p2 = free_port();
+    const std::uint16_t p3 = free_port();
+    open(two_plcs(p1, p2));
+    // b takes a's port in the reload that moves a elsewhere: a's listener closes first.
+    ASSERT_TRUE(reload(two_plcs(p3, p1)));
+    EXPECT_EQ(port_of(0), p3);
+    EXPECT_EQ(port_of(1), p1);
+    EXPECT_FALSE(listening(p2));
+    EXPECT_EQ(r0_at(p1, 2), 22);
+    // Each takes the other's port.
+    ASSERT_TRUE(reload(two_plcs(p1, p3)));
+    EXPECT_EQ(port_of(0), p1);
+    EXPECT_EQ(port_of(1), p3);
+    EXPECT_EQ(r0_at(p1, 1), 11);
+    // A port held outside the daemon still fails the stage, and the listeners it closed to try
+    // come back: b keeps p3 although a's new config asked for a port nobody gives up.
+    asio::io_context other;
+    asio::ip::tcp::acceptor taken(other, {asio::ip::make_address("127.0.0.1"), 0});
+    const std::uint16_t busy = taken.local_endpoint().port();
+    EXPECT_FALSE(reload(two_plcs(p3, busy)));
+    EXPECT_EQ(port_of(0), p1);
+    EXPECT_EQ(port_of(1), p3);
+    EXPECT_EQ(r0_at(p3, 2), 22);
+}
+
+TEST_F(ListenersTest, APlcLeftOnItsPreviousConfigKeepsThatConfigsListeners) {
+    const std::uint16_t pa = free_port();
+    const std::uint16_t pb = free_port();
+    open(two_plcs(pa, pb));
+    // b's new config adds a FATEK UDP listener, but b could not be built on it and runs on its
+    // previous config (the daemon's Host::apply returned no PLC): apply() is told so.
+    std::string text = two_plcs(pa, pb);
+    const std::string b_tcp = "port: " + std::to_string(pb) + ", max_clients: 64}}";
+    const auto at = text.find(b_tcp);
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at + b_tcp.size(), ", fatek: {udp: {enabled: true, bind: 127.0.0.1, port: 0}}");
+    const std::vector<config::Config> next = configs(text);
+    ASSERT_TRUE(listeners_.stage(next, Listeners::plan(next)));
+    std::vector<std::unique_ptr<Member>> previous;
+    previous.push_back(std::exchange(plcs_[0], std::make_unique<Member>(next[0])));
+    listeners_.apply(members(), false);
+    // No UDP listener for b, whose config has none; both still answer.
+    EXPECT_EQ(listeners_.describe_all().at(1), ", tcp 127.0.0.1:" + std::to_string(pb));
+    EXPECT_EQ(r0_at(pb, 2), 22);
+    EXPECT_EQ(r0_at(pa, 1), 11);
+    // The next reload compares with what runs: to the same config, it opens b's UDP listener.
+    ASSERT_TRUE(reload(text));
+    EXPECT_NE(listeners_.describe_all().at(1).find(", fatek udp 127.0.0.1:"), std::string::npos)
+        << listeners_.describe_all().at(1);
 }
 
 TEST_F(ListenersTest, ChangingWhichPlcsShareAListenerIsRefused) {
