@@ -101,7 +101,22 @@ std::size_t count_param(const Call& call,
 }
 
 Json body_object(const Call& call, std::optional<Response>& refused) {
-    Json j = Json::parse(call.request.body, nullptr, false);
+    // No body the API takes nests deeper than a few levels. A deeper one is refused as it is
+    // parsed (the parser keeps its own stack): an error message quoting a value calls the
+    // library's dump(), which recurses once a level, and 24 KiB of brackets nest 12,000 deep.
+    constexpr int kMaxDepth = 32;
+    bool deep = false;
+    Json j = Json::parse(
+        call.request.body,
+        [&deep](int depth, Json::parse_event_t, Json&) {
+            if (depth > kMaxDepth) deep = true;
+            return !deep;
+        },
+        false);
+    if (deep) {
+        refused = error(400, "the body nests deeper than " + std::to_string(kMaxDepth) + " levels");
+        return {};
+    }
     if (j.is_discarded() || !j.is_object()) {
         refused = error(400, "the body is not a JSON object");
         return {};

@@ -620,6 +620,24 @@ def test_a_body_that_is_not_a_json_object_is_400(fbs, body):
     assert holding(c, 145) == [45]
 
 
+@pytest.mark.parametrize("path, key", [("/api/v1/plcs/0/devices/R145", "values"),
+                                       ("/api/v1/plcs/0/comm-faults", "from")])
+def test_a_body_nested_thousands_deep_is_400_and_the_daemon_lives_on(fbs, path, key):
+    """An error message quoting a deeply nested value once overflowed the daemon's stack
+    (the JSON library's dump() recurses a level at a time): 4,000 levels in 8 KB did it."""
+    c = fbs.client()
+    assert not c.write_registers(145, [45], slave=1).isError()
+    for depth in (33, 4000, 12000):
+        body = '{"%s": %s%s}' % (key, "[" * depth, "]" * depth)
+        r = request(fbs.http, "PUT", path, body=body, headers={"Content-Type": "application/json"})
+        assert_error(r, 400, "nests deeper than 32 levels")
+    # 32 levels are read as any body is: a list of lists is no list of numbers.
+    r = put(fbs.http, "/api/v1/plcs/0/devices/R145", json_body={"values": [[[[1]]]]})
+    assert_error(r, 400, "whole numbers")
+    assert holding(c, 145) == [45]
+    assert get(fbs.http, "/api/v1/plcs/0").status == 200
+
+
 @pytest.mark.parametrize("content_type", [None, "text/plain", "application/x-www-form-urlencoded",
                                           "multipart/form-data; boundary=x", "text/json"])
 def test_a_write_that_is_not_json_is_415(fbs, content_type):
