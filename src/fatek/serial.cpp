@@ -43,26 +43,30 @@ std::span<const std::uint8_t> FatekSerial::receive(std::span<const std::uint8_t>
 void FatekSerial::drain() noexcept {
     for (;;) {
         const listener::Split s = split_stream({buf_.data(), used_});
-        if (s.cut != listener::Cut::Frame) return;
-        const std::span<const std::uint8_t> piece(buf_.data(), s.size);
-        if (piece.front() == kStx && piece.back() == kEtx) ++stats_.frames;
-        if (reply_.size() - reply_size_ >= kMaxFrame) {
-            std::size_t r = serve(units_, piece, std::span(reply_).subspan(reply_size_));
-            listener::Fate f = units_.take_fate();
-            r = r == 0 ? 0 : listener::cut_or_pause(f, r, gap_);
-            fate_.delay = std::max(fate_.delay, f.delay);
-            if (fate_.gap_at == 0 && f.gap_at > 0) {
-                fate_.gap_at = reply_size_ + f.gap_at;
-                fate_.gap = f.gap;
-            }
-            reply_size_ += r;
-            stats_.answered += r > 0 ? 1 : 0;
-        } else {
-            ++stats_.overflow;
-        }
+        if (s.cut != listener::Cut::Frame && s.cut != listener::Cut::Skip) return;
+        // Noise on the line (Skip) is dropped, never answered.
+        if (s.cut == listener::Cut::Frame) answer({buf_.data(), s.size});
         std::memmove(buf_.data(), buf_.data() + s.size, used_ - s.size);
         used_ -= s.size;
     }
+}
+
+void FatekSerial::answer(std::span<const std::uint8_t> frame) noexcept {
+    ++stats_.frames;
+    if (reply_.size() - reply_size_ < kMaxFrame) {
+        ++stats_.overflow;
+        return;
+    }
+    std::size_t r = serve(units_, frame, std::span(reply_).subspan(reply_size_));
+    listener::Fate f = units_.take_fate();
+    r = r == 0 ? 0 : listener::cut_or_pause(f, r, gap_);
+    fate_.delay = std::max(fate_.delay, f.delay);
+    if (fate_.gap_at == 0 && f.gap_at > 0) {
+        fate_.gap_at = reply_size_ + f.gap_at;
+        fate_.gap = f.gap;
+    }
+    reply_size_ += r;
+    stats_.answered += r > 0 ? 1 : 0;
 }
 
 std::span<const std::uint8_t> FatekSerial::expire(Clock::time_point now) noexcept {

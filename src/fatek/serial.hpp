@@ -41,7 +41,11 @@ public:
     const SerialStats& stats() const noexcept { return stats_; }
 
 private:
+    // Cuts and answers every whole frame received, dropping what is no frame.
     void drain() noexcept;
+    // Answers one frame, queued after the replies before it (counted as overflow when there is
+    // no room left for a reply).
+    void answer(std::span<const std::uint8_t> frame) noexcept;
     void abandon_after_gap(Clock::time_point now) noexcept;
 
     listener::UnitTable units_;

@@ -263,6 +263,11 @@ private:
             const Split frame = session_ ? session_->split({f, used_ - off})
                                          : server->protocol->split({f, used_ - off});
             if (frame.cut == Cut::Incomplete) break;
+            // Noise before a frame: dropped unanswered, and no request (the client stays idle).
+            if (frame.cut == Cut::Skip) {
+                off += frame.size;
+                continue;
+            }
             // No frame boundary can be trusted after a bad header: the connection (and only this
             // one) is closed.
             if (frame.cut == Cut::Bad) {

@@ -179,6 +179,26 @@ def test_idle_connections_are_closed_busy_ones_kept(start_plcemud):
         assert closed_at >= 0.9  # not before its timeout
 
 
+def test_noise_is_no_request_a_client_sending_only_noise_is_idle(start_plcemud):
+    """Bytes that are no frame are dropped unanswered and do not keep a connection alive: a
+    client trickling noise is closed as an idle one is, and cannot hold a listener's slots."""
+    port = free_port()
+    start_plcemud(tcp_config(port, ", idle_timeout_s: 1"))
+    with Fatek.tcp(port) as noisy:
+        sock = noisy.line.sock
+        start, closed_at = time.monotonic(), None
+        while closed_at is None and time.monotonic() - start < 3.5:
+            try:
+                sock.sendall(b"A")  # a byte every 0.2 s, never an STX
+            except OSError:
+                closed_at = time.monotonic() - start
+                break
+            if closed_by_server(noisy, timeout=0.2):
+                closed_at = time.monotonic() - start
+        assert closed_at is not None, "a connection sending only noise was kept open"
+        assert closed_at >= 0.9  # not before its timeout
+
+
 def test_read_only_listener_refuses_writes_with_error_3(start_plcemud):
     port = free_port()
     d = start_plcemud(tcp_config(port, ", read_only: true") + "init: {R100: 7, M10: 0}\n")

@@ -52,7 +52,11 @@ std::string feed(FatekStream& p, std::string& buffered) {
     for (;;) {
         const listener::Split s = p.split(bytes_of(buffered));
         EXPECT_NE(s.cut, listener::Cut::Bad);  // a FATEK connection is never closed for bytes
-        if (s.cut != listener::Cut::Frame) break;
+        if (s.cut == listener::Cut::Incomplete) break;
+        if (s.cut == listener::Cut::Skip) {  // noise: dropped, never answered
+            buffered.erase(0, s.size);
+            continue;
+        }
         const std::size_t n = p.answer(bytes_of(buffered).first(s.size), out);
         replies.append(reinterpret_cast<const char*>(out.data()), n);
         buffered.erase(0, s.size);
@@ -93,6 +97,7 @@ TEST(FatekFraming, BytesBeforeStxAreSkippedAndAnStxRestarts) {
     EXPECT_TRUE(buffered.empty());
     // Bytes with no STX at all are skipped as they come.
     buffered = "\x03zz";
+    EXPECT_EQ(rig.protocol.split(bytes_of(buffered)).cut, listener::Cut::Skip);
     EXPECT_EQ(rig.protocol.split(bytes_of(buffered)).size, 3u);
     EXPECT_EQ(feed(rig.protocol, buffered), "");
 }
@@ -106,6 +111,7 @@ TEST(FatekFraming, FrameOf508BytesIsTheLongest) {
     EXPECT_EQ(feed(rig.protocol, buffered), longest);
     // 508 bytes and no ETX: skipped, and so is what follows up to the next STX.
     buffered = frame("4E" + std::string(501, 'Q')) + frame("40");
+    EXPECT_EQ(rig.protocol.split(bytes_of(buffered)).cut, listener::Cut::Skip);
     EXPECT_EQ(rig.protocol.split(bytes_of(buffered)).size, 508u);
     EXPECT_EQ(feed(rig.protocol, buffered), reply("400010000"));
     // Fewer than 508 bytes without ETX: a frame still arriving.

@@ -23,13 +23,14 @@ namespace plcemu::listener {
 enum class Cut : std::uint8_t {
     Incomplete,  ///< not a whole frame yet: wait for more bytes
     Frame,       ///< a whole frame of `size` bytes
+    Skip,        ///< `size` bytes that are no frame (noise before one): dropped, not a request
     Bad,         ///< no frame boundary can be trusted: the connection is closed
 };
 
 /// The next frame of a stream.
 struct Split {
     Cut cut = Cut::Incomplete;  ///< what was found
-    std::size_t size = 0;       ///< bytes of the frame (Frame only)
+    std::size_t size = 0;       ///< bytes of the frame, or to skip (Frame, Skip)
     const char* why = "";       ///< Bad only: "bad MBAP header", for the log
 };
 
