@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "frame.hpp"
+#include "hex.hpp"
 #include "reach.hpp"
 #include "request.hpp"
 
@@ -104,7 +105,9 @@ std::size_t serve(listener::UnitTable& units,
         e.protocol = units.serving()->protocol;
         e.unit = req->station;
         e.function = req->code.value_or(0);
-        if (req->code != 0x4E && n > 6 && out[5] != '0') e.error = out[5];
+        // The code as a number (the sixth character is its hex digit: '4', 'A').
+        if (req->code != 0x4E && n > 6 && out[5] != '0' && hex_digit(out[5]) > 0)
+            e.error = static_cast<std::uint8_t>(hex_digit(out[5]));
         try {
             hit.seat->traffic->record(*units.serving(), e);
         } catch (const std::bad_alloc&) {

@@ -63,8 +63,15 @@ def test_a_fatek_udp_peer_is_a_client_and_its_requests_are_counted(start_plcemud
         traffic = get(hp, "/api/v1/plcs/0/traffic").json()
         assert [e["function"] for e in traffic["exchanges"] if e["protocol"] == "fatek"] == \
             ["40h"] * 3, traffic
+        # An unknown command gets FATEK's error 4, listed and counted as 04 (the digit's
+        # value, not its character's code, 34h).
+        assert f.exchange(frame(1, 0x99)) == frame(1, 0x99, "4")
+        newest = get(hp, "/api/v1/plcs/0/traffic").json()["exchanges"][-1]
+        assert (newest["function"], newest["error"]) == ("99h", "04h"), newest
     m = metrics(hp)
     assert count(m, "plcemu_requests_total", plc="0", protocol="fatek", function="40") == 3
+    assert count(m, "plcemu_request_errors_total", plc="0", protocol="fatek", function="99",
+                 code="04") == 1
 
 
 def test_the_master_of_an_rtu_line_is_a_client_until_the_line_closes(start_plcemud, pty):
