@@ -3,9 +3,27 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <mutex>
 #include <vector>
 
+#include "modbus/log_limiter.hpp"
+
 namespace plcemu::listener {
+
+namespace {
+
+// A master can switch a fault on and off as fast as it can write (unit 247, the API): the
+// lines saying so are the process's, rate-limited as connects are, whichever PLC they are of.
+bool may_log() {
+    static std::mutex m;
+    static modbus::LogLimiter limiter(50, std::chrono::seconds(10));
+    const std::lock_guard lock(m);
+    const auto now = modbus::LogLimiter::Clock::now();
+    limiter.flush_to_log(now, "");
+    return limiter.allow(modbus::LogCause::CommFault, now);
+}
+
+}  // namespace
 
 CommFaults::CommFaults(std::string label,
                        const image::Naming* naming,
@@ -47,14 +65,14 @@ void CommFaults::set(const CommFaultSettings& s) {
     };
     bool said = false;
     for (const auto& l : before) {
-        if (!has(after, l)) spdlog::info("{}comm fault off: {}", label_, l);
+        if (!has(after, l) && may_log()) spdlog::info("{}comm fault off: {}", label_, l);
     }
     for (const auto& l : after) {
         if (has(before, l)) continue;
-        spdlog::info("{}comm fault on: {} ({})", label_, l, scope);
+        if (may_log()) spdlog::info("{}comm fault on: {} ({})", label_, l, scope);
         said = true;
     }
-    if (!said && !after.empty() && scope != config::comm_fault_scope(old, naming))
+    if (!said && !after.empty() && scope != config::comm_fault_scope(old, naming) && may_log())
         spdlog::info("{}comm faults now apply to {}", label_, scope);
     if (old.stop != s_.stop && on_stop_) on_stop_(s_.stop);
 }

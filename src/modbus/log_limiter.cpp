@@ -45,6 +45,8 @@ std::string_view describe(LogCause cause) noexcept {
             return "reconnects for part of a frame left";
         case LogCause::Flood:
             return "connections closed for bytes not asked for";
+        case LogCause::CommFault:
+            return "communication faults switched on or off";
         case LogCause::Count:
             break;
     }

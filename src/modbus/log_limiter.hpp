@@ -22,6 +22,7 @@ enum class LogCause : std::uint8_t {
     BadHeader,          ///< a slave sent the MBUS master bytes that are no MBAP frame
     FrameLeft,          ///< a slave left part of a frame (its length field lied)
     Flood,              ///< a slave sent the MBUS master more than it asked for
+    CommFault,          ///< a communication fault switched on or off (a master may toggle one)
     Count,
 };
 

@@ -869,6 +869,29 @@ def wait_count(d, text, n, timeout=2.0):
     return log_count(d, text)
 
 
+def test_a_master_toggling_a_fault_cannot_flood_the_log(start_plcemud):
+    """Switching a fault is logged, and a master can switch one as fast as it writes: the lines
+    are rate-limited as connects are (50 in 10 s, then counted), 2,000 toggles or not."""
+    d = start_plcemud(BASE_CONFIG)
+    toggles = 2000
+    pdus = [struct.pack(">BHH", 6, REG["exception"], 4 if i % 2 == 0 else 0)
+            for i in range(toggles)]
+    adus = b"".join(struct.pack(">HHHB", i + 1, 0, len(p) + 1, SIM) + p
+                    for i, p in enumerate(pdus))
+    with socket.create_connection(("127.0.0.1", d.port), timeout=10) as s:
+        s.sendall(adus)
+        want, got = 12 * toggles, b""  # each FC06 is echoed: MBAP 7 + PDU 5
+        while len(got) < want:
+            chunk = s.recv(65536)
+            assert chunk, f"closed after {len(got)} of {want} bytes"
+            got += chunk
+    assert log_count(d, "comm fault o") <= 50, log_count(d, "comm fault o")
+    assert log_count(d, "comm fault on: exception 04h") >= 1
+    # The PLC still answers, the fault switched off by the last toggle.
+    c = d.client()
+    assert not c.read_holding_registers(0, 1, slave=1).isError()
+
+
 def test_one_log_line_per_fault_switched(start_plcemud):
     d, hp = start_with_http(start_plcemud)
     put_faults(hp, delay_ms=300, exception=4, **{"from": "R100", "count": 10})
