@@ -119,6 +119,10 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
         if (auto r = write_refusal(call)) return *r;
         const Json body = body_object(call, refused);
         if (refused) return *refused;
+        for (const auto& [k, v] : body.items()) {
+            if (k != "values")
+                return error(400, k.substr(0, 40) + ": unknown key (expected values)");
+        }
         const auto it = body.find("values");
         if (it == body.end() || !it->is_array() || it->empty()) {
             return error(

@@ -620,6 +620,15 @@ def test_a_body_that_is_not_a_json_object_is_400(fbs, body):
     assert holding(c, 145) == [45]
 
 
+def test_a_device_write_with_an_unknown_key_is_400_and_writes_nothing(fbs):
+    """docs/console.md: an unknown key is a 400, as for the simulator and the faults."""
+    c = fbs.client()
+    assert not c.write_registers(145, [45], slave=1).isError()
+    r = put(fbs.http, "/api/v1/plcs/0/devices/R145", json_body={"values": [7], "bogus": 1})
+    assert_error(r, 400, "bogus", "unknown key", "values")
+    assert holding(c, 145) == [45]
+
+
 @pytest.mark.parametrize("path, key", [("/api/v1/plcs/0/devices/R145", "values"),
                                        ("/api/v1/plcs/0/comm-faults", "from")])
 def test_a_body_nested_thousands_deep_is_400_and_the_daemon_lives_on(fbs, path, key):
