@@ -1,6 +1,7 @@
 #include "http/api.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 
 namespace plcemu::http {
@@ -43,6 +44,22 @@ Response no_such_plc(listener::UnitTable& units, std::string_view id) {
     return error(404, "no PLC '" + std::string(id) + "' here (there are: " + known + ")");
 }
 
+namespace {
+
+// True for the media type application/json, in any case, with or without parameters
+// ("application/json; charset=utf-8"); not "application/jsonx" nor a list of types.
+bool is_json(std::string_view content_type) {
+    std::string_view t = content_type.substr(0, content_type.find(';'));
+    while (!t.empty() && (t.back() == ' ' || t.back() == '\t')) t.remove_suffix(1);
+    constexpr std::string_view kJson = "application/json";
+    return t.size() == kJson.size() &&
+           std::equal(t.begin(), t.end(), kJson.begin(), [](char a, char b) {
+               return std::tolower(static_cast<unsigned char>(a)) == b;
+           });
+}
+
+}  // namespace
+
 std::optional<Response> write_refusal(const Call& call, bool with_body) {
     if (call.units.read_only()) {
         return error(403, "this console is read-only (http.read_only)");
@@ -77,8 +94,7 @@ std::optional<Response> write_refusal(const Call& call, bool with_body) {
         }
     }
     // Only JSON bodies: a cross-origin page can send a form without asking, never JSON.
-    const std::string& ct = call.request.content_type;
-    if (with_body && ct.rfind("application/json", 0) != 0) {
+    if (with_body && !is_json(call.request.content_type)) {
         return error(415, "the body must be JSON (Content-Type: application/json)");
     }
     return std::nullopt;

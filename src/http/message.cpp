@@ -1,8 +1,10 @@
 #include "http/message.hpp"
 
 #include <boost/beast/core/error.hpp>
+#include <boost/beast/core/string.hpp>
 #include <boost/beast/http.hpp>
 #include <algorithm>
+#include <iterator>
 #include <sstream>
 
 namespace plcemu::http {
@@ -63,6 +65,23 @@ bool decode(std::string_view in, std::string& out, bool query) {
     return true;
 }
 
+// A Host header's value as RFC 9110 §7.2 has it: a name or address and an optional port of
+// digits (an IPv6 address in brackets). Empty (no Host, HTTP/1.0) passes.
+bool host_and_port(std::string_view h) {
+    std::size_t end = h.size();
+    if (!h.empty() && h.front() == '[') {
+        end = h.find(']');
+        if (end == std::string_view::npos) return false;
+        ++end;
+    } else if (const auto colon = h.rfind(':'); colon != std::string_view::npos) {
+        end = colon;
+    }
+    if (end == h.size()) return true;
+    const std::string_view port = h.substr(end);
+    return port.size() >= 2 && port.size() <= 6 && port.front() == ':' &&
+           port.find_first_not_of("0123456789", 1) == std::string_view::npos;
+}
+
 std::string field(const bhttp::request<bhttp::string_body>& m, bhttp::field f) {
     const auto it = m.find(f);
     return it == m.end() ? std::string() : std::string(it->value());
@@ -107,6 +126,27 @@ bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& r
         return false;
     }
     const auto& m = p.get();
+    // RFC 9112 §3.2: a request with more than one Host, or a Host that is no host[:port], is
+    // answered 400 (which of two would the Host check believe?).
+    if (m.count(bhttp::field::host) > 1) {
+        refusal = {400, "more than one Host header"};
+        return false;
+    }
+    if (!host_and_port(field(m, bhttp::field::host))) {
+        refusal = {400, "the Host header is no host[:port]"};
+        return false;
+    }
+    // RFC 9112 §6.1: a transfer coding it does not know is answered 501. Beast undoes chunked
+    // alone, and would hand over a body still gzip'ed as though it were plain.
+    if (const auto te = m.find(bhttp::field::transfer_encoding); te != m.end()) {
+        const bhttp::token_list codings(te->value());
+        const auto first = codings.begin();
+        if (first == codings.end() || !beast::iequals(*first, "chunked") ||
+            std::next(first) != codings.end()) {
+            refusal = {501, "Transfer-Encoding other than chunked is not implemented"};
+            return false;
+        }
+    }
     out.method = std::string(m.method_string());
     out.target = std::string(m.target());
     out.keep_alive = m.keep_alive();

@@ -51,7 +51,7 @@ struct Response {
 
 /// A request that could not be read: the status that says why, and a message.
 struct Refusal {
-    unsigned status = 400;  ///< 400, 413 (body too large) or 431 (head too large)
+    unsigned status = 400;  ///< 400, 413 (body too large), 431 (head too large) or 501
     std::string why;
 };
 

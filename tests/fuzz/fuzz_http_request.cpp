@@ -91,8 +91,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         http::Request rq;
         http::Refusal refusal;
         if (!http::parse_request(frame, rq, refusal)) {
-            check(refusal.status == 400 || refusal.status == 413 || refusal.status == 431,
-                  "a refusal that is not 400, 413 or 431", frame, refusal.why);
+            check(refusal.status == 400 || refusal.status == 413 || refusal.status == 431 ||
+                      refusal.status == 501,
+                  "a refusal that is not 400, 413, 431 or 501", frame, refusal.why);
             break;  // the connection is closed after it
         }
         http::Routed routed = http::route(rq, rig.units);

@@ -620,6 +620,52 @@ def test_a_body_that_is_not_a_json_object_is_400(fbs, body):
     assert holding(c, 145) == [45]
 
 
+def status_of(port, raw: bytes) -> int:
+    """The status code the daemon answers `raw` with, on a connection of its own."""
+    with connect(port) as s:
+        s.sendall(raw)
+        head = b""
+        while b"\r\n" not in head:
+            chunk = s.recv(4096)
+            assert chunk, head
+            head += chunk
+    return int(head.split(b" ", 2)[1])
+
+
+def test_requests_rfc_9112_refuses_are_refused_and_write_nothing(fbs):
+    """Two Host headers, a Host that is no host[:port], a transfer coding other than chunked:
+    400, 400, 501. A Content-Type is the media type application/json in any case, with
+    parameters or not, and nothing else (no prefix, no list)."""
+    c = fbs.client()
+    assert not c.write_registers(145, [45], slave=1).isError()
+    path = "/api/v1/plcs/0/devices/R145"
+    body = json.dumps({"values": [7]}).encode()
+    json_type = "Content-Type: application/json"
+    two_hosts = raw_request("GET", "/api/v1/plcs", headers=["Host: evil.example"])
+    assert status_of(fbs.http, two_hosts) == 400
+    assert status_of(fbs.http, raw_request("GET", "/api/v1/plcs").replace(
+        b"Host: 127.0.0.1", b"Host: 127.0.0.1:abc")) == 400
+    chunked = b"%x\r\n%s\r\n0\r\n\r\n" % (len(body), body)
+    for coding, status in (("gzip, chunked", 501), ("chunked, chunked", 501)):
+        raw = raw_request("PUT", path, b"", [json_type]).replace(
+            b"Content-Length: 0", f"Transfer-Encoding: {coding}".encode()) + chunked
+        assert status_of(fbs.http, raw) == status, coding
+    for content_type in ("application/jsonx", "application/json, text/plain", "text/plain"):
+        raw = raw_request("PUT", path, body, [f"Content-Type: {content_type}"])
+        assert status_of(fbs.http, raw) == 415, content_type
+    assert holding(c, 145) == [45]
+    # What is taken: chunked alone, the type in capitals, with a charset.
+    raw = raw_request("PUT", path, b"", [json_type]).replace(
+        b"Content-Length: 0", b"Transfer-Encoding: chunked") + chunked
+    assert status_of(fbs.http, raw) == 200
+    assert holding(c, 145) == [7]
+    for n, content_type in enumerate(("APPLICATION/JSON", "application/json; charset=utf-8")):
+        raw = raw_request("PUT", path, json.dumps({"values": [8 + n]}).encode(),
+                          [f"Content-Type: {content_type}"])
+        assert status_of(fbs.http, raw) == 200, content_type
+        assert holding(c, 145) == [8 + n]
+
+
 def test_a_device_write_with_an_unknown_key_is_400_and_writes_nothing(fbs):
     """docs/console.md: an unknown key is a 400, as for the simulator and the faults."""
     c = fbs.client()
