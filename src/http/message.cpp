@@ -78,7 +78,8 @@ bool host_and_port(std::string_view h) {
     }
     if (end == h.size()) return true;
     const std::string_view port = h.substr(end);
-    return port.size() >= 2 && port.size() <= 6 && port.front() == ':' &&
+    // RFC 3986 §3.2.3: the port is *DIGIT, so "host:" is a Host too.
+    return port.size() <= 6 && port.front() == ':' &&
            port.find_first_not_of("0123456789", 1) == std::string_view::npos;
 }
 
