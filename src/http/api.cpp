@@ -1,7 +1,7 @@
 #include "http/api.hpp"
 
+#include <boost/beast/core/string.hpp>
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 
 namespace plcemu::http {
@@ -51,11 +51,7 @@ namespace {
 bool is_json(std::string_view content_type) {
     std::string_view t = content_type.substr(0, content_type.find(';'));
     while (!t.empty() && (t.back() == ' ' || t.back() == '\t')) t.remove_suffix(1);
-    constexpr std::string_view kJson = "application/json";
-    return t.size() == kJson.size() &&
-           std::equal(t.begin(), t.end(), kJson.begin(), [](char a, char b) {
-               return std::tolower(static_cast<unsigned char>(a)) == b;
-           });
+    return boost::beast::iequals(boost::beast::string_view(t.data(), t.size()), "application/json");
 }
 
 }  // namespace
