@@ -5,6 +5,7 @@
 #include <boost/beast/http.hpp>
 #include <algorithm>
 #include <iterator>
+#include <optional>
 #include <sstream>
 
 namespace plcemu::http {
@@ -16,21 +17,26 @@ namespace {
 
 using Parser = bhttp::request_parser<bhttp::string_body>;
 
-// Feeds `bytes` to a fresh parser until one message is whole; returns the bytes it took (0 while
-// more are needed) and leaves the parser's error in `ec`.
-std::size_t feed(Parser& p, std::span<const std::uint8_t> bytes, beast::error_code& ec) {
+// A parser with the limits of a request.
+void configure(Parser& p) {
     p.header_limit(kMaxHead);
     p.body_limit(kMaxBody);
     p.eager(true);
+}
+
+// Feeds `bytes` to `p` until one message is whole; returns the bytes it took (those of a head
+// not whole yet are not taken: they are given again with the next ones) and leaves the parser's
+// error in `ec`, need_more while the message is not whole.
+std::size_t feed(Parser& p, std::span<const std::uint8_t> bytes, beast::error_code& ec) {
     std::size_t used = 0;
     while (!p.is_done()) {
         const std::size_t n =
             p.put(boost::asio::const_buffer(bytes.data() + used, bytes.size() - used), ec);
         used += n;
-        if (ec) return 0;
-        if (n == 0 && !p.is_done()) {
+        if (ec) return used;
+        if (n == 0) {
             ec = bhttp::error::need_more;
-            return 0;
+            return used;
         }
     }
     return used;
@@ -97,21 +103,52 @@ const std::string* Request::param(std::string_view name) const {
     return nullptr;
 }
 
-listener::Split split_request(std::span<const std::uint8_t> buffered) noexcept {
+struct RequestCutter::State {
+    std::optional<Parser> parser;  // the request being read; none before its first byte
+    std::size_t taken = 0;         // the bytes of it the parser has taken
+    bool failed = false;           // the parser met an error: it takes nothing more
+};
+
+RequestCutter::RequestCutter() = default;
+RequestCutter::~RequestCutter() = default;
+
+listener::Split RequestCutter::split(std::span<const std::uint8_t> buffered) noexcept {
     try {
-        Parser p;
+        if (!state_) state_ = std::make_unique<State>();
+        State& s = *state_;
+        // Fewer bytes than were taken: not the bytes of the last call (a caller's mistake that
+        // costs a parse from the start, not a wrong cut).
+        if (s.parser && buffered.size() < s.taken) next();
+        if (!s.parser) {
+            configure(s.parser.emplace());
+            s.taken = 0;
+        }
+        // The same bytes given to parse_request() meet the same error, which it names.
+        if (s.failed) return {listener::Cut::Frame, buffered.size(), ""};
+        if (s.parser->is_done()) return {listener::Cut::Frame, s.taken, ""};
         beast::error_code ec;
-        const std::size_t n = feed(p, buffered, ec);
+        s.taken += feed(*s.parser, buffered.subspan(s.taken), ec);
         if (ec == bhttp::error::need_more) return {listener::Cut::Incomplete, 0, ""};
-        if (ec) return {listener::Cut::Frame, buffered.size(), ""};
-        return {listener::Cut::Frame, n, ""};
+        if (ec) {
+            s.failed = true;
+            return {listener::Cut::Frame, buffered.size(), ""};
+        }
+        return {listener::Cut::Frame, s.taken, ""};
     } catch (...) {
         return {listener::Cut::Bad, 0, "http: out of memory"};
     }
 }
 
+void RequestCutter::next() noexcept {
+    if (!state_) return;
+    state_->parser.reset();
+    state_->taken = 0;
+    state_->failed = false;
+}
+
 bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& refusal) {
     Parser p;
+    configure(p);
     beast::error_code ec;
     feed(p, frame, ec);
     if (ec == bhttp::error::header_limit) {
@@ -127,9 +164,15 @@ bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& r
         return false;
     }
     const auto& m = p.get();
-    // RFC 9112 §3.2: a request with more than one Host, or a Host that is no host[:port], is
-    // answered 400 (which of two would the Host check believe?).
-    if (m.count(bhttp::field::host) > 1) {
+    // RFC 9112 §3.2: an HTTP/1.1 request without Host, with more than one, or with a Host that
+    // is no host[:port], is answered 400 (which of two would the Host check believe?). HTTP/1.0
+    // has no Host to require.
+    const std::size_t hosts = m.count(bhttp::field::host);
+    if (hosts == 0 && m.version() >= 11) {
+        refusal = {400, "an HTTP/1.1 request without a Host header"};
+        return false;
+    }
+    if (hosts > 1) {
         refusal = {400, "more than one Host header"};
         return false;
     }

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <utility>
@@ -55,9 +56,27 @@ struct Refusal {
     std::string why;
 };
 
-/// Where the first request of `buffered` ends. A request that cannot be read is a frame of every
-/// byte buffered, so that parse() says why and the connection is closed after the answer.
-listener::Split split_request(std::span<const std::uint8_t> buffered) noexcept;
+/// Where requests end on one connection, reading each byte once: a head sent a byte at a time
+/// costs what it costs in one piece (Beast's parser, kept between reads, resumes where it was).
+class RequestCutter {
+public:
+    RequestCutter();
+    ~RequestCutter();
+    RequestCutter(const RequestCutter&) = delete;
+    RequestCutter& operator=(const RequestCutter&) = delete;
+
+    /// Where the first request of `buffered` ends: the bytes received and not yet served, which
+    /// begin where that request begins and only grow from one call to the next until next().
+    /// A request that cannot be read is a frame of every byte buffered, so that parse_request()
+    /// says why and the connection is closed after the answer.
+    listener::Split split(std::span<const std::uint8_t> buffered) noexcept;
+    /// The request split() cut was taken: the next one begins after it.
+    void next() noexcept;
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
 
 /// Reads one whole request (a frame split_request() cut); false with `refusal` set when it is
 /// not one.

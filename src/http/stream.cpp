@@ -20,11 +20,12 @@ public:
     listener::Split split(std::span<const std::uint8_t> buffered) const noexcept override {
         // A stream's client says nothing more; what it sends is not read as requests.
         if (stream_) return {listener::Cut::Incomplete, 0, ""};
-        return split_request(buffered);
+        return cutter_.split(buffered);
     }
 
     bool answer(std::span<const std::uint8_t> frame, std::vector<std::uint8_t>& out) override {
         if (stream_) return true;
+        cutter_.next();
         Request rq;
         Refusal refusal;
         std::string bytes;
@@ -83,6 +84,9 @@ private:
     listener::Outlet& outlet_;
     listener::UnitTable& units_;
     std::optional<Subscription> stream_;
+    // Keeps its place in the request being read between reads: split() is const to the
+    // connection, which may ask it twice over the same bytes, and the cutter answers alike.
+    mutable RequestCutter cutter_;
 };
 
 class HttpProtocol final : public listener::StreamProtocol {

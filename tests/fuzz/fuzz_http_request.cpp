@@ -5,12 +5,14 @@
 // is read and answered by the router on an FBs PLC (with time control), and an events request's
 // subscription is polled once.
 //
-// Invariants: the splitter never gives up on the stream and cuts only what was received; a
-// request that cannot be read is refused with 400, 413 or 431; every answer is a 2xx, 4xx or an
-// event stream — never a 5xx — and its JSON body parses.
+// Invariants: the cutter never gives up on the stream and cuts only what was received; it cuts
+// the same whether the bytes come at once or a few at a time, as a connection reads them; a
+// request that cannot be read is refused with 400, 413, 431 or 501; every answer is a 2xx, 4xx
+// or an event stream — never a 5xx — and its JSON body parses.
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -81,21 +83,46 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         --size;
     }
     std::span<const std::uint8_t> stream(data, size);
+    http::RequestCutter cutter;
     for (int served = 0; !stream.empty() && served < 8; ++served) {
-        const listener::Split s = http::split_request(stream);
-        check(s.cut != listener::Cut::Bad, "the splitter gave up on the stream", stream, "");
+        const listener::Split s = cutter.split(stream);
+        check(s.cut != listener::Cut::Bad, "the cutter gave up on the stream", stream, "");
+        // The same stream read 7 bytes at a time, by a cutter of its own.
+        http::RequestCutter reads;
+        listener::Split few;
+        for (std::size_t n = 0; n < stream.size() && few.cut == listener::Cut::Incomplete;) {
+            n = std::min(n + 7, stream.size());
+            few = reads.split(stream.first(n));
+        }
+        // Beast reads the head's lines as far as they go on its first bytes, and after that waits
+        // for the head's end: read a few bytes at a time, a bad line may be found only there.
+        http::Request rq;
+        http::Refusal refusal;
+        check(few.cut == s.cut ||
+                  (few.cut == listener::Cut::Incomplete && s.cut == listener::Cut::Frame &&
+                   !http::parse_request(stream.first(s.size), rq, refusal)),
+              "a cut that depends on how the bytes arrive", stream, "");
         if (s.cut == listener::Cut::Incomplete) break;
         check(s.size >= 1 && s.size <= stream.size(), "impossible frame size", stream, "");
         const auto frame = stream.first(s.size);
         stream = stream.subspan(s.size);
-        http::Request rq;
-        http::Refusal refusal;
+        cutter.next();
         if (!http::parse_request(frame, rq, refusal)) {
             check(refusal.status == 400 || refusal.status == 413 || refusal.status == 431 ||
                       refusal.status == 501,
                   "a refusal that is not 400, 413, 431 or 501", frame, refusal.why);
+            // Read a few bytes at a time, the request is refused alike (when it is cut yet).
+            http::Request again;
+            http::Refusal early;
+            check(few.cut == listener::Cut::Incomplete ||
+                      (few.size <= s.size &&
+                       !http::parse_request(frame.first(few.size), again, early) &&
+                       early.status == refusal.status),
+                  "a refusal that depends on how the bytes arrive", frame, early.why);
             break;  // the connection is closed after it
         }
+        check(few.size == s.size, "a request cut elsewhere when read a few bytes at a time", frame,
+              "");
         http::Routed routed = http::route(rq, rig.units);
         if (routed.stream) {
             bool ended = false;

@@ -633,8 +633,8 @@ def status_of(port, raw: bytes) -> int:
 
 
 def test_requests_rfc_9112_refuses_are_refused_and_write_nothing(fbs):
-    """Two Host headers, a Host that is no host[:port], a transfer coding other than chunked:
-    400, 400, 501. A Content-Type is the media type application/json in any case, with
+    """No Host in HTTP/1.1, two Host headers, a Host that is no host[:port], a transfer coding
+    other than chunked: 400, 400, 400, 501. A Content-Type is the media type application/json in any case, with
     parameters or not, and nothing else (no prefix, no list)."""
     c = fbs.client()
     assert not c.write_registers(145, [45], slave=1).isError()
@@ -643,6 +643,10 @@ def test_requests_rfc_9112_refuses_are_refused_and_write_nothing(fbs):
     json_type = "Content-Type: application/json"
     two_hosts = raw_request("GET", "/api/v1/plcs", headers=["Host: evil.example"])
     assert status_of(fbs.http, two_hosts) == 400
+    # HTTP/1.1 requires a Host; HTTP/1.0 has none to require.
+    no_host = raw_request("GET", "/api/v1/plcs").replace(b"Host: 127.0.0.1\r\n", b"")
+    assert status_of(fbs.http, no_host) == 400
+    assert status_of(fbs.http, no_host.replace(b"HTTP/1.1", b"HTTP/1.0")) == 200
     for host, status in ((b"127.0.0.1:abc", 400), (b"[::1]x", 400), (b"127.0.0.1:", 200),
                          (b"[::1]:80", 200), (b"localhost:8020", 200)):
         raw = raw_request("GET", "/api/v1/plcs").replace(b"Host: 127.0.0.1", b"Host: " + host)
@@ -1903,6 +1907,28 @@ def test_a_stalled_half_request_is_closed_after_the_frame_timeout(start_http):
         time.sleep(0.1)
         s.sendall(b"Host: 127.0.0.1\r\n\r\n")
         assert recv_response(s).status == 200
+
+
+def test_requests_sent_a_few_bytes_at_a_time_are_cut_where_they_end(fbs):
+    """A connection's requests arrive in pieces of any size: a 6 KB head and its body a few
+    bytes per segment, with the next request's first bytes in the last segment, are one write
+    and then the next request (each byte read once: docs/console.md, "Limits")."""
+    c = fbs.client()
+    assert not c.write_registers(146, [45], slave=1).isError()
+    pad = [f"X-Pad-{i:03}: {'a' * 40}" for i in range(120)]
+    first = json_put_request("/api/v1/plcs/0/devices/R146", [9], pad)
+    assert len(first) > 6000
+    stream = first + raw_request("GET", "/api/v1/plcs/0/devices/R146")
+    with connect(fbs.http) as s:
+        s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        for i in range(0, len(stream), 9):
+            s.sendall(stream[i:i + 9])
+            if i % 900 == 0:
+                time.sleep(0.002)  # the daemon reads what came so far
+        assert recv_response(s).status == 200
+        r = recv_response(s)
+        assert r.status == 200 and json.loads(r.body)["values"] == [9], r
+    assert holding(c, 146) == [9]
 
 
 def test_max_clients_refuses_one_more_while_the_others_work(start_http):

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -31,11 +32,16 @@ TEST(HttpMessage, ARequestIsWholeOnlyWithItsBody) {
         "PUT /api/v1/plcs/0/devices/R1 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
         "application/json\r\n"
         "Content-Length: 14\r\n\r\n{\"values\":[7]}";
-    EXPECT_EQ(http::split_request(bytes(put.substr(0, put.size() - 1))).cut, Cut::Incomplete);
-    EXPECT_EQ(http::split_request(bytes(put.substr(0, 20))).cut, Cut::Incomplete);
-    const auto whole = http::split_request(bytes(put + "GET / HTTP/1.1\r\n"));
+    http::RequestCutter cutter;
+    EXPECT_EQ(cutter.split(bytes(put.substr(0, 20))).cut, Cut::Incomplete);
+    EXPECT_EQ(cutter.split(bytes(put.substr(0, put.size() - 1))).cut, Cut::Incomplete);
+    const auto whole = cutter.split(bytes(put + "GET / HTTP/1.1\r\n"));
     ASSERT_EQ(whole.cut, Cut::Frame);
     EXPECT_EQ(whole.size, put.size());  // a pipelined request after it is not part of it
+    // Asked again before the request is taken, it says the same.
+    EXPECT_EQ(cutter.split(bytes(put + "GET / HTTP/1.1\r\n")).size, put.size());
+    cutter.next();
+    EXPECT_EQ(cutter.split(bytes("GET / HTTP/1.1\r\n")).cut, Cut::Incomplete);
     Request rq;
     Refusal no;
     ASSERT_TRUE(http::parse_request(bytes(put), rq, no));
@@ -76,7 +82,8 @@ TEST(HttpMessage, AnEncodedSlashStaysInItsSegment) {
 TEST(HttpMessage, WhatCannotBeReadIsAFrameThatIsRefused) {
     // Garbage: every byte buffered is one frame, so that the answer says why and ends it.
     const std::string junk = "\x01\x02 not http\r\n\r\n";
-    const auto s = http::split_request(bytes(junk));
+    http::RequestCutter cutter;
+    const auto s = cutter.split(bytes(junk));
     ASSERT_EQ(s.cut, Cut::Frame);
     EXPECT_EQ(s.size, junk.size());
     Request rq;
@@ -86,14 +93,44 @@ TEST(HttpMessage, WhatCannotBeReadIsAFrameThatIsRefused) {
     // A body over the limit is refused from its Content-Length, before it arrives.
     const std::string big = "PUT / HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: " +
                             std::to_string(http::kMaxBody + 1) + "\r\n\r\n";
-    ASSERT_EQ(http::split_request(bytes(big)).cut, Cut::Frame);
+    cutter.next();
+    ASSERT_EQ(cutter.split(bytes(big)).cut, Cut::Frame);
     EXPECT_FALSE(http::parse_request(bytes(big), rq, r));
     EXPECT_EQ(r.status, 413u);
     const std::string head =
         "GET / HTTP/1.1\r\nX: " + std::string(http::kMaxHead, 'a') + "\r\n\r\n";
-    ASSERT_EQ(http::split_request(bytes(head)).cut, Cut::Frame);
+    cutter.next();
+    ASSERT_EQ(cutter.split(bytes(head)).cut, Cut::Frame);
     EXPECT_FALSE(http::parse_request(bytes(head), rq, r));
     EXPECT_EQ(r.status, 431u);
+    // HTTP/1.1 requires a Host (RFC 9112 §3.2); HTTP/1.0 has none to require.
+    EXPECT_FALSE(http::parse_request(bytes("GET /healthz HTTP/1.1\r\n\r\n"), rq, r));
+    EXPECT_EQ(r.status, 400u);
+    EXPECT_NE(r.why.find("without a Host"), std::string::npos) << r.why;
+    Refusal no;
+    EXPECT_TRUE(http::parse_request(bytes("GET /healthz HTTP/1.0\r\n\r\n"), rq, no)) << no.why;
+}
+
+// Each byte is read once: a request sent a byte at a time costs the loop what it costs in one
+// piece. The cutter does not go back over the bytes it has taken (here changed behind its back,
+// which a connection never does): a parser started over would find no request in them.
+TEST(HttpMessage, TheCutterReadsEachByteOnce) {
+    const std::string put =
+        "PUT /api/v1/plcs/0/devices/R1 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+        "application/json\r\nContent-Length: 14\r\n\r\n{\"values\":[7]}";
+    const std::size_t head = put.find("\r\n\r\n") + 4;
+    http::RequestCutter cutter;
+    for (std::size_t n = 1; n < put.size(); ++n) {
+        ASSERT_EQ(cutter.split(bytes(put.substr(0, n))).cut, Cut::Incomplete) << n;
+    }
+    std::string changed = put;
+    std::fill_n(changed.begin(), head + 3, '\x01');
+    const auto s = cutter.split(bytes(changed));
+    ASSERT_EQ(s.cut, Cut::Frame);
+    EXPECT_EQ(s.size, put.size());
+    // Given fewer bytes than it took, it starts over rather than cut where no request ends.
+    EXPECT_EQ(cutter.split(bytes(put.substr(0, 10))).cut, Cut::Incomplete);
+    EXPECT_EQ(cutter.split(bytes(put)).size, put.size());
 }
 
 TEST(HttpMessage, AResponseSaysItsLengthAndNoCaching) {
