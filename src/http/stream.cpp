@@ -18,8 +18,12 @@ public:
           units_(units) {}
 
     listener::Split split(std::span<const std::uint8_t> buffered) const noexcept override {
-        // A stream's client says nothing more; what it sends is not read as requests.
-        if (stream_) return {listener::Cut::Incomplete, 0, ""};
+        // A stream's client says nothing more; what it sends is not read as requests, and
+        // dropped (kept, it would fill the connection's buffer).
+        if (stream_) {
+            return buffered.empty() ? listener::Split{}
+                                    : listener::Split{listener::Cut::Skip, buffered.size(), ""};
+        }
         return cutter_.split(buffered);
     }
 

@@ -233,7 +233,15 @@ private:
         // ways cost more: a wait-then-recv makes an epoll_ctl per request, and deferring the
         // read behind the other ready handlers saved the EAGAINs but no throughput
         // (docs/performance.md, "Servers compared in alternating rounds").
-        if (reading_ || close_after_write_ || holding_) return;
+        if (reading_ || close_after_write_) return;
+        if (used_ == buf_.size()) {
+            // Behind a held answer, what the client sends waits for it; read again after.
+            if (holding_) return;
+            // A protocol says Bad once its largest frame's bytes hold no frame (protocol.hpp):
+            // a read into no room would complete at once, again and again.
+            close("sent more than a frame holds");
+            return;
+        }
         reading_ = true;
         socket_.async_read_some(
             asio::buffer(buf_.data() + used_, buf_.size() - used_),
@@ -247,6 +255,12 @@ private:
                 // Filled: the client has more to say than the buffer holds.
                 if (self->used_ == self->buf_.size()) {
                     self->buf_.resize(std::max(self->buf_.size(), full_buffer(self->max_frame_)));
+                }
+                // Behind a held answer the client is read to notice it leave (its slot is then
+                // free at once); what it sends is served after the answer.
+                if (self->holding_) {
+                    self->read();
+                    return;
                 }
                 self->serve();
             });
@@ -265,6 +279,7 @@ private:
             if (frame.cut == Cut::Incomplete) break;
             // Noise before a frame: dropped unanswered, and no request (the client stays idle).
             if (frame.cut == Cut::Skip) {
+                if (frame.size == 0) break;  // nothing to drop: no frame yet either
                 off += frame.size;
                 continue;
             }
@@ -298,7 +313,7 @@ private:
             off += frame.size;
             ++served;
             if (fate.delay.count() > 0) {
-                // Held: later frames wait behind it, and the client is not read meanwhile.
+                // Held: later frames wait behind it (the client is read only to notice it leave).
                 hold(fate, n);
                 break;
             }
@@ -391,6 +406,9 @@ private:
         hold_.async_wait([self = shared_from_this(), fate](const asio::error_code& ec) {
             if (ec || self->closed_) return;
             self->holding_ = false;
+            // What the client sent meanwhile has its frame clock from now, as after a write
+            // it did not take.
+            if (self->used_ > 0) self->frame_started_ = Clock::now();
             std::vector<std::uint8_t>& to = self->writing_ ? self->pending_ : self->out_;
             to.insert(to.end(), self->held_.begin(), self->held_.end());
             if (fate.close != Fate::Close::No) self->close_after_fault(fate);
@@ -411,7 +429,11 @@ private:
     // More whole frames buffered: the others get their turn first. Otherwise: read.
     void next() {
         auto server = server_.lock();
-        if (!server || closed_ || holding_) return;
+        if (!server || closed_) return;
+        if (holding_) {
+            read();  // to notice the client leave while its answer is held
+            return;
+        }
         const std::span<const std::uint8_t> buffered{buf_.data(), used_};
         if ((session_ ? session_->split(buffered) : server->protocol->split(buffered)).cut !=
             Cut::Incomplete) {
@@ -439,7 +461,7 @@ private:
     std::chrono::milliseconds tick_period_{0};
     asio::steady_timer hold_;         // an answer held by a delay fault
     std::vector<std::uint8_t> held_;  // that answer
-    bool holding_ = false;            // one is held: nothing else is served or read
+    bool holding_ = false;            // one is held: nothing else is served meanwhile
     bool reset_ = false;              // closed with RST (a disconnect fault's `reset`)
     bool closed_ = false;
     bool reading_ = false;            // a read is under way

@@ -20,6 +20,7 @@ import pytest
 from pymodbus.client import ModbusTcpClient
 
 from conftest import PLCEMUD, REPO, Daemon, free_port, port_open, run_plcemud
+from test_hardening import cpu_over
 
 TIMEOUT = 3.0  # every socket operation of a test
 SIM_UNIT = 247  # the simulator-control Modbus unit (docs/simulator-and-plant.md)
@@ -1445,6 +1446,23 @@ def test_events_carry_values_when_they_change(fbs):
         assert time.monotonic() - t0 < 1.0
         assert not c.write_register(161, 7, slave=1).isError()
         assert stream.next("values", timeout=1.0)["values"] == [4321, 7]
+    finally:
+        stream.close()
+
+
+def test_what_an_event_streams_client_sends_is_dropped_and_costs_nothing(start_http):
+    """A client of an event stream has nothing more to say; 4 MB it sends anyway are read and
+    dropped, and the stream goes on (kept, they once filled the connection's buffer, after which
+    the daemon spun on reads into no room: a core for as long as the client stayed)."""
+    plc = start_http()
+    c = plc.client()
+    stream = EventStream(plc.http, "/api/v1/plcs/0/events?device=R160")
+    try:
+        stream.next("values")
+        stream.sock.sendall(b"x" * (4 << 20))  # more than the kernel's buffers hold
+        assert cpu_over(plc.daemon.proc.pid, 1.0) < 0.3
+        assert not c.write_register(160, 99, slave=1).isError()
+        assert stream.next("values", timeout=2.0)["values"] == [99]
     finally:
         stream.close()
 
