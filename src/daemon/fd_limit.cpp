@@ -27,33 +27,33 @@ long open_descriptors() noexcept {
 
 namespace {
 
-rlim_t needed_for(int max_clients) {
-    return static_cast<rlim_t>(max_clients) + static_cast<rlim_t>(kFdReserve);
+rlim_t needed_for(int needed) {
+    return static_cast<rlim_t>(needed) + static_cast<rlim_t>(kFdReserve);
 }
 
 }  // namespace
 
-void raise_soft_fd_limit(int max_clients) noexcept {
+void raise_soft_fd_limit(int needed_here, const std::string& what) noexcept {
     rlimit rl{};
     if (::getrlimit(RLIMIT_NOFILE, &rl) != 0) return;
-    const rlim_t needed = needed_for(max_clients);
+    const rlim_t needed = needed_for(needed_here);
     const bool raisable = rl.rlim_max == RLIM_INFINITY || rl.rlim_max > rl.rlim_cur;
     if (rl.rlim_cur == RLIM_INFINITY || rl.rlim_cur >= needed || !raisable) return;
     // The soft limit is ours to raise, up to the hard one (as systemd's LimitNOFILE= is).
     rlimit raised = rl;
     raised.rlim_cur = rl.rlim_max == RLIM_INFINITY || rl.rlim_max >= needed ? needed : rl.rlim_max;
     if (::setrlimit(RLIMIT_NOFILE, &raised) == 0) {
-        spdlog::info("descriptor limit raised from {} to {}{} for modbus.tcp.max_clients {}",
+        spdlog::info("descriptor limit raised from {} to {}{} for {}",
                      static_cast<long>(rl.rlim_cur), static_cast<long>(raised.rlim_cur),
-                     raised.rlim_cur < needed ? " (the hard limit)" : "", max_clients);
+                     raised.rlim_cur < needed ? " (the hard limit)" : "", what);
     }
 }
 
-long ensure_fd_limit(int max_clients) noexcept {
-    raise_soft_fd_limit(max_clients);
+long ensure_fd_limit(int needed_here, const std::string& what) noexcept {
+    raise_soft_fd_limit(needed_here, what);
     rlimit rl{};
     if (::getrlimit(RLIMIT_NOFILE, &rl) != 0) return -1;
-    const rlim_t needed = needed_for(max_clients);
+    const rlim_t needed = needed_for(needed_here);
     if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < needed) {
         const auto limit = static_cast<long>(rl.rlim_cur);
         const long in_use = open_descriptors();
@@ -68,9 +68,9 @@ long ensure_fd_limit(int max_clients) noexcept {
                      : "the daemon's own descriptors leave none for clients: every connection "
                        "waits at accept";
         spdlog::warn(
-            "modbus.tcp.max_clients {} needs about {} descriptors but the limit is {} and cannot "
-            "be raised (hard limit {}): {} (raise LimitNOFILE= or ulimit -n)",
-            max_clients, static_cast<long>(needed), limit, hard, clients);
+            "{} needs about {} descriptors but the limit is {} and cannot be raised (hard limit "
+            "{}): {} (raise LimitNOFILE= or ulimit -n)",
+            what, static_cast<long>(needed), limit, hard, clients);
     }
     return rl.rlim_cur == RLIM_INFINITY ? -1 : static_cast<long>(rl.rlim_cur);
 }

@@ -23,10 +23,34 @@ namespace {
 // Descriptors a PLC needs besides its clients: its state file, a serial line, a master port.
 constexpr int kPerPlc = 4;
 
-// What `plcs` PLCs need, beside the descriptors a process keeps (kFdReserve): `clients`, the
-// clients of every TCP listener together, and each further PLC's own.
-int descriptors_for(int clients, std::size_t plcs) {
-    return clients + kPerPlc * static_cast<int>(plcs - 1);
+// The descriptors `plcs` PLCs need beside those a process keeps (kFdReserve): the clients of
+// every TCP listener (its section and max_clients) together, and each further PLC's own; and
+// what they are for, as the log says it ("modbus.tcp.max_clients 64 on 3 listeners,
+// http.max_clients 64 and 4 more PLCs").
+std::pair<int, std::string> descriptors_for(
+    const std::vector<std::pair<std::string_view, int>>& listeners, std::size_t plcs) {
+    constexpr std::size_t kNamed = 3;
+    int clients = 0;
+    std::vector<std::pair<std::pair<std::string_view, int>, std::size_t>> kinds;  // and how many
+    for (const auto& l : listeners) {
+        clients += l.second;
+        const auto k = std::find_if(kinds.begin(), kinds.end(),
+                                    [&](const auto& kind) { return kind.first == l; });
+        if (k == kinds.end()) {
+            kinds.emplace_back(l, 1);
+        } else {
+            ++k->second;
+        }
+    }
+    std::string what;
+    for (std::size_t i = 0; i < std::min(kinds.size(), kNamed); ++i) {
+        const auto& [l, n] = kinds[i];
+        what += (i == 0 ? "" : ", ") + std::string(l.first) + ".max_clients " +
+                std::to_string(l.second) + (n > 1 ? " on " + std::to_string(n) + " listeners" : "");
+    }
+    if (kinds.size() > kNamed) what += ", and others";
+    if (plcs > 1) what += " and " + std::to_string(plcs - 1) + " more PLCs";
+    return {clients + kPerPlc * static_cast<int>(plcs - 1), what};
 }
 
 // A network listener's settings.
@@ -236,13 +260,14 @@ std::shared_ptr<const Listeners::Plan> Listeners::plan(const std::vector<config:
 
 void Listeners::reserve_descriptors(const std::vector<config::Config>& configs) {
     if (configs.empty()) return;
-    int clients = 0;
+    std::vector<std::pair<std::string_view, int>> listeners;
     for (const auto& g : group(configs)) {
         if (g.carrier != Carrier::Tcp) continue;
         if (const auto l = listener_in(configs[g.members.front()], g.section))
-            clients += l->net->max_clients;
+            listeners.emplace_back(l->section, l->net->max_clients);
     }
-    raise_soft_fd_limit(descriptors_for(clients, configs.size()));
+    const auto [needed, what] = descriptors_for(listeners, configs.size());
+    raise_soft_fd_limit(needed, what);
 }
 
 struct Listeners::Staged {
@@ -378,9 +403,11 @@ void Listeners::describe_seats() {
 void Listeners::raise_fd_limit(std::size_t plcs) {
     if (tcp_.empty()) return;
     // One descriptor per client of every listener, and the few each further PLC holds.
-    int clients = 0;
-    for (const auto& t : tcp_) clients += t->options.net.max_clients;
-    const long limit = ensure_fd_limit(descriptors_for(clients, plcs));
+    std::vector<std::pair<std::string_view, int>> listeners;
+    for (const auto& t : tcp_)
+        listeners.emplace_back(t->options.section, t->options.net.max_clients);
+    const auto [needed, what] = descriptors_for(listeners, plcs);
+    const long limit = ensure_fd_limit(needed, what);
     // The clients of all listeners together may take what is left once the daemon's own
     // descriptors and a reload's files are counted: beyond it they wait at accept, and a
     // reload can still open its config.

@@ -5,6 +5,7 @@ descriptor-limit lines say what the limit allows."""
 
 import json
 import os
+import re
 import resource
 import socket
 import subprocess
@@ -111,6 +112,22 @@ def test_a_limit_raised_to_the_hard_limit_says_so(start_plcemud):
     assert "the limit is 100 and cannot be raised (hard limit 100): about " in log, log
 
 
+def test_the_limit_lines_name_each_listeners_clients(start_plcemud):
+    """The console's clients count beside Modbus's, and the lines say so (they once gave the sum
+    as modbus.tcp.max_clients)."""
+    hp = free_ports(1)[0]
+    d = start_plcemud(BASE_CONFIG + f"http: {{bind: 127.0.0.1, port: {hp}, max_clients: 8}}\n",
+                      preexec_fn=limited(64, 100))
+    assert d.wait_log("listening on tcp"), d.log_text()
+    log = d.log_text()
+    assert "descriptor limit raised from 64 to 100 (the hard limit) for modbus.tcp.max_clients " \
+           "64, http.max_clients 8\n" in log, log
+    # Each listener once, in the order the listeners run.
+    assert re.search(r"(modbus\.tcp\.max_clients 64, http\.max_clients 8|http\.max_clients 8, "
+                     r"modbus\.tcp\.max_clients 64) needs about 136 descriptors but the limit is "
+                     r"100", log), log
+
+
 def test_a_start_of_hundreds_of_plcs_raises_the_limit_before_their_state_files(tmp_path):
     """Each PLC holds its state file, the file's lock and its listener: 400 PLCs need more
     than the usual soft limit of 1,024 before any listener is open, so the limit is raised
@@ -125,6 +142,8 @@ def test_a_start_of_hundreds_of_plcs_raises_the_limit_before_their_state_files(t
     try:
         log = d.log_text()
         assert "descriptor limit raised from 1024 to " in log, log[-2000:]
+        assert f"for modbus.tcp.max_clients 64 on {count} listeners and {count - 1} more PLCs" \
+            in log, log[-2000:]
         assert "Too many open files" not in log
         # The last PLC answers from its own state file.
         with socket.create_connection(("127.0.0.1", ports[-1]), timeout=3) as s:
