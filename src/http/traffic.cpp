@@ -51,23 +51,38 @@ Json exchange_json(const listener::Seat& plc, const listener::Exchange& e) {
            {"error", e.error == 0 ? std::string() : hex2(e.error) + "h"}};
     std::string devices;
     const bool modbus = e.protocol.rfind("modbus", 0) == 0;
-    if (modbus && e.simulator) {
-        devices = "simulator unit, register ";
-        devices += std::to_string(e.address);
-        if (e.count > 1) {
-            devices += '+';
-            devices += std::to_string(e.count - 1);
-        }
-    } else if (modbus && e.count > 0 && plc.unit != nullptr) {
-        if (const auto t = table_of(e.function)) {
-            if (const auto r = plc.unit->devices(*t, e.address, e.count)) {
-                devices = plc.naming->format_range(*r);
-            } else {
-                devices = "address ";
-                devices += std::to_string(e.address);
-                devices += " (not mapped)";
+    const auto table = modbus && e.count > 0 ? table_of(e.function) : std::nullopt;
+    // The devices of `count` elements of the function's table from `address`.
+    const auto range = [&](std::uint16_t address, std::uint16_t count) {
+        std::string d;
+        if (e.simulator) {
+            // The simulator unit has registers only (docs/simulator.md).
+            d = "simulator unit, register ";
+            d += std::to_string(address);
+            if (count > 1) {
+                d += '+';
+                d += std::to_string(count - 1);
             }
+        } else if (const auto r = plc.unit->devices(*table, address, count)) {
+            d = plc.naming->format_range(*r);
+        } else {
+            d = "address ";
+            d += std::to_string(address);
+            d += " (not mapped)";
         }
+        return d;
+    };
+    if (!table || (e.simulator && *table != modbus::Table::HoldingRegisters) ||
+        (!e.simulator && plc.unit == nullptr)) {
+        if (modbus && e.simulator) devices = "simulator unit";
+    } else if (e.write_count > 0) {
+        // 17h reads one range and writes another.
+        devices = "read ";
+        devices += range(e.address, e.count);
+        devices += ", write ";
+        devices += range(e.write_address, e.write_count);
+    } else {
+        devices = range(e.address, e.count);
     }
     j["devices"] = devices;
     return j;

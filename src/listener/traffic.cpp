@@ -27,8 +27,12 @@ void Traffic::record(const Client& client, const Exchange& e) {
     count(e);
     if (!ring_) ring_ = std::make_unique<std::array<Kept, kKept>>();
     const auto simulator = static_cast<std::uint8_t>(e.simulator ? kSimulator : 0);
-    (*ring_)[next_] = {e.at,
-                       e.client,
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(e.at.time_since_epoch());
+    constexpr std::uint64_t k48 = (std::uint64_t{1} << 48) - 1;
+    (*ring_)[next_] = {static_cast<std::uint64_t>(std::max<std::int64_t>(ms.count(), 0)) & k48,
+                       e.write_address,
+                       e.client & k48,
+                       e.write_count,
                        e.address,
                        e.count,
                        static_cast<std::uint8_t>(protocol_number(e.protocol) | simulator),
@@ -80,8 +84,11 @@ std::vector<Exchange> Traffic::exchanges() const {
     v.reserve(size_);
     for (std::size_t i = 0; i < size_; ++i) {
         const Kept& k = (*ring_)[(next_ + kKept - size_ + i) % kKept];  // size_ > 0: made
-        v.push_back({k.at, k.client, protocols_[k.protocol & ~kSimulator], k.unit, k.function,
-                     k.error, (k.protocol & kSimulator) != 0, k.address, k.count});
+        const std::chrono::system_clock::time_point at{std::chrono::milliseconds(k.at_ms)};
+        v.push_back({at, k.client, protocols_[k.protocol & ~kSimulator], k.unit, k.function,
+                     k.error, (k.protocol & kSimulator) != 0, k.address, k.count,
+                     static_cast<std::uint16_t>(k.write_address),
+                     static_cast<std::uint16_t>(k.write_count)});
     }
     return v;
 }

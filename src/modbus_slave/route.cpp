@@ -150,10 +150,14 @@ void record(listener::Traffic& traffic,
     e.simulator = simulator;
     e.function = pdu[0];
     if (reply.size() >= 2 && (reply[0] & 0x80) != 0) e.error = reply[1];
-    const Reach r = reach(pdu)[0];
+    const auto [r, w] = reach(pdu);
     if (r.count > 0) {
         e.address = r.address;
         e.count = r.count;
+    }
+    if (w.count > 0) {
+        e.write_address = w.address;
+        e.write_count = w.count;
     }
     traffic.record(client, e);
 }

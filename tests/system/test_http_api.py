@@ -1536,6 +1536,20 @@ def test_traffic_lists_the_requests_decoded(start_http):
     assert c.read_holding_registers(9999, 1, slave=1).isError()
     last = traffic(plc.http, 1)["exchanges"][0]
     assert (last["devices"], last["error"]) == ("address 9999 (not mapped)", "02h"), last
+    # 17h reads one range and writes another, refused or not; the simulator unit has registers
+    # only, so a request of another table names the unit alone.
+    assert not c.readwrite_registers(read_address=100, read_count=2, write_address=110,
+                                     write_registers=[1, 2, 3], slave=1).isError()
+    refused = c.readwrite_registers(read_address=100, read_count=1, write_address=205,
+                                    write_registers=[1], slave=1)
+    assert refused.isError(), refused
+    c.read_coils(0, 8, slave=SIM_UNIT)
+    c.read_input_registers(0, 1, slave=SIM_UNIT)
+    assert [(e["function"], e["devices"], e["error"]) for e in traffic(plc.http, 4)["exchanges"]] \
+        == [("17h", "read R100-R101, write R110-R112", ""),
+            ("17h", "read R100, write R205", "02h"),
+            ("01h", "simulator unit", "01h"),
+            ("04h", "simulator unit", "01h")]
 
 
 @pytest.mark.parametrize("count", ["0", "257", "abc", "-1", ""])

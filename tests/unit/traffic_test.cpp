@@ -46,6 +46,37 @@ TEST(Traffic, CountsEachClientsRequestsAndRefusals) {
     EXPECT_EQ(x[2].error, 2);
 }
 
+// The ring keeps an exchange in 24 bytes: every field comes back as recorded, the time to the
+// millisecond, a 17h's write range beside its read range.
+TEST(Traffic, AnExchangeComesBackAsRecordedToTheMillisecond) {
+    Traffic t;
+    const Client a = make_client("10.0.0.1:5000", "modbus-tcp");
+    Exchange e = ask(a, 0x17, 2);
+    e.at =
+        std::chrono::system_clock::time_point(std::chrono::nanoseconds(1'798'000'123'456'789'012));
+    e.unit = 247;
+    e.simulator = true;
+    e.address = 65535;
+    e.count = 125;
+    e.write_address = 65534;
+    e.write_count = 121;
+    t.record(a, e);
+    const auto x = t.exchanges();
+    ASSERT_EQ(x.size(), 1u);
+    EXPECT_EQ(x[0].at,
+              std::chrono::system_clock::time_point(std::chrono::milliseconds(1'798'000'123'456)));
+    EXPECT_EQ(x[0].client, a.id);
+    EXPECT_EQ(x[0].protocol, "modbus-tcp");
+    EXPECT_EQ(x[0].unit, 247);
+    EXPECT_EQ(x[0].function, 0x17);
+    EXPECT_EQ(x[0].error, 2);
+    EXPECT_TRUE(x[0].simulator);
+    EXPECT_EQ(x[0].address, 65535);
+    EXPECT_EQ(x[0].count, 125);
+    EXPECT_EQ(x[0].write_address, 65534);
+    EXPECT_EQ(x[0].write_count, 121);
+}
+
 TEST(Traffic, CountsRequestsByProtocolFunctionAndErrorPastTheClientsThatMadeThem) {
     Traffic t;
     const Client a = make_client("10.0.0.1:5000", "modbus-tcp");

@@ -46,6 +46,8 @@ struct Exchange {
     bool simulator = false;     ///< addressed to the simulator-control unit
     std::uint16_t address = 0;  ///< Modbus: the first address (table as the function says)
     std::uint16_t count = 0;    ///< Modbus: the quantity; 0 when the function has none
+    std::uint16_t write_address = 0;  ///< Modbus 17h: the range it writes (the above it reads)
+    std::uint16_t write_count = 0;
 };
 
 /// One client as the overview shows it.
@@ -90,11 +92,15 @@ private:
     void count(const Exchange& e);
     std::uint8_t protocol_number(std::string_view protocol);
 
-    // An exchange as the ring keeps it: 24 bytes instead of 40, its protocol a number in
-    // protocols_ (with `simulator` in the top bit). 5,000 PLCs polled keep 1.28 million.
+    // An exchange as the ring keeps it: 24 bytes instead of 48, its protocol a number in
+    // protocols_ (with `simulator` in the top bit), its time to the millisecond (as the list
+    // shows it) in 48 bits (to the year 10889), its client's number in 48 (2.8e14 connections),
+    // 17h's write range in the bits left. 5,000 PLCs polled keep 1.28 million.
     struct Kept {
-        std::chrono::system_clock::time_point at;
-        std::uint64_t client;
+        std::uint64_t at_ms : 48;
+        std::uint64_t write_address : 16;
+        std::uint64_t client : 48;
+        std::uint64_t write_count : 16;
         std::uint16_t address;
         std::uint16_t count;
         std::uint8_t protocol;  // index in protocols_ | kSimulator
