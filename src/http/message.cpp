@@ -107,6 +107,7 @@ struct RequestCutter::State {
     std::optional<Parser> parser;  // the request being read; none before its first byte
     std::size_t taken = 0;         // the bytes of it the parser has taken
     bool failed = false;           // the parser met an error: it takes nothing more
+    bool continued = false;        // its 100 Continue was sent
 };
 
 RequestCutter::RequestCutter() = default;
@@ -139,11 +140,25 @@ listener::Split RequestCutter::split(std::span<const std::uint8_t> buffered) noe
     }
 }
 
+bool RequestCutter::take_continue() noexcept {
+    if (!state_ || !state_->parser || state_->failed || state_->continued) return false;
+    const Parser& p = *state_->parser;
+    if (!p.is_header_done() || p.is_done()) return false;
+    const auto& m = p.get();
+    const auto expect = m.find(bhttp::field::expect);
+    // An HTTP/1.0 request's expectation is ignored (RFC 9110 §10.1.1).
+    if (m.version() < 11 || expect == m.end() || !beast::iequals(expect->value(), "100-continue"))
+        return false;
+    state_->continued = true;
+    return true;
+}
+
 void RequestCutter::next() noexcept {
     if (!state_) return;
     state_->parser.reset();
     state_->taken = 0;
     state_->failed = false;
+    state_->continued = false;
 }
 
 bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& refusal) {

@@ -70,6 +70,10 @@ public:
     /// A request that cannot be read is a frame of every byte buffered, so that parse_request()
     /// says why and the connection is closed after the answer.
     listener::Split split(std::span<const std::uint8_t> buffered) noexcept;
+    /// True, once a request, when the request being read has its head and waits for a
+    /// "100 Continue" before it sends its body (`Expect: 100-continue`, HTTP/1.1: RFC 9110
+    /// §10.1.1).
+    bool take_continue() noexcept;
     /// The request split() cut was taken: the next one begins after it.
     void next() noexcept;
 

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <optional>
+#include <string_view>
 
 #include "http/message.hpp"
 #include "http/router.hpp"
@@ -65,6 +66,12 @@ public:
         }
         out.insert(out.end(), bytes.begin(), bytes.end());
         return keep;
+    }
+
+    void waiting(std::vector<std::uint8_t>& out) override {
+        if (stream_ || !cutter_.take_continue()) return;
+        constexpr std::string_view kContinue = "HTTP/1.1 100 Continue\r\n\r\n";
+        out.insert(out.end(), kContinue.begin(), kContinue.end());
     }
 
     void tick() override {

@@ -276,7 +276,10 @@ private:
             const std::uint8_t* f = buf_.data() + off;
             const Split frame = session_ ? session_->split({f, used_ - off})
                                          : server->protocol->split({f, used_ - off});
-            if (frame.cut == Cut::Incomplete) break;
+            if (frame.cut == Cut::Incomplete) {
+                if (session_) session_->waiting(writing_ ? pending_ : out_);
+                break;
+            }
             // Noise before a frame: dropped unanswered, and no request (the client stays idle).
             if (frame.cut == Cut::Skip) {
                 if (frame.size == 0) break;  // nothing to drop: no frame yet either

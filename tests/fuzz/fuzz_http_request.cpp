@@ -90,10 +90,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // The same stream read 7 bytes at a time, by a cutter of its own.
         http::RequestCutter reads;
         listener::Split few;
+        int continues = 0;  // a "100 Continue" is due once a request at most
         for (std::size_t n = 0; n < stream.size() && few.cut == listener::Cut::Incomplete;) {
             n = std::min(n + 7, stream.size());
             few = reads.split(stream.first(n));
+            if (few.cut == listener::Cut::Incomplete && reads.take_continue()) ++continues;
         }
+        check(continues <= 1, "more than one 100 Continue for a request", stream, "");
         // Beast reads the head's lines as far as they go on its first bytes, and after that waits
         // for the head's end: read a few bytes at a time, a bad line may be found only there.
         http::Request rq;

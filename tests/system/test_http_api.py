@@ -621,15 +621,21 @@ def test_a_body_that_is_not_a_json_object_is_400(fbs, body):
     assert holding(c, 145) == [45]
 
 
+def recv_until(sock, marker: bytes) -> bytes:
+    """What `sock` receives until `marker` has come (and whatever came with it)."""
+    got = b""
+    while marker not in got:
+        chunk = sock.recv(4096)
+        assert chunk, got
+        got += chunk
+    return got
+
+
 def status_of(port, raw: bytes) -> int:
     """The status code the daemon answers `raw` with, on a connection of its own."""
     with connect(port) as s:
         s.sendall(raw)
-        head = b""
-        while b"\r\n" not in head:
-            chunk = s.recv(4096)
-            assert chunk, head
-            head += chunk
+        head = recv_until(s, b"\r\n")
     return int(head.split(b" ", 2)[1])
 
 
@@ -1961,6 +1967,41 @@ def test_requests_sent_a_few_bytes_at_a_time_are_cut_where_they_end(fbs):
         r = recv_response(s)
         assert r.status == 200 and json.loads(r.body)["values"] == [9], r
     assert holding(c, 146) == [9]
+
+
+def test_a_request_that_expects_100_continue_gets_it_before_its_body(fbs):
+    """RFC 9110 §10.1.1: a PUT sent with `Expect: 100-continue` waits for the interim answer
+    before its body (curl waits a second for it, then sends the body anyway); it comes once the
+    head is read, and the final answer after the body. A body too large gets its 413 at once
+    instead; HTTP/1.0 has no such expectation."""
+    c = fbs.client()
+    assert not c.write_registers(147, [45], slave=1).isError()
+    body = json.dumps({"values": [11]}).encode()
+    put_head = json_put_request("/api/v1/plcs/0/devices/R147", [11],
+                                ["Expect: 100-continue"])[:-len(body)]
+    with connect(fbs.http) as s:
+        s.sendall(put_head)
+        interim = recv_until(s, b"\r\n\r\n")
+        assert interim == b"HTTP/1.1 100 Continue\r\n\r\n", interim
+        s.sendall(body)
+        assert recv_response(s).status == 200
+        # The next request on the connection has its own.
+        s.sendall(put_head.replace(b"100-continue", b"100-Continue"))
+        assert s.recv(4096) == b"HTTP/1.1 100 Continue\r\n\r\n"
+        s.sendall(body)
+        assert recv_response(s).status == 200
+    assert holding(c, 147) == [11]
+    too_large = raw_request("PUT", "/api/v1/plcs/0/devices/R147", b"",
+                            ["Content-Type: application/json", "Expect: 100-continue"]).replace(
+        b"Content-Length: 0", b"Content-Length: 99999")
+    assert status_of(fbs.http, too_large) == 413
+    with connect(fbs.http, timeout=0.5) as s:
+        s.sendall(put_head.replace(b"HTTP/1.1", b"HTTP/1.0"))
+        with pytest.raises(socket.timeout):
+            s.recv(4096)
+        s.settimeout(TIMEOUT)
+        s.sendall(body)
+        assert s.recv(4096).startswith(b"HTTP/1.1 200 OK\r\n")
 
 
 def test_max_clients_refuses_one_more_while_the_others_work(start_http):

@@ -60,6 +60,10 @@ public:
     /// Answers one whole frame by appending to `out`. False: close the connection once `out`
     /// is sent (the protocol said so, e.g. `Connection: close`).
     virtual bool answer(std::span<const std::uint8_t> frame, std::vector<std::uint8_t>& out) = 0;
+    /// Called when the bytes received hold no whole frame yet: appends to `out` what the
+    /// protocol says to the client meanwhile (HTTP's "100 Continue" to a request that waits for
+    /// it before sending its body). Nothing by default.
+    virtual void waiting(std::vector<std::uint8_t>& out) { (void)out; }
     /// Called at the period asked for with Outlet::tick_every.
     virtual void tick() {}
 };
