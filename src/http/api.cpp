@@ -67,9 +67,8 @@ std::optional<Response> write_refusal(const Call& call, bool with_body) {
         // The scheme's name is case-insensitive (RFC 9110 §11.1): "Bearer", "bearer".
         const bool bearer =
             a.size() > kBearer.size() &&
-            std::equal(kBearer.begin(), kBearer.end(), a.begin(), [](char k, char c) {
-                return k == (c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c);
-            });
+            boost::beast::iequals(boost::beast::string_view(a.data(), kBearer.size()),
+                                  boost::beast::string_view(kBearer.data(), kBearer.size()));
         if (!bearer) {
             Response r = error(401, "writes need the token: Authorization: Bearer <http.token>");
             r.headers.emplace_back("WWW-Authenticate", "Bearer");

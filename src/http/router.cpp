@@ -1,7 +1,7 @@
 #include "http/router.hpp"
 
+#include <boost/beast/core/string.hpp>
 #include <algorithm>
-#include <cctype>
 
 #include "http/comm_faults.hpp"
 #include "http/console.hpp"
@@ -107,16 +107,10 @@ std::string foreign_host(const Request& rq, const listener::UnitTable& units) {
     if (h.front() == '[') return "";  // an IPv6 address: "[::1]:8020"
     if (const auto colon = h.rfind(':'); colon != std::string_view::npos) h = h.substr(0, colon);
     const bool ipv4 = !h.empty() && h.find_first_not_of("0123456789.") == std::string_view::npos;
-    auto same = [](std::string_view a, std::string_view b) {
-        return a.size() == b.size() &&
-               std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-                   return std::tolower(static_cast<unsigned char>(x)) ==
-                          std::tolower(static_cast<unsigned char>(y));
-               });
-    };
-    if (ipv4 || same(h, "localhost")) return "";
+    const boost::beast::string_view host(h.data(), h.size());
+    if (ipv4 || boost::beast::iequals(host, "localhost")) return "";
     for (const auto& name : units.hosts()) {
-        if (same(h, name)) return "";
+        if (boost::beast::iequals(host, name)) return "";
     }
     return "Host '" + std::string(h.substr(0, 100)) +
            "' is not one this console answers to (its IP address, localhost, or a name in "
