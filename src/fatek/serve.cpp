@@ -106,7 +106,7 @@ std::size_t serve(listener::UnitTable& units,
         e.unit = req->station;
         e.function = req->code.value_or(0);
         // The code as a number (the sixth character is its hex digit: '4', 'A').
-        if (req->code != 0x4E && n > 6 && out[5] != '0' && hex_digit(out[5]) > 0)
+        if (req->code != 0x4E && n > 6 && hex_digit(out[5]) > 0)
             e.error = static_cast<std::uint8_t>(hex_digit(out[5]));
         try {
             hit.seat->traffic->record(*units.serving(), e);
