@@ -205,6 +205,8 @@ public:
         }
     }
 
+    /// The client sent its end while an answer of its was held.
+    bool peer_done() const { return peer_done_; }
     /// When the last complete request arrived (the connect, before the first one).
     Clock::time_point last_request() const { return last_request_; }
     /// How long a begun request has been waiting for its last bytes (zero when none is).
@@ -234,6 +236,11 @@ private:
         // read behind the other ready handlers saved the EAGAINs but no throughput
         // (docs/performance.md, "Servers compared in alternating rounds").
         if (reading_ || close_after_write_) return;
+        // The client sent its end while an answer was held: what it sent is answered first.
+        if (peer_done_) {
+            if (!holding_) close("closed by peer");
+            return;
+        }
         if (used_ == buf_.size()) {
             // Behind a held answer, what the client sends waits for it; read again after.
             if (holding_) return;
@@ -247,6 +254,13 @@ private:
             asio::buffer(buf_.data() + used_, buf_.size() - used_),
             [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
                 self->reading_ = false;
+                // Behind a held answer, the client's end may be a half-close that still waits
+                // for its answers, or a close: kept until the answers are sent, but the first
+                // to give up its place to a new client (evict_one).
+                if (ec == asio::error::eof && self->holding_) {
+                    self->peer_done_ = true;
+                    return;
+                }
                 if (ec) {
                     self->close(ec == asio::error::eof ? "closed by peer" : "read error");
                     return;
@@ -256,8 +270,8 @@ private:
                 if (self->used_ == self->buf_.size()) {
                     self->buf_.resize(std::max(self->buf_.size(), full_buffer(self->max_frame_)));
                 }
-                // Behind a held answer the client is read to notice it leave (its slot is then
-                // free at once); what it sends is served after the answer.
+                // Behind a held answer the client is read to notice it leave; what it sends is
+                // served after the answer.
                 if (self->holding_) {
                     self->read();
                     return;
@@ -434,7 +448,7 @@ private:
         auto server = server_.lock();
         if (!server || closed_) return;
         if (holding_) {
-            read();  // to notice the client leave while its answer is held
+            if (!peer_done_) read();  // to notice the client leave while its answer is held
             return;
         }
         const std::span<const std::uint8_t> buffered{buf_.data(), used_};
@@ -465,6 +479,7 @@ private:
     asio::steady_timer hold_;         // an answer held by a delay fault
     std::vector<std::uint8_t> held_;  // that answer
     bool holding_ = false;            // one is held: nothing else is served meanwhile
+    bool peer_done_ = false;          // the client's end was read while one was held
     bool reset_ = false;              // closed with RST (a disconnect fault's `reset`)
     bool closed_ = false;
     bool reading_ = false;            // a read is under way
@@ -576,8 +591,16 @@ void TcpListener::State::accept_failed(const asio::error_code& ec) {
 }
 
 bool TcpListener::State::evict_one(Clock::time_point now) {
-    // Only a connection that is stuck mid-request or on unsent replies, or silent for long, gives
-    // up its slot: the one stuck longest first, else the one silent longest.
+    // Only a connection whose client sent its end while an answer was held, is stuck
+    // mid-request or on unsent replies, or is silent for long, gives up its slot: the first
+    // kind first (most such clients left; one that half-closed loses its held answers), then
+    // the one stuck longest, else the one silent longest.
+    for (const auto& c : connections) {
+        if (c->peer_done()) {
+            c->close("evicted for a new client: it left while its answer was held");
+            return true;
+        }
+    }
     std::shared_ptr<Connection> victim;
     Clock::duration worst{0};
     for (const auto& c : connections) {

@@ -427,37 +427,51 @@ def test_a_delay_holds_only_its_own_clients_replies(start_plcemud):
         assert abs(s - 0.300) <= DELAY_TOLERANCE_S + 0.01, a_times
 
 
-def test_a_client_leaving_while_its_answer_is_held_frees_its_slot_at_once(start_plcemud):
-    """A delay holds an answer, not the connection: a client that leaves meanwhile is gone at
-    once (its place free for the next client, the fault still on), and one that stays gets the
-    requests it sent behind the held one answered in order after it."""
+def test_a_client_leaving_while_its_answer_is_held_gives_its_place_to_the_next(start_plcemud):
+    """A delay holds an answer, not the connection. A client that sends its end meanwhile may
+    have left, or only half-closed and still wait for its answers: it gets them, then the
+    connection closes; but a new client that finds the listener full takes its place at once
+    (the fault still on). A client that stays gets the requests it sent behind the held one
+    answered in order after it."""
     text, hp = with_http("init: {R0: 7, R1: 8}\n")
     d = start_plcemud(text.replace("bind: 127.0.0.1}", "bind: 127.0.0.1, max_clients: 2}", 1))
     deadline = time.monotonic() + 5
     while not port_open(hp):
         assert time.monotonic() < deadline, d.log_text()
         time.sleep(0.02)
-    put_faults(hp, delay_ms=5000)
-    for tid in (1, 2):
-        with socket.create_connection(("127.0.0.1", d.port), timeout=3) as s:
-            s.sendall(struct.pack(">HHHB", tid, 0, 6, 1) + read_pdu(0))
-            time.sleep(0.1)  # read, and held
-    deadline = time.monotonic() + 2
-    while d.log_text().count("disconnected (closed by peer)") < 2:
-        assert time.monotonic() < deadline, d.log_text()
-        time.sleep(0.02)
-    # Both places are free while the held answers' five seconds run.
+
+    def mbap(tid):
+        return struct.pack(">HHHB", tid, 0, 6, 1) + read_pdu(tid - 1)
+
+    # Half-closed: both answers, after the delay, then the end.
     put_faults(hp, delay_ms=300)
-    with Conn(d.port, timeout=3) as c, Conn(d.port, timeout=3) as other:
-        c.sock.sendall(b"".join(struct.pack(">HHHB", tid, 0, 6, 1) + read_pdu(tid - 1)
-                                for tid in (1, 2)))
+    with Conn(d.port, timeout=3) as c:
+        c.sock.sendall(mbap(1) + mbap(2))
+        c.sock.shutdown(socket.SHUT_WR)
         t0 = time.monotonic()
         for tid, value in ((1, 7), (2, 8)):
             header = c._recv_exact(7, t0 + 3)
             assert header is not None and struct.unpack(">HHHB", header)[0] == tid, header
             assert c._recv_exact(4, t0 + 3) == words_reply(value)
             assert time.monotonic() - t0 >= 0.3 * tid - DELAY_TOLERANCE_S, tid
+        assert c.eof_within(1.0) == "eof"
+    # Gone: two clients under a five-second delay leave; two new ones are served at once.
+    put_faults(hp, delay_ms=5000)
+    for tid in (1, 2):
+        with socket.create_connection(("127.0.0.1", d.port), timeout=3) as s:
+            s.sendall(mbap(tid))
+            time.sleep(0.1)  # read, and held
+    put_faults(hp, delay_ms=300)
+    with Conn(d.port, timeout=3) as c, Conn(d.port, timeout=3) as other:
+        c.sock.sendall(mbap(1) + mbap(2))
+        t0 = time.monotonic()
+        for tid, value in ((1, 7), (2, 8)):
+            header = c._recv_exact(7, t0 + 3)
+            assert header is not None and struct.unpack(">HHHB", header)[0] == tid, header
+            assert c._recv_exact(4, t0 + 3) == words_reply(value)
         assert other.ask(read_pdu(1)) == words_reply(8)
+    assert d.log_text().count("evicted for a new client: it left while its answer was held") \
+        == 2, d.log_text()
 
 
 # =========================================================================== drop
