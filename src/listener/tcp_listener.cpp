@@ -241,9 +241,11 @@ private:
             if (!holding_) close("closed by peer");
             return;
         }
+        if (holding_) {
+            read_behind_hold();
+            return;
+        }
         if (used_ == buf_.size()) {
-            // Behind a held answer, what the client sends waits for it; read again after.
-            if (holding_) return;
             // A protocol says Bad once its largest frame's bytes hold no frame (protocol.hpp):
             // a read into no room would complete at once, again and again.
             close("sent more than a frame holds");
@@ -254,13 +256,6 @@ private:
             asio::buffer(buf_.data() + used_, buf_.size() - used_),
             [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
                 self->reading_ = false;
-                // Behind a held answer, the client's end may be a half-close that still waits
-                // for its answers, or a close: kept until the answers are sent, but the first
-                // to give up its place to a new client (evict_one).
-                if (ec == asio::error::eof && self->holding_) {
-                    self->peer_done_ = true;
-                    return;
-                }
                 if (ec) {
                     self->close(ec == asio::error::eof ? "closed by peer" : "read error");
                     return;
@@ -270,8 +265,40 @@ private:
                 if (self->used_ == self->buf_.size()) {
                     self->buf_.resize(std::max(self->buf_.size(), full_buffer(self->max_frame_)));
                 }
-                // Behind a held answer the client is read to notice it leave; what it sends is
-                // served after the answer.
+                self->serve();
+            });
+    }
+
+    // Behind a held answer the client is read to notice it leave; what it sends is served after
+    // the answer. The read goes to a buffer of its own: it may still be under way when the
+    // answer has gone and the frames behind it are served, which moves the bytes in buf_.
+    void read_behind_hold() {
+        const std::size_t room = full_buffer(max_frame_) - used_;
+        if (room == 0) return;  // full: read again once the answer has gone
+        if (side_.empty()) side_.resize(kFirstBuffer);
+        reading_ = true;
+        socket_.async_read_some(
+            asio::buffer(side_.data(), std::min(side_.size(), room)),
+            [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
+                self->reading_ = false;
+                // The client's end may be a half-close that still waits for its answers, or a
+                // close: kept until the answers are sent, but the first to give up its place to
+                // a new client (evict_one).
+                if (ec == asio::error::eof) {
+                    self->peer_done_ = true;
+                    if (!self->holding_ && !self->writing_) self->next();
+                    return;
+                }
+                if (ec) {
+                    self->close("read error");
+                    return;
+                }
+                // used_ only fell since the read began (frames served): the bytes fit.
+                if (self->used_ + n > self->buf_.size()) {
+                    self->buf_.resize(full_buffer(self->max_frame_));
+                }
+                std::memcpy(self->buf_.data() + self->used_, self->side_.data(), n);
+                self->used_ += n;
                 if (self->holding_) {
                     self->read();
                     return;
@@ -480,6 +507,7 @@ private:
     std::vector<std::uint8_t> held_;  // that answer
     bool holding_ = false;            // one is held: nothing else is served meanwhile
     bool peer_done_ = false;          // the client's end was read while one was held
+    std::vector<std::uint8_t> side_;  // what is read while one is held (read_behind_hold)
     bool reset_ = false;              // closed with RST (a disconnect fault's `reset`)
     bool closed_ = false;
     bool reading_ = false;            // a read is under way

@@ -474,6 +474,37 @@ def test_a_client_leaving_while_its_answer_is_held_gives_its_place_to_the_next(s
         == 2, d.log_text()
 
 
+def test_requests_sent_behind_a_held_answer_are_cut_where_they_end(start_plcemud):
+    """What a client sends while its answer is held is read then, and served after it, cut
+    where each request ends: requests of different lengths, some sent before the held answer
+    has gone and some after, each get their own answer (a read still under way when the held
+    answer left once wrote into bytes that had moved, and the stream came apart)."""
+    d, hp = start_with_http(start_plcemud)
+    put_faults(hp, delay_ms=300, **{"from": "R10", "count": 1})
+
+    def frame(tid, pdu):
+        return struct.pack(">HHHB", tid, 0, len(pdu) + 1, 1) + pdu
+
+    with Conn(d.port, timeout=3) as c:
+        c.sock.sendall(frame(1, fc06_pdu(10, 1)))  # held
+        time.sleep(0.1)
+        c.sock.sendall(frame(2, read_pdu(20)))  # behind it
+        fc16 = struct.pack(">BHHB3H", 0x10, 30, 3, 6, 5, 6, 7)
+        t0 = time.monotonic()
+        replies = []
+        for tid, pdu in ((3, fc16), (4, read_pdu(30, 3)), (5, read_pdu(20))):
+            time.sleep(0.25 if tid == 3 else 0.01)  # the 16 once the held answer is out
+            c.sock.sendall(frame(tid, pdu))
+        while len(replies) < 5:
+            header = c._recv_exact(7, t0 + 3)
+            assert header is not None, replies
+            tid, _, length, _ = struct.unpack(">HHHB", header)
+            replies.append((tid, c._recv_exact(length - 1, t0 + 3)))
+    assert replies == [(1, fc06_pdu(10, 1)), (2, words_reply(0)),
+                       (3, struct.pack(">BHH", 0x10, 30, 3)), (4, words_reply(5, 6, 7)),
+                       (5, words_reply(0))], replies
+
+
 # =========================================================================== drop
 
 
