@@ -106,7 +106,8 @@ const std::string* Request::param(std::string_view name) const {
 struct RequestCutter::State {
     std::optional<Parser> parser;  // the request being read; none before its first byte
     std::size_t taken = 0;         // the bytes of it the parser has taken
-    bool failed = false;           // the parser met an error: it takes nothing more
+    beast::error_code error;       // the parser's error: it takes nothing more
+    bool too_large = false;        // kMaxRequest bytes came and the request is not whole
     bool continued = false;        // its 100 Continue was sent
 };
 
@@ -124,16 +125,23 @@ listener::Split RequestCutter::split(std::span<const std::uint8_t> buffered) noe
             configure(s.parser.emplace());
             s.taken = 0;
         }
-        // The same bytes given to parse_request() meet the same error, which it names.
-        if (s.failed) return {listener::Cut::Frame, buffered.size(), ""};
+        // A request that cannot be read is every byte buffered: take() says why.
+        if (s.error || s.too_large) return {listener::Cut::Frame, buffered.size(), ""};
         if (s.parser->is_done()) return {listener::Cut::Frame, s.taken, ""};
         beast::error_code ec;
         s.taken += feed(*s.parser, buffered.subspan(s.taken), ec);
-        if (ec == bhttp::error::need_more) return {listener::Cut::Incomplete, 0, ""};
-        if (ec) {
-            s.failed = true;
+        const bool more = ec == bhttp::error::need_more;
+        if (ec && !more) {
+            s.error = ec;
             return {listener::Cut::Frame, buffered.size(), ""};
         }
+        // Chunks' sizes, extensions and trailers are bytes too, which the body limit does not
+        // count: the request as sent has a limit of its own.
+        if (s.taken > kMaxRequest || (more && buffered.size() >= kMaxRequest)) {
+            s.too_large = true;
+            return {listener::Cut::Frame, buffered.size(), ""};
+        }
+        if (more) return {listener::Cut::Incomplete, 0, ""};
         return {listener::Cut::Frame, s.taken, ""};
     } catch (...) {
         return {listener::Cut::Bad, 0, "http: out of memory"};
@@ -141,7 +149,7 @@ listener::Split RequestCutter::split(std::span<const std::uint8_t> buffered) noe
 }
 
 bool RequestCutter::take_continue() noexcept {
-    if (!state_ || !state_->parser || state_->failed || state_->continued) return false;
+    if (!state_ || !state_->parser || state_->error || state_->continued) return false;
     const Parser& p = *state_->parser;
     if (!p.is_header_done() || p.is_done()) return false;
     const auto& m = p.get();
@@ -157,27 +165,36 @@ void RequestCutter::next() noexcept {
     if (!state_) return;
     state_->parser.reset();
     state_->taken = 0;
-    state_->failed = false;
+    state_->error = {};
+    state_->too_large = false;
     state_->continued = false;
 }
 
-bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& refusal) {
-    Parser p;
-    configure(p);
-    beast::error_code ec;
-    feed(p, frame, ec);
-    if (ec == bhttp::error::header_limit) {
+bool RequestCutter::take(Request& out, Refusal& refusal) {
+    if (!state_ || !state_->parser) {
+        refusal = {400, "not an HTTP/1.1 request: nothing was sent"};
+        return false;
+    }
+    const State& s = *state_;
+    if (s.too_large) {
+        refusal = {413, "the request is larger than " + std::to_string(kMaxRequest) +
+                            " bytes as sent (its chunks' sizes, extensions and trailers counted)"};
+        return false;
+    }
+    if (s.error == bhttp::error::header_limit) {
         refusal = {431, "the request's head is larger than " + std::to_string(kMaxHead) + " bytes"};
         return false;
     }
-    if (ec == bhttp::error::body_limit) {
+    if (s.error == bhttp::error::body_limit) {
         refusal = {413, "the request's body is larger than " + std::to_string(kMaxBody) + " bytes"};
         return false;
     }
-    if (ec) {
-        refusal = {400, "not an HTTP/1.1 request: " + ec.message()};
+    if (s.error || !s.parser->is_done()) {
+        refusal = {400, "not an HTTP/1.1 request: " +
+                            (s.error ? s.error.message() : std::string("it is not whole"))};
         return false;
     }
+    Parser& p = *state_->parser;
     const auto& m = p.get();
     // RFC 9112 §3.2: an HTTP/1.1 request without Host, with more than one, or with a Host that
     // is no host[:port], is answered 400 (which of two would the Host check believe?). HTTP/1.0
@@ -213,7 +230,7 @@ bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& r
     out.content_type = field(m, bhttp::field::content_type);
     out.origin = field(m, bhttp::field::origin);
     out.host = field(m, bhttp::field::host);
-    out.body = m.body();
+    out.body = std::move(p.get().body());
     const std::string_view target = out.target;
     if (target.empty() || target.front() != '/') {
         refusal = {400, "the request target must be a path starting with '/'"};
@@ -255,6 +272,12 @@ bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& r
         }
     }
     return true;
+}
+
+bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& refusal) {
+    RequestCutter cutter;
+    if (cutter.split(frame).cut == listener::Cut::Bad) throw std::bad_alloc();
+    return cutter.take(out, refusal);
 }
 
 std::string serialize(const Response& r, bool keep_alive, bool head_only) {

@@ -19,6 +19,8 @@ namespace plcemu::http {
 inline constexpr std::size_t kMaxHead = std::size_t{8} * 1024;
 /// Largest request body.
 inline constexpr std::size_t kMaxBody = std::size_t{24} * 1024;
+/// Largest request as sent: head, body, and a chunked body's sizes, extensions and trailers.
+inline constexpr std::size_t kMaxRequest = std::size_t{64} * 1024;
 
 /// A request as the handlers see it.
 struct Request {
@@ -52,7 +54,7 @@ struct Response {
 
 /// A request that could not be read: the status that says why, and a message.
 struct Refusal {
-    unsigned status = 400;  ///< 400, 413 (body too large), 431 (head too large) or 501
+    unsigned status = 400;  ///< 400, 413 (body or request too large), 431 (head too large), 501
     std::string why;
 };
 
@@ -70,6 +72,9 @@ public:
     /// A request that cannot be read is a frame of every byte buffered, so that parse_request()
     /// says why and the connection is closed after the answer.
     listener::Split split(std::span<const std::uint8_t> buffered) noexcept;
+    /// Reads the request split() cut; false with `refusal` set when it is not one (the
+    /// connection is then closed). next() follows.
+    bool take(Request& out, Refusal& refusal);
     /// True, once a request, when the request being read has its head and waits for a
     /// "100 Continue" before it sends its body (`Expect: 100-continue`, HTTP/1.1: RFC 9110
     /// §10.1.1).
@@ -82,8 +87,8 @@ private:
     std::unique_ptr<State> state_;
 };
 
-/// Reads one whole request (a frame split_request() cut); false with `refusal` set when it is
-/// not one.
+/// Reads `frame` as one whole request, as a fresh cutter would; false with `refusal` set when
+/// it is not one.
 bool parse_request(std::span<const std::uint8_t> frame, Request& out, Refusal& refusal);
 
 /// The bytes of `response`; `keep_alive` false adds `Connection: close`. `head_only`: the

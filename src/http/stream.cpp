@@ -30,13 +30,15 @@ public:
 
     bool answer(std::span<const std::uint8_t> frame, std::vector<std::uint8_t>& out) override {
         if (stream_) return true;
-        cutter_.next();
+        (void)frame;  // what the cutter read
         Request rq;
         Refusal refusal;
         std::string bytes;
         bool keep = true;
         try {
-            if (!parse_request(frame, rq, refusal)) {
+            const bool read = cutter_.take(rq, refusal);
+            cutter_.next();
+            if (!read) {
                 // What follows a request that could not be read cannot be trusted.
                 bytes = serialize(error(refusal.status, refusal.why), false);
                 keep = false;
@@ -106,7 +108,7 @@ public:
         units_.assign(std::move(setup.seats));
         units_.set_read_only(setup.read_only);
     }
-    std::size_t max_frame() const noexcept override { return kMaxHead + kMaxBody; }
+    std::size_t max_frame() const noexcept override { return kMaxRequest; }
     listener::Split split(std::span<const std::uint8_t>) const noexcept override {
         return {listener::Cut::Bad, 0, "http: no session"};
     }

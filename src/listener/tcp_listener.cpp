@@ -311,6 +311,9 @@ private:
     void serve() {
         auto server = server_.lock();
         if (!server || closed_) return;
+        // Nothing is served while a write is under way (its buffer must not move, and a client
+        // that does not take its replies is not served more): its end serves what came (next).
+        if (writing_) return;
         std::size_t off = 0;
         std::size_t served = 0;
         while (served < kFramesPerTurn) {

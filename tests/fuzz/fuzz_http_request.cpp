@@ -101,16 +101,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // for the head's end: read a few bytes at a time, a bad line may be found only there.
         http::Request rq;
         http::Refusal refusal;
+        const bool read = s.cut == listener::Cut::Frame && cutter.take(rq, refusal);
         check(few.cut == s.cut ||
-                  (few.cut == listener::Cut::Incomplete && s.cut == listener::Cut::Frame &&
-                   !http::parse_request(stream.first(s.size), rq, refusal)),
+                  (few.cut == listener::Cut::Incomplete && s.cut == listener::Cut::Frame && !read),
               "a cut that depends on how the bytes arrive", stream, "");
         if (s.cut == listener::Cut::Incomplete) break;
         check(s.size >= 1 && s.size <= stream.size(), "impossible frame size", stream, "");
         const auto frame = stream.first(s.size);
         stream = stream.subspan(s.size);
         cutter.next();
-        if (!http::parse_request(frame, rq, refusal)) {
+        if (!read) {
             check(refusal.status == 400 || refusal.status == 413 || refusal.status == 431 ||
                       refusal.status == 501,
                   "a refusal that is not 400, 413, 431 or 501", frame, refusal.why);
@@ -118,8 +118,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             http::Request again;
             http::Refusal early;
             check(few.cut == listener::Cut::Incomplete ||
-                      (few.size <= s.size &&
-                       !http::parse_request(frame.first(few.size), again, early) &&
+                      (few.size <= s.size && !reads.take(again, early) &&
                        early.status == refusal.status),
                   "a refusal that depends on how the bytes arrive", frame, early.why);
             break;  // the connection is closed after it
