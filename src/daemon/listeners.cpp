@@ -25,31 +25,32 @@ constexpr int kPerPlc = 4;
 
 // The descriptors `plcs` PLCs need beside those a process keeps (kFdReserve): the clients of
 // every TCP listener (its section and max_clients) together, and each further PLC's own; and
-// what they are for, as the log says it ("modbus.tcp.max_clients 64 on 3 listeners,
-// http.max_clients 64 and 4 more PLCs").
+// what they are for, as the log says it, each section once in the order of their names
+// ("http.max_clients 64, modbus.tcp.max_clients of 2 listeners (128 clients), and 4 more
+// PLCs").
 std::pair<int, std::string> descriptors_for(
     const std::vector<std::pair<std::string_view, int>>& listeners, std::size_t plcs) {
-    constexpr std::size_t kNamed = 3;
+    struct Section {
+        int clients = 0;
+        std::size_t listeners = 0;
+    };
+    std::map<std::string_view, Section> sections;
     int clients = 0;
-    std::vector<std::pair<std::pair<std::string_view, int>, std::size_t>> kinds;  // and how many
-    for (const auto& l : listeners) {
-        clients += l.second;
-        const auto k = std::find_if(kinds.begin(), kinds.end(),
-                                    [&](const auto& kind) { return kind.first == l; });
-        if (k == kinds.end()) {
-            kinds.emplace_back(l, 1);
-        } else {
-            ++k->second;
-        }
+    for (const auto& [section, max_clients] : listeners) {
+        clients += max_clients;
+        Section& s = sections[section];
+        s.clients += max_clients;
+        ++s.listeners;
     }
     std::string what;
-    for (std::size_t i = 0; i < std::min(kinds.size(), kNamed); ++i) {
-        const auto& [l, n] = kinds[i];
-        what += (i == 0 ? "" : ", ") + std::string(l.first) + ".max_clients " +
-                std::to_string(l.second) + (n > 1 ? " on " + std::to_string(n) + " listeners" : "");
+    for (const auto& [name, s] : sections) {
+        if (!what.empty()) what += ", ";
+        what += std::string(name) + ".max_clients ";
+        what += s.listeners == 1 ? std::to_string(s.clients)
+                                 : "of " + std::to_string(s.listeners) + " listeners (" +
+                                       std::to_string(s.clients) + " clients)";
     }
-    if (kinds.size() > kNamed) what += ", and others";
-    if (plcs > 1) what += " and " + std::to_string(plcs - 1) + " more PLCs";
+    if (plcs > 1) what += ", and " + std::to_string(plcs - 1) + " more PLCs";
     return {clients + kPerPlc * static_cast<int>(plcs - 1), what};
 }
 

@@ -51,11 +51,13 @@ Json exchange_json(const listener::Seat& plc, const listener::Exchange& e) {
            {"error", e.error == 0 ? std::string() : hex2(e.error) + "h"}};
     std::string devices;
     const bool modbus = e.protocol.rfind("modbus", 0) == 0;
-    const auto table = modbus && e.count > 0 ? table_of(e.function) : std::nullopt;
+    const auto table = modbus ? table_of(e.function) : std::nullopt;
     // The devices of `count` elements of the function's table from `address`.
     const auto range = [&](std::uint16_t address, std::uint16_t count) {
         std::string d;
-        if (e.simulator) {
+        if (count == 0) {
+            d = "nothing";
+        } else if (e.simulator) {
             // The simulator unit has registers only (docs/simulator.md).
             d = "simulator unit, register ";
             d += std::to_string(address);
@@ -75,13 +77,13 @@ Json exchange_json(const listener::Seat& plc, const listener::Exchange& e) {
     if (!table || (e.simulator && *table != modbus::Table::HoldingRegisters) ||
         (!e.simulator && plc.unit == nullptr)) {
         if (modbus && e.simulator) devices = "simulator unit";
-    } else if (e.write_count > 0) {
-        // 17h reads one range and writes another.
+    } else if (e.function == 0x17) {
+        // 17h reads one range and writes another, either of them maybe none.
         devices = "read ";
         devices += range(e.address, e.count);
         devices += ", write ";
         devices += range(e.write_address, e.write_count);
-    } else {
+    } else if (e.count > 0) {
         devices = range(e.address, e.count);
     }
     j["devices"] = devices;

@@ -12,6 +12,7 @@ import os
 import re
 import signal
 import socket
+import struct
 import subprocess
 import time
 from pathlib import Path
@@ -1551,11 +1552,17 @@ def test_traffic_lists_the_requests_decoded(start_http):
     assert refused.isError(), refused
     c.read_coils(0, 8, slave=SIM_UNIT)
     c.read_input_registers(0, 1, slave=SIM_UNIT)
-    assert [(e["function"], e["devices"], e["error"]) for e in traffic(plc.http, 4)["exchanges"]] \
+    # A count of 0 is refused, and said.
+    with socket.create_connection(("127.0.0.1", plc.daemon.port), timeout=3) as s:
+        pdu = struct.pack(">BHHHHBH", 0x17, 100, 0, 110, 1, 2, 9)
+        s.sendall(struct.pack(">HHHB", 1, 0, len(pdu) + 1, 1) + pdu)
+        assert s.recv(64)[7:] == b"\x97\x03"
+    assert [(e["function"], e["devices"], e["error"]) for e in traffic(plc.http, 5)["exchanges"]] \
         == [("17h", "read R100-R101, write R110-R112", ""),
             ("17h", "read R100, write R205", "02h"),
             ("01h", "simulator unit", "01h"),
-            ("04h", "simulator unit", "01h")]
+            ("04h", "simulator unit", "01h"),
+            ("17h", "read nothing, write R110", "03h")]
 
 
 @pytest.mark.parametrize("count", ["0", "257", "abc", "-1", ""])
