@@ -312,8 +312,11 @@ private:
         auto server = server_.lock();
         if (!server || closed_) return;
         // Nothing is served while a write is under way (its buffer must not move, and a client
-        // that does not take its replies is not served more): its end serves what came (next).
-        if (writing_) return;
+        // that does not take its replies is not served more) or an answer is held (what came
+        // behind it waits, in order): their ends serve what came (next). A read behind a hold
+        // may end just after the hold did and serve a frame that is held in turn, while the
+        // hold's end has already posted a serve.
+        if (writing_ || holding_) return;
         std::size_t off = 0;
         std::size_t served = 0;
         while (served < kFramesPerTurn) {
