@@ -324,7 +324,7 @@ private:
             const Split frame = session_ ? session_->split({f, used_ - off})
                                          : server->protocol->split({f, used_ - off});
             if (frame.cut == Cut::Incomplete) {
-                if (session_) session_->waiting(writing_ ? pending_ : out_);
+                if (session_) session_->waiting(out_);
                 break;
             }
             // Noise before a frame: dropped unanswered, and no request (the client stays idle).
@@ -345,7 +345,7 @@ private:
             }
             if (session_) {
                 serving_ = true;
-                const bool keep = session_->answer({f, frame.size}, writing_ ? pending_ : out_);
+                const bool keep = session_->answer({f, frame.size}, out_);
                 serving_ = false;
                 off += frame.size;
                 ++served;
