@@ -150,15 +150,12 @@ void record(listener::Traffic& traffic,
     e.simulator = simulator;
     e.function = pdu[0];
     if (reply.size() >= 2 && (reply[0] & 0x80) != 0) e.error = reply[1];
+    // A function without a range reaches {0, 0}, which the list shows as none.
     const auto [r, w] = reach(pdu);
-    if (r.count > 0) {
-        e.address = r.address;
-        e.count = r.count;
-    }
-    if (w.count > 0) {
-        e.write_address = w.address;
-        e.write_count = w.count;
-    }
+    e.address = r.address;
+    e.count = r.count;
+    e.write_address = w.address;
+    e.write_count = w.count;
     traffic.record(client, e);
 }
 
