@@ -131,7 +131,9 @@ public:
             spdlog::info("{}persistence disabled: nothing is retained across restarts", prefix_);
             heap_.assign(image::Image::storage_size(plc_layout(*cfg_)), std::byte{0});
         }
-        plc_ = std::make_unique<Plc>(cfg_, storage(), start);
+        plc_ = std::make_unique<Plc>(
+            cfg_, storage(), start, std::nullopt,
+            state_ ? std::optional(state_->retentive_before()) : std::nullopt);
         // The fault `stop` is RUN/STOP of whichever program runs (a reload keeps it).
         faults_.on_stop([this](bool stop) { plc_->engine().set_running(!stop); });
         faults_.set(cfg_->faults);

@@ -152,15 +152,22 @@ std::unique_ptr<modbus::AddressMap> map_of(const config::Config& config) {
 Plc::Plc(const config::Config& config,
          std::span<std::byte> storage,
          Start start,
-         std::optional<engine::Program> program)
-    : Plc(std::make_shared<const config::Config>(config), storage, start, std::move(program)) {}
+         std::optional<engine::Program> program,
+         std::optional<std::vector<image::Range>> kept)
+    : Plc(std::make_shared<const config::Config>(config),
+          storage,
+          start,
+          std::move(program),
+          std::move(kept)) {}
 
 Plc::Plc(std::shared_ptr<const config::Config> config,
          std::span<std::byte> storage,
          Start start,
-         std::optional<engine::Program> program)
+         std::optional<engine::Program> program,
+         std::optional<std::vector<image::Range>> kept)
     : config_(std::move(config)),
-      start_(storage.empty() ? Start::Fresh : start) {
+      start_(storage.empty() ? Start::Fresh : start),
+      kept_(start_ == Start::Retained ? std::move(kept) : std::nullopt) {
     image::Layout layout = plc_layout(*config_);
     if (storage.empty()) {
         image_ = std::make_unique<image::Image>(layout);
@@ -215,10 +222,15 @@ void Plc::apply_init() {
         for (const auto& r : program_data) {
             if (r.area == a && index >= r.start && index < r.end()) return false;
         }
-        for (const auto& r : layout.retentive) {
-            if (r.area == a && index >= r.start && index < r.end()) return true;
-        }
-        return false;
+        const auto in = [&](const std::vector<image::Range>& ranges) {
+            for (const auto& r : ranges) {
+                if (r.area == a && index >= r.start && index < r.end()) return true;
+            }
+            return false;
+        };
+        // A device retentive now but not when the storage was last used was cleared at this
+        // start: nothing retained to spare, its preset applies.
+        return in(layout.retentive) && (!kept_ || in(*kept_));
     };
     for (const auto& e : config_->init) {
         const std::uint32_t per = e.device.word_of_bits ? 16 : 1;

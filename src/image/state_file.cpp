@@ -348,6 +348,7 @@ bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
         if (r.area >= kAreaCount) return reject("corrupted: bad retentive range");
         before.push_back({static_cast<Area>(r.area), r.start, r.count});
     }
+    retentive_before_ = before;
     if (before != layout.retentive) {
         Layout then = layout;
         then.retentive = before;

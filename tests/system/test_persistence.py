@@ -215,6 +215,29 @@ def test_init_presets_do_not_overwrite_a_scadas_retained_writes(start_plcemud, t
     assert read(d.client(), 10) == [111]
 
 
+def test_a_device_that_becomes_retentive_takes_its_preset_at_the_restart(start_plcemud, tmp_path):
+    """Decision (docs/operations.md): after the retentive ranges change, a device retentive now
+    but not before was cleared, and takes its preset as a non-retentive one does; one retentive
+    both before and now keeps its value."""
+    state = tmp_path / "widen.state"
+    presets = "init: {R10: 111, R3500: 42}\n"
+    d = start_plcemud(config(state, presets))
+    c = d.client()
+    assert read(c, 3500) == [42]
+    c.write_register(10, 222, slave=1)
+    c.write_register(3500, 9, slave=1)
+    widened = config(state, presets).replace("sync_ms: 200}",
+                                             "sync_ms: 200, retentive: [R0-R3599]}")
+    d = restart(start_plcemud, d, widened)
+    c = d.client()
+    assert "the retentive ranges changed" in d.log_text()
+    assert read(c, 10) == [222]   # retentive before and now: retained
+    assert read(c, 3500) == [42]  # cleared (not retentive before), then preset; was 0
+    c.write_register(3500, 5, slave=1)
+    d = restart(start_plcemud, d, widened)
+    assert read(d.client(), 3500) == [5]  # retentive now: a retained write wins
+
+
 # --- corrupted and mismatched files
 
 

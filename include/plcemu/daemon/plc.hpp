@@ -58,16 +58,21 @@ public:
     /// (operands, presets out of range). With `storage`, the image lives there (a state file)
     /// and `start` says what it holds; otherwise the image is its own and starts cleared.
     /// `program`, when given, is the config's program already built (a reload builds it off the
-    /// event loop).
+    /// event loop). `kept`, with Start::Retained, is where the storage kept values: the ranges
+    /// retentive when it was last used (StateFile::retentive_before); a device retentive now
+    /// but not then was cleared, and takes its preset. Without it, every retentive device kept
+    /// its value.
     explicit Plc(const config::Config& config,
                  std::span<std::byte> storage = {},
                  Start start = Start::Retained,
-                 std::optional<engine::Program> program = std::nullopt);
+                 std::optional<engine::Program> program = std::nullopt,
+                 std::optional<std::vector<image::Range>> kept = std::nullopt);
     /// The same, sharing the config instead of copying it (a reload's config may be large).
     explicit Plc(std::shared_ptr<const config::Config> config,
                  std::span<std::byte> storage = {},
                  Start start = Start::Retained,
-                 std::optional<engine::Program> program = std::nullopt);
+                 std::optional<engine::Program> program = std::nullopt,
+                 std::optional<std::vector<image::Range>> kept = std::nullopt);
     ~Plc();
 
     /// The register image.
@@ -92,6 +97,7 @@ public:
 private:
     std::shared_ptr<const config::Config> config_;
     Start start_ = Start::Fresh;
+    std::optional<std::vector<image::Range>> kept_;
     std::unique_ptr<image::Image> image_;
     std::unique_ptr<engine::Engine> engine_;
     std::unique_ptr<modbus::AddressMap> map_;

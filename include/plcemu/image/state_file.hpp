@@ -90,6 +90,9 @@ public:
     StateOrigin origin() const { return origin_; }
     /// True when the image holds values from an earlier run (origin is not Created).
     bool retained() const { return origin_ != StateOrigin::Created; }
+    /// The retentive ranges the file recorded when it was opened (none when created): the
+    /// devices retentive both then and now kept their values, the rest were cleared.
+    const std::vector<Range>& retentive_before() const { return retentive_before_; }
     /// What opening found and did (moved aside, recovered, retentive ranges changed…).
     const std::vector<StateNote>& notes() const { return notes_; }
     /// Where a rejected file was moved ("" when none was).
@@ -164,6 +167,7 @@ private:
     std::span<std::byte> storage_;
     StateOrigin origin_ = StateOrigin::Created;
     std::vector<StateNote> notes_;
+    std::vector<Range> retentive_before_;
     std::string moved_aside_;
 };
 
