@@ -26,11 +26,13 @@ for what in "${@:-run}"; do
         # in a venv. chromium, chromium-driver and python3-selenium: the console's browser
         # tests (tests/system/test_console_browser.py). podman-compose (with podman) and
         # python3-kubernetes: compose.yaml and deploy/kubernetes/ (test_containers.py).
+        # e2fsprogs (mkfs.ext4) and util-linux (losetup): a disk that refuses writes
+        # (test_state_write_errors.py).
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
                      python3-serial python3-yaml python3-matplotlib mbpoll socat clang-14
                      python3-venv python3-setuptools python3-wheel
                      libclang-rt-14-dev systemd
-                     iproute2 util-linux man-db groff-base ccache
+                     iproute2 util-linux e2fsprogs man-db groff-base ccache
                      chromium chromium-driver python3-selenium
                      podman podman-compose python3-kubernetes) ;;
         # CPack's DEB generator needs dpkg-shlibdeps (dpkg-dev) and file; lintian checks the result.

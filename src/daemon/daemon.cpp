@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <memory>
 
@@ -160,8 +161,9 @@ public:
             std::chrono::duration<double, std::milli>(cfg_->scan_ms / cfg_->time_scale));
     }
 
-    // After the loop ended: what ran, and the state file closed.
-    void close() {
+    // After the loop ended: what ran, and the state file closed. False when the disk did not
+    // take the state file's last writes.
+    bool close() {
         spdlog::info("{}stopped after {} scans", prefix_, plc_->engine().scans());
         if (driver_) {
             // Scan-start lateness against the real-time deadlines (scripts/bench.sh reads it).
@@ -177,10 +179,16 @@ public:
         plc_.reset();
         if (sync_id_ != 0) syncs_.remove(sync_id_);
         sync_id_ = 0;
-        if (state_) {
-            state_->close();
-            spdlog::info("{}state file {} closed", prefix_, state_->path());
+        if (!state_) return true;
+        if (const int error = state_->close(); error != 0) {
+            spdlog::error(
+                "{}state file {}: the last sync failed ({}); left marked open: the next start "
+                "recovers what the disk holds",
+                prefix_, state_->path(), std::strerror(error));
+            return false;
         }
+        spdlog::info("{}state file {} closed", prefix_, state_->path());
+        return true;
     }
 
     // `listeners`: ", tcp ADDR:PORT, rtu DEVICE" as Listeners::describe_all() says.
@@ -398,16 +406,19 @@ public:
         const bool abandoned = reload_thread_.abandon();
         if (abandoned) spdlog::info("reload: abandoned, the daemon stops");
         join_threads();
-        for (auto& h : hosts_) h->close();
+        // A state file the disk did not take whole makes the stop a failure (exit status 1).
+        bool closed = true;
+        for (auto& h : hosts_) closed = h->close() && closed;
         hosts_.clear();
+        const int status = closed ? 0 : 1;
         if (abandoned) {
             // The state files are closed; the reload's thread still runs and may be using what
             // exit() would destroy (the profiles' tables), so the process ends here, at once.
             spdlog::default_logger()->flush();
             std::fflush(nullptr);
-            std::_Exit(0);
+            std::_Exit(status);
         }
-        return 0;
+        return status;
     }
 
 private:

@@ -337,8 +337,9 @@ bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
     } else {
         origin_ = StateOrigin::Recovered;
         notes_.push_back({true, "state file " + path_ +
-                                    ": its last user did not close it (crash, SIGKILL or power "
-                                    "loss); values are those the kernel had"});
+                                    ": its last user did not close it (crash, SIGKILL, power "
+                                    "loss, or a last sync the disk refused); values are those "
+                                    "the kernel had"});
     }
 
     // Only devices retentive both then and now keep their values: the rest held live data when
@@ -386,7 +387,14 @@ void StateFile::create(const Layout& layout, std::time_t now) {
         h.created = static_cast<std::uint64_t>(now);
         const std::size_t total = kDataOffset + round_up(h.storage_size);
         reserve(fd_, path_, total);  // also sizes the file
-        if (::pwrite(fd_, &h, sizeof h, 0) != static_cast<ssize_t>(sizeof h)) {
+        // Every block written once, not only reserved: ext4 keeps a reserved block "unwritten"
+        // (read as zeros) until a write of it completes, and a block whose first write-back
+        // failed (a disk refusing writes) stays so even after later writes of it succeed, so
+        // the values synced into it would read back as zeros after a reboot
+        // (tests/system/test_state_write_errors.py). Written now, it is an ordinary block.
+        std::vector<std::byte> whole(total);
+        std::memcpy(whole.data(), &h, sizeof h);
+        if (::pwrite(fd_, whole.data(), total, 0) != static_cast<ssize_t>(total)) {
             throw_errno("state file " + tmp + ": cannot write");
         }
         map(total);
@@ -555,9 +563,13 @@ bool StateFile::sync() noexcept {
             std::fill(due_.begin() + static_cast<std::ptrdiff_t>(first),
                       due_.begin() + static_cast<std::ptrdiff_t>(end), kWritten);
         } else {
-            ok = false;  // due still: the next sync retries them
+            ok = false;
         }
         first = end;
+    }
+    if (!ok) {
+        redirty_due();
+        refused_ = true;
     }
     // A written page is known to hold the sums taken before its msync only when they are the
     // same after it: after a change during the msync, which may or may not be on the disk, the
@@ -569,6 +581,25 @@ bool StateFile::sync() noexcept {
         due_[p] = sums_[p] == after_[p] ? kClean : kDue;
     }
     return ok;
+}
+
+// A write-back that failed leaves its pages clean in the page cache: the kernel reports the
+// error once (to the msync that finds it, whichever range that msync was given) and writes those
+// pages again only if they are written to again. Every page this sync was to write is made dirty
+// once more and stays due, so the next sync writes it for real; one whose msync returned 0 in
+// the same sync may have lost its write to the error another range reported. The page's bytes
+// are left as they are: an atomic OR of 0 into one of them is a write to the page (the fault
+// marks it dirty) that cannot undo a write the loop makes into that byte meanwhile.
+void StateFile::redirty_due() noexcept {
+    for (std::size_t p = 0; p < due_.size(); ++p) {
+        if (due_[p] == kClean || (resident_[p] & 1) == 0) continue;
+        due_[p] = kDue;
+        redirty(p);
+    }
+}
+
+void StateFile::redirty(std::size_t page) noexcept {
+    __atomic_fetch_or(reinterpret_cast<unsigned char*>(base_ + page * kPage), 0, __ATOMIC_RELAXED);
 }
 
 void StateFile::sum_pages(std::vector<std::uint64_t>& sums) const noexcept {
@@ -589,30 +620,46 @@ std::uint64_t StateFile::pages_synced() const {
     return pages_synced_.load(std::memory_order_relaxed);
 }
 
-void StateFile::close() noexcept {
+int StateFile::close() noexcept {
     if (fd_ < 0) {
         unlock();
-        return;
+        return 0;
     }
+    int error = 0;
     if (base_) {
         std::lock_guard lock(sync_mutex_);  // not while a sync() reads the mapping
-        StateFileHeader h;
-        std::memcpy(&h, base_, sizeof h);
-        h.data_checksum = fnv1a64(storage_);
-        h.state = kStateClosed;
-        std::memcpy(base_, &h, sizeof h);
-        write_header_checksum();
-        ::msync(base_, mapped_, MS_SYNC);
+        // The image first, the header marked closed after it: a file is marked closed only when
+        // the disk took every page. A write-back that failed, now or since the last sync, is
+        // reported by this msync; the header then stays "open", and the next start recovers
+        // the file as after a crash (what the disk holds) instead of finding its checksum wrong
+        // and moving the whole file aside. After a refused write-back any page may be one the
+        // kernel marked clean unwritten (one the sync thread does not write: only devices
+        // cleared at each start changed there), and the checksum covers them all: every page
+        // is written again.
+        if (refused_) {
+            for (std::size_t p = 0; p < mapped_ / kPage; ++p) redirty(p);
+        }
+        if (::msync(base_, mapped_, MS_SYNC) != 0) error = errno;
+        if (error == 0) {
+            StateFileHeader h;
+            std::memcpy(&h, base_, sizeof h);
+            h.data_checksum = fnv1a64(storage_);
+            h.state = kStateClosed;
+            std::memcpy(base_, &h, sizeof h);
+            write_header_checksum();
+            if (::msync(base_, kPage, MS_SYNC) != 0) error = errno;
+        }
         ::munmap(base_, mapped_);
         base_ = nullptr;
         mapped_ = 0;
         storage_ = {};
     }
-    ::fsync(fd_);
+    if (::fsync(fd_) != 0 && error == 0) error = errno;
     ::close(fd_);
     fd_ = -1;
     // Last: the next daemon may have the file only once it is closed and on disk.
     unlock();
+    return error;
 }
 
 }  // namespace plcemu::image

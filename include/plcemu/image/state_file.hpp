@@ -110,7 +110,9 @@ public:
     /// Pages written to disk by sync() so far.
     std::uint64_t pages_synced() const;
     /// Syncs, stores the data checksum, marks the file closed and unmaps it. Idempotent.
-    void close() noexcept;
+    /// Returns 0, or the errno of a write the disk did not take: the file is then left marked
+    /// open, and the next start recovers what the disk holds as after a crash.
+    int close() noexcept;
 
 private:
     void open_directory();
@@ -129,6 +131,8 @@ private:
     void take_plan();
     void sum_pages(std::vector<std::uint64_t>& sums) const noexcept;
     bool sync_pages(std::size_t first, std::size_t end) noexcept;
+    void redirty_due() noexcept;
+    void redirty(std::size_t page) noexcept;
 
     // Bytes whose changes must reach the disk within a sync period, each inside one page of
     // the mapping (the header page whole, the retentive ranges' devices), in file order.
@@ -156,6 +160,7 @@ private:
     std::vector<std::uint8_t> due_;        // kClean, kDue or kWritten
     std::vector<unsigned char> resident_;  // mincore(): bit 0 set when in the page cache
     std::atomic<std::uint64_t> pages_synced_{0};
+    bool refused_ = false;  // a write-back failed since the file was opened (sync_mutex_)
 
     std::string path_;
     std::string name_;  // the last component of path_
