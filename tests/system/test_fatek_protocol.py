@@ -237,3 +237,27 @@ def test_station_follows_r4055_after_the_scan(start_plcemud):
         assert fatek.exchange(frame(1, 0x40), timeout=NO_REPLY_S) is None  # no longer station 1
         assert fatek.exchange(frame(2, 0x46, "01R04055")) == frame(2, 0x46, "00002")
     assert d.client().read_holding_registers(4055, 1, slave=2).registers == [2]
+
+
+def test_disabling_frees_an_input_for_a_master_but_no_protected_discrete(start_plcemud):
+    # Error 3 (Decision X1 in docs/profile-fbs.md, "FATEK protocol"): an input (X) is written
+    # only while disabled; the read-only specials and a `write_protect` range refuse a write
+    # disabled or not, through every write command (42 set, 45, 49).
+    port = free_port()
+    d = start_plcemud(START.replace("modbus: {tcp: {bind: 127.0.0.1}}",
+                                    "modbus: {tcp: {bind: 127.0.0.1}, write_protect: [M100-M109]}")
+                      + f"fatek:\n  tcp: {{bind: 127.0.0.1, port: {port}}}\n")
+    freeze(d)
+    with Fatek.tcp(port) as fatek:
+        before = {name: fatek.exchange(frame(1, 0x44, "01" + name)) for name in ("M0100", "M1920")}
+        for name in ("X0001", "M0100", "M1920"):
+            assert fatek.exchange(frame(1, 0x42, "3" + name)) == frame(1, 0x42, "3"), name
+            assert fatek.exchange(frame(1, 0x42, "1" + name)) == frame(1, 0x42, "0"), name
+            assert fatek.exchange(frame(1, 0x43, "01" + name)) == frame(1, 0x43, "01"), name
+        assert fatek.exchange(frame(1, 0x42, "3X0001")) == frame(1, 0x42, "0")
+        assert fatek.exchange(frame(1, 0x44, "01X0001")) == frame(1, 0x44, "01")
+        for name in ("M0100", "M1920"):
+            assert fatek.exchange(frame(1, 0x42, "3" + name)) == frame(1, 0x42, "3"), name
+            assert fatek.exchange(frame(1, 0x45, "01" + name + "1")) == frame(1, 0x45, "3"), name
+            assert fatek.exchange(frame(1, 0x49, "01" + name + "1")) == frame(1, 0x49, "3"), name
+            assert fatek.exchange(frame(1, 0x44, "01" + name)) == before[name], name

@@ -1,6 +1,6 @@
 #pragma once
 // The check every protocol makes before a master's write (docs/profile-fbs.md, "FATEK protocol",
-// errors; docs/console.md): devices no master may write refuse it, except discretes that are
+// errors; docs/console.md): devices no master may write refuse it, except inputs (X) that are
 // disabled (FATEK command 42), which hold what is written to them as on the PLC.
 
 #include <optional>
