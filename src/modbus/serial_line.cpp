@@ -81,7 +81,19 @@ int open_serial_line(const RtuOptions& o, const std::string& name) {
     if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0) {
         fail(fd, name + ": " + o.device + ": cannot set " + std::to_string(o.baud) + " baud");
     }
-    if (::tcsetattr(fd, TCSANOW, &tio) != 0) fail(fd, name + ": cannot configure " + o.device);
+    if (::tcsetattr(fd, TCSANOW, &tio) != 0) {
+        // The C library answers EINVAL when the device took none of the changes asked for: a
+        // pty opened again (a reload, the next start) already has the speed, the one setting
+        // it takes. That is a line that did not take every setting, said below, not one that
+        // cannot be used.
+        const int error = errno;
+        termios had{};
+        if (error != EINVAL || ::tcgetattr(fd, &had) != 0 || ::cfgetispeed(&had) != speed ||
+            ::cfgetospeed(&had) != speed) {
+            errno = error;
+            fail(fd, name + ": cannot configure " + o.device);
+        }
+    }
     // tcsetattr succeeds when any part of the request was applied: say what was not.
     termios now{};
     constexpr tcflag_t kLine = CSIZE | PARENB | PARODD | CSTOPB;

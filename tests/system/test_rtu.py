@@ -7,6 +7,7 @@ the line at 300 baud (t1.5 = 55 ms, t3.5 = 128 ms) so that a busy test machine c
 
 import os
 import re
+import signal
 import struct
 import subprocess
 import time
@@ -103,6 +104,23 @@ def test_other_line_settings(start_rtu, pty, baud, parity, stop, text):
     assert ok(c.write_register(30, 777, slave=1))
     assert ok(c.read_holding_registers(30, 1, slave=1)).registers == [777]
     c.close()
+
+
+def test_a_line_a_pty_takes_in_part_is_opened_again_at_a_reload_and_a_restart(start_rtu, line):
+    # A pty takes the speed and ignores parity (8E1 is the default). Opened a second time it
+    # finds nothing left it can change, which the C library answers EINVAL: the line was lost at
+    # every reload ("cannot configure ..."), and a restart on the same pty exited 1.
+    pdu = read_words_pdu(4055, 1)
+    d = start_rtu()
+    assert line.request(1, pdu, 7) == bytes([3, 2, 0, 1])
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: no setting changed"), d.log_text()
+    assert line.request(1, pdu, 7) == bytes([3, 2, 0, 1]), d.log_text()
+    assert "cannot configure" not in d.log_text()
+    assert d.stop() == 0
+    again = start_rtu()
+    assert line.request(1, pdu, 7) == bytes([3, 2, 0, 1]), again.log_text()
+    assert "did not take every line setting" in again.log_text()
 
 
 def test_missing_device_is_a_clear_startup_error(tmp_path):
