@@ -91,6 +91,10 @@ struct YamlDocument::Graph final : public YAML::EventHandler {
                   const std::string& tag,
                   YAML::anchor_t anchor,
                   const std::string& value) override {
+        // A name, a path, a number: no setting takes a NUL (a path would be cut at it).
+        if (value.find('\0') != std::string::npos) {
+            throw YAML::ParserException(mark, "a NUL character (\\0) in a value");
+        }
         const std::uint32_t r = open(Node::Kind::Scalar, mark, anchor);
         records[r].text = static_cast<std::uint32_t>(scalars.size());
         records[r].length = static_cast<std::uint32_t>(value.size());
@@ -260,6 +264,34 @@ private:
     std::vector<std::uint32_t> anchors_;  // anchor number -> record
 };
 
+namespace {
+
+// Refuses the start of a document after the first, at its first token.
+struct SecondDocument final : YAML::EventHandler {
+    void OnDocumentStart(const YAML::Mark& mark) override {
+        throw YAML::ParserException(mark, "a second YAML document: a config file is one document");
+    }
+    void OnDocumentEnd() override {}
+    void OnNull(const YAML::Mark& /*mark*/, YAML::anchor_t /*anchor*/) override {}
+    void OnAlias(const YAML::Mark& /*mark*/, YAML::anchor_t /*anchor*/) override {}
+    void OnScalar(const YAML::Mark& /*mark*/,
+                  const std::string& /*tag*/,
+                  YAML::anchor_t /*anchor*/,
+                  const std::string& /*value*/) override {}
+    void OnSequenceStart(const YAML::Mark& /*mark*/,
+                         const std::string& /*tag*/,
+                         YAML::anchor_t /*anchor*/,
+                         YAML::EmitterStyle::value /*style*/) override {}
+    void OnSequenceEnd() override {}
+    void OnMapStart(const YAML::Mark& /*mark*/,
+                    const std::string& /*tag*/,
+                    YAML::anchor_t /*anchor*/,
+                    YAML::EmitterStyle::value /*style*/) override {}
+    void OnMapEnd() override {}
+};
+
+}  // namespace
+
 YamlDocument::YamlDocument(const std::string& text, const std::string& name)
     : graph_(std::make_unique<Graph>(name)) {
     try {
@@ -274,6 +306,10 @@ YamlDocument::YamlDocument(const std::string& text, const std::string& name)
         std::istream in(&buffer);
         YAML::Parser parser(in);
         parser.HandleNextDocument(*graph_);
+        // A config is one document: a second one (after `---`, or `...` and more text) would
+        // be dropped unread, and with it whatever it was meant to set.
+        SecondDocument second;
+        parser.HandleNextDocument(second);
     } catch (const YAML::Exception& e) {
         throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
                           image::excerpt(e.msg, kYamlMsgChars));

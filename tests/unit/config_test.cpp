@@ -359,6 +359,18 @@ TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
                  "MOV: duplicate operand 's'");
 }
 
+// A config is one YAML document: a second one is refused where it begins, not dropped unread.
+TEST(Config, ASecondDocumentIsRefusedWhereItBegins) {
+    expect_error("profile: fbs\nstation: 1\n---\nprofile: vb\nbogus_key: 1\n", 3, 1,
+                 "a second YAML document: a config file is one document");
+    expect_error("profile: fbs\n...\nstation: 2\n", 3, 1, "a second YAML document");
+    // No value takes a NUL: a path would be cut at it (`evil.state\0.x` opened `evil.state`).
+    expect_error("profile: fbs\npersistence: {file: \"evil.state\\0.x\"}\n", 2, 21,
+                 "a NUL character (\\0) in a value");
+    // A document marked at its start, or ended by `...`, is one document.
+    EXPECT_EQ(parse_config("---\nprofile: fbs\nstation: 3\n...\n", "t.yaml").station, 3);
+}
+
 // Nesting past 64 levels is refused at the first node past them, while the YAML is parsed
 // (docs/configuration.md, "The config file"): not the YAML library's own recursion error.
 TEST(Config, DeepNestingIsRefusedAtTheFirstLevelPastTheLimit) {
