@@ -692,8 +692,8 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     // only repeat it in other words (docs/configuration.md, "Configuration").
     if (r.errors_found() != errors_before) return c;
     check_own_units(r, root, c);
-    check_own_listeners(r, root, c);
     c.settings = profile->read(c, r);
+    check_own_listeners(r, root, c);
     return c;
 }
 
@@ -735,6 +735,9 @@ const Node& where_in(const Node& entry, std::string_view section, const char* ke
 
 // One listener an entry takes, with its key worked out once. Its settings are copied: the
 // entry's Config moves on into the list of entries.
+// The protocol of a family's own port (a master's serial line) among an entry's listeners.
+constexpr std::string_view kOwnPort = "own port";
+
 struct Held {
     Held(const ListenerConfig& from, std::string k)
         : protocol(from.protocol),
@@ -766,6 +769,12 @@ struct Taken {
             // A port of 0 is the kernel's choice: never shared, never a clash.
             if (l.net != nullptr && l.net->port == 0) continue;
             listeners.emplace_back(l, listener_key(l));
+        }
+        if (c.settings) {
+            for (const auto& own : c.settings->own_lines()) {
+                const ListenerConfig l{kOwnPort, Carrier::Serial, own.section, nullptr, own.line};
+                listeners.emplace_back(l, listener_key(l));
+            }
         }
         if (c.persistence.enabled) {
             // Where the daemon will open it, so --check-config compares what a start would.
@@ -874,7 +883,14 @@ void check_one_protocol(const Reader& r,
                         const Held& mine,
                         const Held& other,
                         const std::string& whose) {
-    if (mine.protocol == other.protocol && mine.section == other.section) return;
+    const bool own = mine.protocol == kOwnPort || other.protocol == kOwnPort;
+    if (!own && mine.protocol == other.protocol && mine.section == other.section) return;
+    if (own) {
+        r.fail(where_in(entry, mine.section, "device"),
+               std::string(mine.section) + ".device: '" + excerpt(mine.line.device) + "' is also " +
+                   whose + " " + std::string(other.section) +
+                   " (a master port's serial line is its own)");
+    }
     if (mine.carrier == Carrier::Serial) {
         r.fail(where_in(entry, mine.section, "device"),
                std::string(mine.section) + ".device: '" + excerpt(mine.line.device) + "' is also " +

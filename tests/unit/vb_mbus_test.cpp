@@ -556,7 +556,9 @@ TEST(MbusConfig, ErrorsAtTheirNode) {
         {"mbus: {tcp: {host: 127.0.0.1}, colour: red}\n", 2, 32, "colour"},
         {"modbus: {rtu: {device: /dev/ttyS1}}\nmbus: {transport: rtu, rtu: {device: "
          "/dev/ttyS1}}\n",
-         3, 38, "is the slave port modbus.rtu.device"},
+         3, 38,
+         "'/dev/ttyS1' is also this PLC's modbus.rtu (a master port's serial line is "
+         "its own)"},
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.section);
@@ -566,6 +568,45 @@ TEST(MbusConfig, ErrorsAtTheirNode) {
                                              "vb.yaml");
                                      }),
                                      "vb.yaml", c.line, c.col, c.needle);
+    }
+}
+
+// The master's line is its own among every PLC of a `plcs:` file too: no other PLC's listener
+// or master port may take it, whichever of the two comes first.
+TEST(MbusConfig, AMastersLineIsNoOtherPlcsListenerOrPort) {
+    const std::string master =
+        "profile: vb, persistence: {enabled: false}, modbus: {tcp: {port: 0}}, "
+        "mbus: {transport: rtu, rtu: {device: /dev/ttyS7}}, program: [{MBUS: {en: M0, s1: D1000, "
+        "s2: D100}}]";
+    const std::string fbs_rtu =
+        "profile: fbs, persistence: {enabled: false}, modbus: {tcp: {port: 0}, rtu: {device: "
+        "/dev/ttyS7}}";
+    const std::string fbs_fatek =
+        "profile: fbs, persistence: {enabled: false}, modbus: {tcp: {port: 0}}, fatek: {serial: "
+        "{device: /dev/ttyS7}}";
+    struct Case {
+        std::string first, second;
+        int col;
+        std::string needle;
+    };
+    const std::vector<Case> cases{
+        {fbs_rtu, master, 122,
+         "plcs[1] (b): mbus.rtu.device: '/dev/ttyS7' is also plcs[0] (a)'s modbus.rtu (a master "
+         "port's serial line is its own)"},
+        {master, fbs_rtu, 99,
+         "plcs[1] (b): modbus.rtu.device: '/dev/ttyS7' is also plcs[0] (a)'s mbus.rtu"},
+        {fbs_fatek, master, 122, "is also plcs[0] (a)'s fatek.serial (a master port's"},
+        {master, master, 122, "mbus.rtu.device: '/dev/ttyS7' is also plcs[0] (a)'s mbus.rtu"},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.first + " / " + c.second);
+        testing::expect_config_error(
+            testing::config_failure([&] {
+                config::parse_plcs(
+                    "plcs:\n  - {name: a, " + c.first + "}\n  - {name: b, " + c.second + "}\n",
+                    "vb.yaml");
+            }),
+            "vb.yaml", 3, c.col, c.needle);
     }
 }
 

@@ -20,9 +20,20 @@ class Reader;
 
 /// What a family reads from its own sections at load (Family::read), as one value: each family
 /// derives its own and casts back to it (docs/architecture.md, "Adding a profile").
+struct RtuConfig;  // config.hpp
+
 class ProfileSettings {
 public:
     virtual ~ProfileSettings() = default;
+    /// A serial line one of the family's own ports uses (a Modbus master's), and the section
+    /// that names it ("mbus.rtu").
+    struct OwnLine {
+        std::string_view section;
+        const RtuConfig* line;
+    };
+    /// The serial lines the family's own ports use: a port's line is its own, shared with no
+    /// listener and no other port (the loader refuses it at the line's `device`).
+    virtual std::vector<OwnLine> own_lines() const { return {}; }
 };
 
 /// A PLC family as the loader sees it (profiles::Profile is one).

@@ -139,12 +139,8 @@ std::optional<config::MasterConfig> read_mbus(const config::Config& c, const Rea
         if (!n["rtu"]) return;
         config::RtuConfig rtu;
         config::read_rtu(r, n["rtu"], rtu, "mbus.rtu");
-        // The CP2 is a port of its own: the slave port cannot be the master's too.
-        if (c.modbus.rtu && c.modbus.rtu->device == rtu.device) {
-            r.fail(n["rtu"]["device"], "mbus.rtu.device: " + excerpt(rtu.device) +
-                                           " is the slave port modbus.rtu.device; the master "
-                                           "needs a serial line of its own");
-        }
+        // The CP2 is a port of its own: the loader refuses its line to every listener and
+        // every other port, this PLC's and the others' (Settings::own_lines).
         m.rtu = rtu;
     });
     // What the transport needs, once the keys it needs read cleanly (a key in error is not

@@ -20,6 +20,12 @@ struct Settings final : config::ProfileSettings {
     std::vector<ModuleConfig> modules;           ///< `modules:`, in bus order; empty without
     std::optional<config::MasterConfig> mbus;    ///< `mbus:`, or nothing
     std::optional<image::Range> file_registers;  ///< `file_registers:`, or nothing
+
+    /// The CP2 port's serial line, when the master uses one.
+    std::vector<OwnLine> own_lines() const override {
+        if (!mbus || !mbus->rtu) return {};
+        return {{"mbus.rtu", &*mbus->rtu}};
+    }
 };
 
 /// Reads the sections of `config` with `r`: an error is recorded where `r` records errors (else
