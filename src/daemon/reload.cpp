@@ -36,10 +36,63 @@ std::string text(const std::vector<image::Range>& v, const image::Naming& naming
     return s + "]";
 }
 
+// As the listening line says it: "/dev/ttyS0 9600 8E1".
 std::string text(const std::optional<config::RtuConfig>& r) {
     if (!r) return "none";
-    return r->device + " " + std::to_string(r->baud) + " " + std::string(1, r->parity) +
-           std::to_string(r->data_bits) + std::to_string(r->stop_bits);
+    return r->device + " " + std::to_string(r->baud) + " " + std::to_string(r->data_bits) +
+           std::string(1, r->parity) + std::to_string(r->stop_bits);
+}
+
+std::string text(config::UnknownUnit u) {
+    return u == config::UnknownUnit::Silent ? "silent" : "exception";
+}
+
+using Out = std::vector<std::string>;
+
+template <typename T>
+void compare(Out& out, const std::string& key, const T& x, const T& y) {
+    if (!(x == y)) out.push_back(key + ": " + text(x) + " -> " + text(y));
+}
+
+// A TCP or UDP listener's settings (modbus.tcp, fatek.tcp, fatek.udp, http), each that changed;
+// "on"/"off" when one side has none. A key a listener does not use keeps its default on both
+// sides and says nothing.
+void net_changes(Out& out,
+                 const std::string& name,
+                 const config::TcpConfig* a,
+                 const config::TcpConfig* b) {
+    if ((a == nullptr) != (b == nullptr)) {
+        out.push_back(name + ": " + (a ? "on" : "off") + " -> " + (b ? "on" : "off"));
+    }
+    if (a == nullptr || b == nullptr) return;
+    compare(out, name + ".bind", a->bind, b->bind);
+    compare(out, name + ".port", a->port, b->port);
+    compare(out, name + ".unknown_unit", a->unknown_unit, b->unknown_unit);
+    compare(out, name + ".allow", a->allow, b->allow);
+    compare(out, name + ".hosts", a->hosts, b->hosts);
+    compare(out, name + ".read_only", a->read_only, b->read_only);
+    compare(out, name + ".max_clients", a->max_clients, b->max_clients);
+    compare(out, name + ".idle_timeout_s", a->idle_timeout_s, b->idle_timeout_s);
+    compare(out, name + ".frame_timeout_ms", a->frame_timeout_ms, b->frame_timeout_ms);
+    // A secret: said to have changed, never shown.
+    if (a->token != b->token) out.push_back(name + ".token: changed");
+}
+
+// A serial line's settings (modbus.rtu, fatek.serial), as one value.
+void line_changes(Out& out,
+                  const std::string& name,
+                  const std::optional<config::RtuConfig>& a,
+                  const std::optional<config::RtuConfig>& b) {
+    const bool same =
+        a.has_value() == b.has_value() &&
+        (!a || (a->device == b->device && a->baud == b->baud && a->parity == b->parity &&
+                a->data_bits == b->data_bits && a->stop_bits == b->stop_bits));
+    if (!same) out.push_back(name + ": " + text(a) + " -> " + text(b));
+    if (a && b) compare(out, name + ".read_only", a->read_only, b->read_only);
+}
+
+const config::TcpConfig* net(const std::optional<config::TcpConfig>& c) {
+    return c ? &*c : nullptr;
 }
 
 bool same_program(const std::vector<config::InstructionConfig>& a,
@@ -112,41 +165,19 @@ bool same_map(const std::optional<std::vector<config::MapRowConfig>>& a,
 std::vector<std::string> config_changes(const config::Config& a, const config::Config& b) {
     std::vector<std::string> out;
     auto cmp = [&](const std::string& key, const auto& x, const auto& y) {
-        if (!(x == y)) out.push_back(key + ": " + text(x) + " -> " + text(y));
+        compare(out, key, x, y);
     };
     cmp("model", a.model, b.model);
     cmp("station", int(a.station), int(b.station));
     cmp("scan_ms", a.scan_ms, b.scan_ms);
     cmp("time_scale", a.time_scale, b.time_scale);
     cmp("modbus.tcp.enabled", a.modbus.tcp.enabled, b.modbus.tcp.enabled);
-    cmp("modbus.tcp.bind", a.modbus.tcp.bind, b.modbus.tcp.bind);
-    cmp("modbus.tcp.port", a.modbus.tcp.port, b.modbus.tcp.port);
-    cmp("modbus.tcp.unknown_unit",
-        std::string(a.modbus.tcp.unknown_unit == config::UnknownUnit::Silent ? "silent"
-                                                                             : "exception"),
-        std::string(b.modbus.tcp.unknown_unit == config::UnknownUnit::Silent ? "silent"
-                                                                             : "exception"));
-    cmp("modbus.tcp.allow", a.modbus.tcp.allow, b.modbus.tcp.allow);
-    cmp("modbus.tcp.max_clients", a.modbus.tcp.max_clients, b.modbus.tcp.max_clients);
-    cmp("modbus.tcp.idle_timeout_s", a.modbus.tcp.idle_timeout_s, b.modbus.tcp.idle_timeout_s);
-    cmp("modbus.tcp.frame_timeout_ms", a.modbus.tcp.frame_timeout_ms,
-        b.modbus.tcp.frame_timeout_ms);
-    if (rtu_changed(a, b)) {
-        out.push_back("modbus.rtu: " + text(a.modbus.rtu) + " -> " + text(b.modbus.rtu));
-    }
-    cmp("http", std::string(a.http ? "on" : "off"), std::string(b.http ? "on" : "off"));
-    if (a.http && b.http) {
-        cmp("http.bind", a.http->bind, b.http->bind);
-        cmp("http.port", a.http->port, b.http->port);
-        cmp("http.allow", a.http->allow, b.http->allow);
-        cmp("http.hosts", a.http->hosts, b.http->hosts);
-        cmp("http.read_only", a.http->read_only, b.http->read_only);
-        cmp("http.max_clients", a.http->max_clients, b.http->max_clients);
-        cmp("http.idle_timeout_s", a.http->idle_timeout_s, b.http->idle_timeout_s);
-        cmp("http.frame_timeout_ms", a.http->frame_timeout_ms, b.http->frame_timeout_ms);
-        // A secret: said to have changed, never shown.
-        if (a.http->token != b.http->token) out.emplace_back("http.token: changed");
-    }
+    net_changes(out, "modbus.tcp", &a.modbus.tcp, &b.modbus.tcp);
+    line_changes(out, "modbus.rtu", a.modbus.rtu, b.modbus.rtu);
+    net_changes(out, "fatek.tcp", net(a.fatek.tcp), net(b.fatek.tcp));
+    net_changes(out, "fatek.udp", net(a.fatek.udp), net(b.fatek.udp));
+    line_changes(out, "fatek.serial", a.fatek.serial, b.fatek.serial);
+    net_changes(out, "http", net(a.http), net(b.http));
     cmp("modbus.read_only", a.modbus.read_only, b.modbus.read_only);
     if (a.modbus.write_protect != b.modbus.write_protect) {
         const image::Naming& naming = profiles::of(b).naming();
@@ -185,15 +216,6 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
         std::string(a.persistence.init == config::InitPolicy::Always ? "always" : "fresh"),
         std::string(b.persistence.init == config::InitPolicy::Always ? "always" : "fresh"));
     return out;
-}
-
-bool rtu_changed(const config::Config& a, const config::Config& b) {
-    const auto& x = a.modbus.rtu;
-    const auto& y = b.modbus.rtu;
-    if (x.has_value() != y.has_value()) return true;
-    if (!x) return false;
-    return x->device != y->device || x->baud != y->baud || x->parity != y->parity ||
-           x->data_bits != y->data_bits || x->stop_bits != y->stop_bits;
 }
 
 }  // namespace plcemu::daemon

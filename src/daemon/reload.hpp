@@ -12,7 +12,4 @@ namespace plcemu::daemon {
 /// whole say only that they changed ("program: changed (3 instructions)").
 std::vector<std::string> config_changes(const config::Config& before, const config::Config& after);
 
-/// True when the serial port settings differ.
-bool rtu_changed(const config::Config& before, const config::Config& after);
-
 }  // namespace plcemu::daemon

@@ -834,6 +834,25 @@ TEST(Reload, ChangesAreListed) {
     EXPECT_TRUE(daemon::config_changes(a, a).empty());
 }
 
+// Every listener's settings are listed, FATEK's too (a FATEK-only change was "no setting
+// changed"), and a line as the log names it elsewhere (9600 8E1).
+TEST(Reload, EveryListenersChangesAreListed) {
+    const auto a = plc_config(
+        "modbus: {tcp: {port: 5020}, rtu: {device: /dev/ttyS1}}\n"
+        "fatek: {tcp: {port: 5000}, serial: {device: /dev/ttyS2}}\n");
+    const auto b = plc_config(
+        "modbus: {tcp: {port: 5020}, rtu: {device: /dev/ttyS1, parity: N}}\n"
+        "fatek: {tcp: {port: 5001, read_only: true}, udp: {port: 5000},\n"
+        "        serial: {device: /dev/ttyS2, baud: 19200}}\n");
+    EXPECT_EQ(
+        daemon::config_changes(a, b),
+        (std::vector<std::string>{"modbus.rtu: /dev/ttyS1 9600 8E1 -> /dev/ttyS1 9600 8N1",
+                                  "fatek.tcp.port: 5000 -> 5001",
+                                  "fatek.tcp.read_only: false -> true", "fatek.udp: off -> on",
+                                  "fatek.serial: /dev/ttyS2 9600 7E1 -> /dev/ttyS2 19200 7E1"}));
+    EXPECT_TRUE(daemon::config_changes(b, b).empty());
+}
+
 // docs/operations.md, "Reload (SIGHUP)": `plant:` key by key; a channel key that only follows a
 // changed default is not repeated, one written in the channel is.
 TEST(Reload, PlantChangesAreListedKeyByKey) {
