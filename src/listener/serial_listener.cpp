@@ -130,9 +130,11 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         });
     }
 
-    // The answer goes to the non-blocking descriptor: one that does not fit in the tty's
-    // buffer is dropped, never waited for (no tcdrain), as a master that floods the line gets
-    // no answers anyway.
+    // The answer goes to the non-blocking descriptor, never waited for (no tcdrain): when the
+    // tty's buffer is full (a master that floods the line and never reads it) the rest of the
+    // answer is dropped. A tty does not say how much room it has, so the answer that fills it
+    // may go out cut short: its CRC (or ETX) then fails at the master, as a line's noise does,
+    // and the answers that follow, once there is room, are whole.
     void write(std::span<const std::uint8_t> answer) noexcept {
         if (answer.empty()) return;
         [[maybe_unused]] const ssize_t w =
