@@ -1,7 +1,10 @@
 #include "plcemu/image/state_file.hpp"
 
 #include <fcntl.h>
+#include <linux/fiemap.h>
+#include <linux/fs.h>
 #include <sys/file.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -64,6 +67,44 @@ void reserve(int fd, const std::string& path, std::size_t size) {
             e, std::generic_category(),
             "state file " + path + ": cannot reserve " + std::to_string(size) + " bytes");
     }
+}
+
+// Writes the file's "unwritten" extents (reserved, never written, read as zeros) with what
+// reading them gives, so that every block is an ordinary one (see create()): a file made by an
+// earlier version reserved its blocks without writing them, and a sparse one gets them from
+// reserve(). What is read is the page cache's, so a page a killed process left dirty there keeps
+// its values. Returns true when it wrote any; a file system without FIEMAP has no such extents.
+bool write_unwritten(int fd, std::size_t size) {
+    constexpr std::size_t kExtents = 32;
+    std::vector<std::uint64_t> buf((sizeof(fiemap) + kExtents * sizeof(fiemap_extent)) / 8 + 1);
+    auto* map = reinterpret_cast<fiemap*>(buf.data());
+    std::vector<std::byte> bytes;
+    bool wrote = false;
+    for (std::uint64_t start = 0, before = 1; start < size && start != before;) {
+        before = start;
+        std::fill(buf.begin(), buf.end(), 0);
+        map->fm_start = start;
+        map->fm_length = size - start;
+        map->fm_extent_count = kExtents;
+        if (::ioctl(fd, FS_IOC_FIEMAP, map) != 0 || map->fm_mapped_extents == 0) break;
+        for (std::uint32_t i = 0; i < map->fm_mapped_extents; ++i) {
+            const fiemap_extent& e = map->fm_extents[i];
+            const std::uint64_t end = std::min<std::uint64_t>(e.fe_logical + e.fe_length, size);
+            if ((e.fe_flags & FIEMAP_EXTENT_UNWRITTEN) != 0 && e.fe_logical < end) {
+                bytes.resize(end - e.fe_logical);
+                const auto n = static_cast<ssize_t>(bytes.size());
+                const auto at = static_cast<off_t>(e.fe_logical);
+                if (::pread(fd, bytes.data(), bytes.size(), at) != n ||
+                    ::pwrite(fd, bytes.data(), bytes.size(), at) != n) {
+                    return wrote;
+                }
+                wrote = true;
+            }
+            start = std::max(start, end);
+            if ((e.fe_flags & FIEMAP_EXTENT_LAST) != 0) start = size;
+        }
+    }
+    return wrote;
 }
 
 std::uint64_t layout_checksum(std::uint32_t profile,
@@ -327,6 +368,10 @@ bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
     }
     // A file from before blocks were reserved may be sparse: a full disk is then an error now.
     reserve(fd_, path_, kDataOffset + round_up(h.storage_size));
+    // Blocks reserved but never written are written now, once (on the disk before the PLC runs).
+    if (write_unwritten(fd_, kDataOffset + round_up(h.storage_size)) && ::fdatasync(fd_) != 0) {
+        throw_errno("state file " + path_ + ": cannot sync");
+    }
     map(kDataOffset + round_up(h.storage_size));
     if (h.state == kStateClosed && fnv1a64(storage_) != h.data_checksum) {
         return reject("corrupted: data checksum mismatch (closed cleanly, changed since)");
@@ -588,8 +633,7 @@ bool StateFile::sync() noexcept {
 // pages again only if they are written to again. Every page this sync was to write is made dirty
 // once more and stays due, so the next sync writes it for real; one whose msync returned 0 in
 // the same sync may have lost its write to the error another range reported. The page's bytes
-// are left as they are: an atomic OR of 0 into one of them is a write to the page (the fault
-// marks it dirty) that cannot undo a write the loop makes into that byte meanwhile.
+// are left as they are (see redirty()).
 void StateFile::redirty_due() noexcept {
     for (std::size_t p = 0; p < due_.size(); ++p) {
         if (due_[p] == kClean || (resident_[p] & 1) == 0) continue;
@@ -599,7 +643,14 @@ void StateFile::redirty_due() noexcept {
 }
 
 void StateFile::redirty(std::size_t page) noexcept {
-    __atomic_fetch_or(reinterpret_cast<unsigned char*>(base_ + page * kPage), 0, __ATOMIC_RELAXED);
+    // A compare-exchange of the byte with itself: a write (the page faults and is marked dirty)
+    // that leaves whatever the loop writes into the byte meanwhile, retried until it holds. Not
+    // an atomic OR of 0: clang compiles that to a plain load, which dirties nothing.
+    auto* byte = reinterpret_cast<unsigned char*>(base_ + page * kPage);
+    unsigned char seen = __atomic_load_n(byte, __ATOMIC_RELAXED);
+    while (!__atomic_compare_exchange_n(byte, &seen, seen, false, __ATOMIC_RELAXED,
+                                        __ATOMIC_RELAXED)) {
+    }
 }
 
 void StateFile::sum_pages(std::vector<std::uint64_t>& sums) const noexcept {

@@ -7,6 +7,9 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <linux/fiemap.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
 #include <sys/file.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
@@ -490,6 +493,56 @@ TEST_F(StateFileTest, ASparseFileGetsEveryBlockReservedWhenOpened) {
     EXPECT_EQ(f.origin(), StateOrigin::Clean);
     ASSERT_EQ(::stat(path_.c_str(), &st), 0);
     EXPECT_GE(static_cast<off_t>(st.st_blocks) * 512, size);
+}
+
+// Bytes of `path` in extents the file system reports "unwritten" (reserved, never written), or
+// -1 when it cannot say (no FIEMAP).
+long long unwritten_bytes(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return -1;
+    std::vector<std::uint64_t> buf((sizeof(fiemap) + 64 * sizeof(fiemap_extent)) / 8 + 1, 0);
+    auto* map = reinterpret_cast<fiemap*>(buf.data());
+    map->fm_length = FIEMAP_MAX_OFFSET;
+    map->fm_extent_count = 64;
+    const int r = ::ioctl(fd, FS_IOC_FIEMAP, map);
+    ::close(fd);
+    if (r != 0) return -1;
+    long long n = 0;
+    for (std::uint32_t i = 0; i < map->fm_mapped_extents; ++i) {
+        if ((map->fm_extents[i].fe_flags & FIEMAP_EXTENT_UNWRITTEN) != 0)
+            n += static_cast<long long>(map->fm_extents[i].fe_length);
+    }
+    return n;
+}
+
+// ext4 reads a reserved, never written block as zeros, and keeps reading it so after a write of
+// it failed even once later writes succeed (docs/operations.md, "a disk that refuses writes"):
+// a new file has every block written, and one from an earlier version, reserved only, gets them
+// written when it is opened, its values kept.
+TEST_F(StateFileTest, EveryBlockOfTheFileIsWrittenNotOnlyReserved) {
+    {
+        StateFile f(path_, layout(), fixed_now());
+        Image(layout(), f.storage()).set_word(Area::D, 3, 33);
+    }
+    const long long fresh = unwritten_bytes(path_);
+    if (fresh < 0) GTEST_SKIP() << "this file system has no FIEMAP";
+    EXPECT_EQ(fresh, 0);
+    // As an earlier version left it: the image's last pages reserved and never written (D3,
+    // in an earlier page, keeps its value).
+    const int fd = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
+    ASSERT_GE(fd, 0);
+    const auto size = static_cast<off_t>(fs::file_size(path_));
+    const off_t from = size - 2 * 4096;
+    const bool redone =
+        ::fallocate(fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, from, size - from) == 0 &&
+        ::fallocate(fd, 0, from, size - from) == 0;
+    ::close(fd);
+    if (!redone || unwritten_bytes(path_) <= 0) {
+        GTEST_SKIP() << "this file system does not keep reserved blocks unwritten";
+    }
+    StateFile f(path_, layout(), fixed_now());
+    EXPECT_EQ(unwritten_bytes(path_), 0);
+    EXPECT_EQ(Image(layout(), f.storage()).word(Area::D, 3), 33);
 }
 
 // A file that cannot get its blocks (over RLIMIT_FSIZE here, as on a full disk) is refused at
