@@ -598,6 +598,15 @@ TEST(MbusConfig, AMastersLineIsNoOtherPlcsListenerOrPort) {
         {fbs_fatek, master, 122, "is also plcs[0] (a)'s fatek.serial (a master port's"},
         {master, master, 122, "mbus.rtu.device: '/dev/ttyS7' is also plcs[0] (a)'s mbus.rtu"},
     };
+    // Under transport tcp the rtu section is unused: it takes no line.
+    std::string tcp_master = master;
+    tcp_master.replace(tcp_master.find("transport: rtu"), 14,
+                       "transport: tcp, tcp: {host: 127.0.0.1}");
+    EXPECT_EQ(
+        config::parse_plcs(
+            "plcs:\n  - {name: a, " + fbs_rtu + "}\n  - {name: b, " + tcp_master + "}\n", "vb.yaml")
+            .size(),
+        2u);
     for (const auto& c : cases) {
         SCOPED_TRACE(c.first + " / " + c.second);
         testing::expect_config_error(

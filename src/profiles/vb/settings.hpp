@@ -23,7 +23,7 @@ struct Settings final : config::ProfileSettings {
 
     /// The CP2 port's serial line, when the master uses one.
     std::vector<OwnLine> own_lines() const override {
-        if (!mbus || !mbus->rtu) return {};
+        if (!mbus || !mbus->rtu || mbus->transport != config::MasterTransport::Rtu) return {};
         return {{"mbus.rtu", &*mbus->rtu}};
     }
 };
