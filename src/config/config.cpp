@@ -49,6 +49,13 @@ std::string again(const std::string& kind,
 
 void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what) {
     read_line(r, n, rtu, what, false);
+    // An RTU frame is binary: every byte 8 bits (Modbus over Serial Line, 2.5.1). Seven are
+    // FATEK's (and Modbus ASCII's), which a master on this line would not speak.
+    r.attempt([&] {
+        if (n["data_bits"] && rtu.data_bits != 8) {
+            r.fail(n["data_bits"], what + ".data_bits: Modbus RTU carries 8-bit bytes: expected 8");
+        }
+    });
 }
 
 void read_line(

@@ -209,7 +209,7 @@ def tcp_disagrees(setting):
          ":2:12:", "plcs[0]: name: expected 1 to 32 letters, digits, '_' or '-'"),
         # Every setting of a shared line, and of a shared TCP listener, must agree.
         rtu_disagrees("parity: O"),
-        rtu_disagrees("data_bits: 7"),
+        rtu_disagrees("baud: 19200"),
         rtu_disagrees("stop_bits: 2"),
         tcp_disagrees("allow: [10.0.0.0/8]"),
         tcp_disagrees("max_clients: 2"),

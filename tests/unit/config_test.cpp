@@ -359,6 +359,16 @@ TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
                  "MOV: duplicate operand 's'");
 }
 
+// An RTU frame is binary: a Modbus RTU line has 8 data bits (FATEK's serial line may have 7).
+TEST(Config, ModbusRtuTakesEightDataBits) {
+    expect_error("profile: fbs\nmodbus: {rtu: {device: /dev/ttyS1, data_bits: 7}}\n", 2, 47,
+                 "modbus.rtu.data_bits: Modbus RTU carries 8-bit bytes: expected 8");
+    EXPECT_EQ(
+        parse_config("profile: fbs\nmodbus: {rtu: {device: /dev/ttyS1, data_bits: 8}}\n", "t.yaml")
+            .modbus.rtu->data_bits,
+        8);
+}
+
 // A config is one YAML document: a second one is refused where it begins, not dropped unread.
 TEST(Config, ASecondDocumentIsRefusedWhereItBegins) {
     expect_error("profile: fbs\nstation: 1\n---\nprofile: vb\nbogus_key: 1\n", 3, 1,

@@ -553,6 +553,8 @@ TEST(MbusConfig, ErrorsAtTheirNode) {
         {"mbus: {transport: rtu}\n", 2, 7, "transport rtu needs rtu:"},
         {"mbus: {}\n", 2, 7, "transport tcp needs"},
         {"mbus: {transport: rtu, rtu: {device: /dev/ttyS2, baud: 1234}}\n", 2, 56, "baud"},
+        {"mbus: {transport: rtu, rtu: {device: /dev/ttyS2, data_bits: 7}}\n", 2, 61,
+         "mbus.rtu.data_bits: Modbus RTU carries 8-bit bytes: expected 8"},
         {"mbus: {tcp: {host: 127.0.0.1}, colour: red}\n", 2, 32, "colour"},
         {"modbus: {rtu: {device: /dev/ttyS1}}\nmbus: {transport: rtu, rtu: {device: "
          "/dev/ttyS1}}\n",
