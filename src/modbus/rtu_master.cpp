@@ -7,6 +7,7 @@
 #include <array>
 #include <system_error>
 
+#include "log_limiter.hpp"
 #include "rtu_frame.hpp"
 #include "rtu_framer.hpp"
 #include "rtu_reply.hpp"
@@ -16,6 +17,11 @@ namespace plcemu::modbus {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// A device that comes and goes (a loose USB adapter) is logged as it goes and comes back once
+// per cause every 2 s, the rest counted (LogLimiter), as the TCP master logs its slaves.
+constexpr std::size_t kLogBurst = 1;
+constexpr auto kLogWindow = std::chrono::seconds(2);
 
 }  // namespace
 
@@ -54,6 +60,7 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
         active = true;
         station = to;
         done = std::move(d);
+        limiter.flush_to_log(Clock::now(), "mbus: rtu " + options.device + ": ");
         next_size = write_rtu(to, pdu, next);
         // The deadline runs from the request, whatever the line is doing (VB manual FNC149:
         // D9129 is how long the slave may take to respond).
@@ -81,7 +88,8 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
             }
             return false;
         }
-        spdlog::info("mbus: rtu {}: {}", options.device, again ? "reopened" : "opened");
+        if (limiter.allow(LogCause::Connected, Clock::now()))
+            spdlog::info("mbus: rtu {}: {}", options.device, again ? "reopened" : "opened");
         return true;
     }
 
@@ -197,7 +205,7 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
     // A read or write error (EIO, a hang-up): the descriptor would fail forever, so it is closed;
     // the transaction on it waits for its deadline (status 5).
     void lose(const asio::error_code& ec) {
-        if (up) {
+        if (up && limiter.allow(LogCause::Disconnected, Clock::now())) {
             spdlog::warn("mbus: rtu {}: lost ({}); opened again at the next transfer",
                          options.device, ec.message());
         }
@@ -237,9 +245,10 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
     bool up = false;                 // the device is open
     bool opened = false;             // it was open once
     bool open_failed = false;        // the last reopen failed (logged once)
-    bool writing = false;            // a write is under way
-    bool active = false;             // a transaction waits for its outcome
-    bool sent = false;               // its request went out
+    LogLimiter limiter{kLogBurst, kLogWindow};
+    bool writing = false;  // a write is under way
+    bool active = false;   // a transaction waits for its outcome
+    bool sent = false;     // its request went out
     std::uint8_t station = 0;
     unsigned generation = 0;  // tells the handlers of an earlier transaction from this one's
     unsigned epoch = 0;       // tells the handlers of a closed descriptor from the open one's

@@ -364,6 +364,29 @@ def test_rtu_device_that_goes_away_is_status_5_and_reopened(start_plcemud, tmp_p
         pty.stop()
 
 
+# A device that comes and goes again and again (a loose adapter) is not two lines a flap: the
+# master logs it going and coming back once each per 2 s, and counts the rest in one line.
+def test_a_flapping_rtu_device_is_logged_within_a_budget(start_plcemud, tmp_path):
+    pty = PtyPair(tmp_path)
+    try:
+        slave, master, c = polling_over_rtu(start_plcemud, pty)
+        flaps = 8
+        for _ in range(flaps):
+            pty.stop()
+            time.sleep(0.3)  # the master's read fails: lost
+            pty = PtyPair(tmp_path)  # the same link paths
+            time.sleep(0.3)  # the next transfer opens it again
+        time.sleep(2.2)  # the window ends; the next transfer sums it up
+        assert master.wait_log("more disconnects in the last 2 s", timeout=3), master.log_text()
+        log = master.log_text()
+        lost = log.count(f"mbus: rtu {pty.master}: lost (")
+        assert 1 <= lost <= 4, log
+        assert log.count(f"mbus: rtu {pty.master}: reopened") <= 4, log
+        assert master.proc.poll() is None
+    finally:
+        pty.stop()
+
+
 class RogueSlave:
     """A TCP 'slave' that answers every request with `reply(request)` bytes (or closes)."""
 
