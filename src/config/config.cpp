@@ -740,11 +740,11 @@ const Node& where_in(const Node& entry, std::string_view section, const char* ke
     return k ? k : *n;
 }
 
-// One listener an entry takes, with its key worked out once. Its settings are copied: the
-// entry's Config moves on into the list of entries.
 // The protocol of a family's own port (a master's serial line) among an entry's listeners.
 constexpr std::string_view kOwnPort = "own port";
 
+// One listener an entry takes, with its key worked out once. Its settings are copied: the
+// entry's Config moves on into the list of entries.
 struct Held {
     Held(const ListenerConfig& from, std::string k)
         : protocol(from.protocol),

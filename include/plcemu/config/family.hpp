@@ -18,10 +18,10 @@ namespace plcemu::config {
 struct Config;
 class Reader;
 
-/// What a family reads from its own sections at load (Family::read), as one value: each family
-/// derives its own and casts back to it (docs/architecture.md, "Adding a profile").
 struct RtuConfig;  // config.hpp
 
+/// What a family reads from its own sections at load (Family::read), as one value: each family
+/// derives its own and casts back to it (docs/architecture.md, "Adding a profile").
 class ProfileSettings {
 public:
     virtual ~ProfileSettings() = default;
