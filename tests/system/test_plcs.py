@@ -746,6 +746,10 @@ def test_falling_behind_real_time_names_the_plc(tmp_path, ports):
                                                 "    time_scale: 10\n")
     d = spawn(tmp_path, text, ports)
     try:
+        # The ports accept once bound, before the event loop runs: an answer says it runs (a
+        # process stopped before that had no scan to fall behind).
+        with ModbusTcpClient("127.0.0.1", port=ports[0], timeout=3) as c:
+            reg(c, 0, unit=1)
         # A stopped process falls behind real time in every PLC's scans.
         d.proc.send_signal(signal.SIGSTOP)
         time.sleep(1.5)
