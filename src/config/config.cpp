@@ -892,17 +892,12 @@ void check_one_protocol(const Reader& r,
                         const std::string& whose) {
     const bool own = mine.protocol == kOwnPort || other.protocol == kOwnPort;
     if (!own && mine.protocol == other.protocol && mine.section == other.section) return;
-    if (own) {
-        r.fail(where_in(entry, mine.section, "device"),
-               std::string(mine.section) + ".device: '" + excerpt(mine.line.device) + "' is also " +
-                   whose + " " + std::string(other.section) +
-                   " (a master port's serial line is its own)");
-    }
     if (mine.carrier == Carrier::Serial) {
         r.fail(where_in(entry, mine.section, "device"),
                std::string(mine.section) + ".device: '" + excerpt(mine.line.device) + "' is also " +
                    whose + " " + std::string(other.section) +
-                   " (one serial line carries one protocol)");
+                   (own ? " (a master port's serial line is its own)"
+                        : " (one serial line carries one protocol)"));
     }
     r.fail(where_in(entry, mine.section, "port"),
            std::string(mine.section) + ".port: " + std::to_string(mine.net.port) + " is also " +

@@ -164,21 +164,18 @@ bool same_map(const std::optional<std::vector<config::MapRowConfig>>& a,
 
 std::vector<std::string> config_changes(const config::Config& a, const config::Config& b) {
     std::vector<std::string> out;
-    auto cmp = [&](const std::string& key, const auto& x, const auto& y) {
-        compare(out, key, x, y);
-    };
-    cmp("model", a.model, b.model);
-    cmp("station", int(a.station), int(b.station));
-    cmp("scan_ms", a.scan_ms, b.scan_ms);
-    cmp("time_scale", a.time_scale, b.time_scale);
-    cmp("modbus.tcp.enabled", a.modbus.tcp.enabled, b.modbus.tcp.enabled);
+    compare(out, "model", a.model, b.model);
+    compare(out, "station", int(a.station), int(b.station));
+    compare(out, "scan_ms", a.scan_ms, b.scan_ms);
+    compare(out, "time_scale", a.time_scale, b.time_scale);
+    compare(out, "modbus.tcp.enabled", a.modbus.tcp.enabled, b.modbus.tcp.enabled);
     net_changes(out, "modbus.tcp", &a.modbus.tcp, &b.modbus.tcp);
     line_changes(out, "modbus.rtu", a.modbus.rtu, b.modbus.rtu);
     net_changes(out, "fatek.tcp", net(a.fatek.tcp), net(b.fatek.tcp));
     net_changes(out, "fatek.udp", net(a.fatek.udp), net(b.fatek.udp));
     line_changes(out, "fatek.serial", a.fatek.serial, b.fatek.serial);
     net_changes(out, "http", net(a.http), net(b.http));
-    cmp("modbus.read_only", a.modbus.read_only, b.modbus.read_only);
+    compare(out, "modbus.read_only", a.modbus.read_only, b.modbus.read_only);
     if (a.modbus.write_protect != b.modbus.write_protect) {
         const image::Naming& naming = profiles::of(b).naming();
         out.push_back("modbus.write_protect: " + text(a.modbus.write_protect, naming) + " -> " +
@@ -202,19 +199,19 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
     out.insert(out.end(), plant.begin(), plant.end());
     // The faults log themselves as they switch (listener::CommFaults): one line says they will.
     if (!(a.faults == b.faults)) out.emplace_back("faults: changed");
-    cmp("simulator.unit", a.simulator.unit, b.simulator.unit);
-    cmp("simulator.writable",
-        a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),
-        b.simulator.writable ? text(*b.simulator.writable) : std::string("default"));
-    cmp("persistence.enabled", a.persistence.enabled, b.persistence.enabled);
-    cmp("persistence.file", a.persistence.file, b.persistence.file);
+    compare(out, "simulator.unit", a.simulator.unit, b.simulator.unit);
+    compare(out, "simulator.writable",
+            a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),
+            b.simulator.writable ? text(*b.simulator.writable) : std::string("default"));
+    compare(out, "persistence.enabled", a.persistence.enabled, b.persistence.enabled);
+    compare(out, "persistence.file", a.persistence.file, b.persistence.file);
     if (a.persistence.retentive != b.persistence.retentive) {
         out.push_back("persistence.retentive: changed");
     }
-    cmp("persistence.sync_ms", a.persistence.sync_ms, b.persistence.sync_ms);
-    cmp("persistence.init",
-        std::string(a.persistence.init == config::InitPolicy::Always ? "always" : "fresh"),
-        std::string(b.persistence.init == config::InitPolicy::Always ? "always" : "fresh"));
+    compare(out, "persistence.sync_ms", a.persistence.sync_ms, b.persistence.sync_ms);
+    compare(out, "persistence.init",
+            std::string(a.persistence.init == config::InitPolicy::Always ? "always" : "fresh"),
+            std::string(b.persistence.init == config::InitPolicy::Always ? "always" : "fresh"));
     return out;
 }
 
