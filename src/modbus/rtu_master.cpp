@@ -60,7 +60,7 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
         active = true;
         station = to;
         done = std::move(d);
-        limiter.flush_to_log(Clock::now(), "mbus: rtu " + options.device + ": ");
+        limiter.flush_to_log(Clock::now(), log_prefix);
         next_size = write_rtu(to, pdu, next);
         // The deadline runs from the request, whatever the line is doing (VB manual FNC149:
         // D9129 is how long the slave may take to respond).
@@ -246,9 +246,10 @@ struct RtuMasterState : std::enable_shared_from_this<RtuMasterState> {
     bool opened = false;             // it was open once
     bool open_failed = false;        // the last reopen failed (logged once)
     LogLimiter limiter{kLogBurst, kLogWindow};
-    bool writing = false;  // a write is under way
-    bool active = false;   // a transaction waits for its outcome
-    bool sent = false;     // its request went out
+    const std::string log_prefix = "mbus: rtu " + options.device + ": ";  // the summary lines'
+    bool writing = false;                                                 // a write is under way
+    bool active = false;  // a transaction waits for its outcome
+    bool sent = false;    // its request went out
     std::uint8_t station = 0;
     unsigned generation = 0;  // tells the handlers of an earlier transaction from this one's
     unsigned epoch = 0;       // tells the handlers of a closed descriptor from the open one's
