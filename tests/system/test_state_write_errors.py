@@ -171,7 +171,7 @@ def test_syncs_that_fail_are_retried_for_real_once_the_disk_takes_them(failing_d
         f.unlink()
     assert d.wait_log(RECOVERED_LINE, timeout=10), d.log_text()
     assert d.stop() == 0, d.log_text()
-    assert "state file" in d.log_text() and "closed" in d.log_text()
+    assert re.search(r"info  state file \S+plc\.state closed$", d.log_text(), re.M), d.log_text()
 
     remount(disk, device)
     again = start_plcemud(config(disk, 200), name="plc")
