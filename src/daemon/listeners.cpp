@@ -229,7 +229,8 @@ struct Listeners::Listener {
     std::string_view section;
     Carrier carrier;
     std::vector<std::size_t> members;
-    listener::TcpOptions options;  // TCP and UDP
+    listener::TcpOptions options;   // TCP and UDP
+    config::RtuConfig line_config;  // serial: the line's settings, as opened
     // What it speaks; the server holds it, so it outlives the server.
     std::unique_ptr<listener::StreamProtocol> stream;
     std::unique_ptr<listener::SerialProtocol> serial;
@@ -305,7 +306,7 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
     in_force_ = plan_of(plcs);
     // Modbus TCP ports open last: a client that waits for one (the system tests, a supervisor's
     // probe) finds every other listener of the process open by then.
-    open_reopened(plcs, true);
+    open_reopened(plcs, {}, true);
     std::vector<const Group*> groups;
     for (const auto& g : in_force_->all) {
         if (g.carrier == Carrier::Tcp) groups.push_back(&g);
@@ -323,9 +324,54 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
     for (const auto& t : tcp_) log_listening(t->what(), t->where(), t->members, plcs_);
 }
 
-void Listeners::open_reopened(const std::vector<ListenerMember>& plcs, bool at_start) {
+namespace {
+
+// Whether the open UDP listener or serial line `r` serves what group `g` asks for (`l` its
+// settings) as it is: the same protocol, address or device, PLCs, line settings and access.
+bool serves_as_is(const Listeners::Listener& r, const Group& g, const config::ListenerConfig& l) {
+    if (!r.open() || r.key != g.key || r.protocol != g.protocol || r.members != g.members)
+        return false;
+    if (g.carrier == Carrier::Udp)
+        return r.options.net.allow == l.net->allow && r.options.net.read_only == l.net->read_only;
+    const config::RtuConfig& was = r.line_config;
+    const config::RtuConfig& now = *l.line;
+    return was.baud == now.baud && was.parity == now.parity && was.data_bits == now.data_bits &&
+           was.stop_bits == now.stop_bits && was.read_only == now.read_only;
+}
+
+}  // namespace
+
+void Listeners::open_reopened(const std::vector<ListenerMember>& plcs,
+                              std::vector<std::unique_ptr<Listener>> running,
+                              bool at_start) {
+    // Those that serve their group as they are go on (a request half received on a line is
+    // answered, a datagram queued is read); the others close before any opens, so that a
+    // device or a port they hold is free for the new settings.
+    std::unordered_map<std::string_view, const Group*> wanted;
+    for (const auto& g : in_force_->all) {
+        if (g.carrier != Carrier::Tcp) wanted.emplace(g.key, &g);
+    }
+    std::unordered_map<std::string_view, std::unique_ptr<Listener>> kept;
+    for (auto& r : running) {
+        const auto g = wanted.find(r->key);
+        const auto l = g == wanted.end() ? std::nullopt
+                                         : listener_in(*plcs[g->second->members.front()].config,
+                                                       g->second->section);
+        if (l && serves_as_is(*r, *g->second, *l)) {
+            kept.emplace(g->first, std::move(r));
+        } else {
+            r->stop();
+        }
+    }
+    running.clear();
     for (const auto& g : in_force_->all) {
         if (g.carrier == Carrier::Tcp) continue;
+        if (const auto found = kept.find(g.key); found != kept.end()) {
+            Listener& r = *found->second;
+            r.units().assign(seats(g.members, plcs));
+            reopened_.push_back(std::move(found->second));
+            continue;
+        }
         auto r = std::make_unique<Listener>(g);
         const config::Config& c = *plcs[g.members.front()].config;
         const config::ListenerConfig l = *listener_in(c, g.section);
@@ -343,6 +389,7 @@ void Listeners::open_reopened(const std::vector<ListenerMember>& plcs, bool at_s
                                          r->options.net.allow, g.protocol});
             } else {
                 const config::RtuConfig& s = *l.line;
+                r->line_config = s;
                 setup.line = {s.device, s.baud, s.parity, s.data_bits, s.stop_bits};
                 setup.read_only = s.read_only;
                 r->serial = protocol(g.protocol).serial(setup);
@@ -574,11 +621,11 @@ void Listeners::apply(const std::vector<ListenerMember>& plcs, bool as_staged) {
     staged_plan_.reset();
     route(plcs);
     raise_fd_limit(plcs.size());
-    // UDP listeners and serial lines are reopened with their new settings (and a device that
-    // came back is tried).
-    for (auto& r : reopened_) r->stop();
-    reopened_.clear();
-    open_reopened(plcs, false);
+    // UDP listeners and serial lines whose settings changed are opened again with the new ones,
+    // as is one that could not be opened before (a device that came back is tried).
+    std::vector<std::unique_ptr<Listener>> running;
+    running.swap(reopened_);
+    open_reopened(plcs, std::move(running), false);
     describe_seats();
 }
 

@@ -89,8 +89,11 @@ public:
     struct Listener;
 
 private:
-    // Opens the UDP listeners and serial lines of the plan in force.
-    void open_reopened(const std::vector<ListenerMember>& plcs, bool at_start);
+    // Opens the UDP listeners and serial lines of the plan in force; at a reload, `running` are
+    // those open before it: each that serves its listener as it is goes on, the rest close.
+    void open_reopened(const std::vector<ListenerMember>& plcs,
+                       std::vector<std::unique_ptr<Listener>> running,
+                       bool at_start);
     void route(const std::vector<ListenerMember>& plcs);
     void describe_seats();
     void raise_fd_limit(std::size_t plcs);
@@ -99,7 +102,8 @@ private:
     const listener::Census& census_;
     listener::ClientRoom room_;  // what the descriptor limit leaves the clients of every listener
     std::vector<std::unique_ptr<Listener>> tcp_;       // TCP listeners (kept across reloads)
-    std::vector<std::unique_ptr<Listener>> reopened_;  // UDP and serial: reopened at a reload
+    std::vector<std::unique_ptr<Listener>> reopened_;  // UDP and serial: kept at a reload
+                                                       // unless their settings changed
     std::vector<ListenerMember> plcs_;         // every PLC, by index, as last opened or applied
     std::shared_ptr<const Plan> in_force_;     // plcs_'s plan: what the listeners are
     std::shared_ptr<const Plan> staged_plan_;  // stage()'s, for apply()

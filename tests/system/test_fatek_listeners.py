@@ -11,7 +11,7 @@ import socket
 import time
 from pathlib import Path
 
-from conftest import free_port, run_plcemud
+from conftest import free_port, free_ports, run_plcemud
 from plcemu_testing.fatek import Fatek, frame
 
 GIST = frame(1, 0x40)  # gist status of station 1
@@ -293,3 +293,63 @@ def test_stop_and_disabled_discretes_survive_a_reload(start_plcemud):
         time.sleep(0.3)
         assert fatek.exchange(frame(1, 0x46, "01R00010")) == frame(1, 0x46, "00007")
         assert fatek.exchange(GIST) == RUNNING
+
+
+# --- a reload keeps what it does not change
+
+
+def udp_inode(port):
+    """The inode of the UDP socket bound to `port` (/proc/net/udp), or None."""
+    for line in Path("/proc/net/udp").read_text().splitlines()[1:]:
+        fields = line.split()
+        if int(fields[1].split(":")[1], 16) == port:
+            return int(fields[9])
+    return None
+
+
+def test_a_reload_keeps_an_unchanged_serial_line_and_udp_listener_open(start_plcs, pty):
+    # docs/operations.md, "Reload": a PLC's UDP listener and serial line go on through a reload
+    # that leaves their settings alone, as its TCP listener does: a frame half received on the
+    # line before the SIGHUP is answered when its rest comes after, the datagram socket is the
+    # same one. A changed line setting opens the line again.
+    tcp_a, tcp_b = free_ports(2)
+    udp = free_port()
+    a = (f"  - {{name: a, profile: fbs, persistence: {{enabled: false}},"
+         f" modbus: {{tcp: {{bind: 127.0.0.1, port: {tcp_a}}}}},"
+         f" fatek: {{serial: {{device: {pty.slave}, baud: BAUD}},"
+         f" udp: {{bind: 127.0.0.1, port: {udp}}}}}}}\n")
+    b = (f"  - {{name: b, profile: fbs, persistence: {{enabled: false}},"
+         f" modbus: {{tcp: {{bind: 127.0.0.1, port: {tcp_b}}}}}, init: {{R100: SETPOINT}}}}\n")
+    text = "plcs:\n" + a + b
+    d = start_plcs(text.replace("BAUD", "9600").replace("SETPOINT", "1"), [tcp_a, tcp_b])
+    with Fatek.serial(pty.master) as line, Fatek.udp(udp) as datagrams:
+        deadline = time.monotonic() + 5  # the line opens at start
+        while line.exchange(GIST, timeout=0.2) != RUNNING:
+            assert time.monotonic() < deadline, d.log_text()
+        assert datagrams.exchange(GIST) == RUNNING
+        inode = udp_inode(udp)
+        assert inode is not None
+
+        line.send(GIST[:4])  # half a frame; the line abandons it after 1 s of silence
+        time.sleep(0.1)
+        Path(d.config_path).write_text(text.replace("BAUD", "9600").replace("SETPOINT", "2"))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: applied to 1 of 2 PLCs"), d.log_text()
+        line.send(GIST[4:])
+        assert line.receive() == RUNNING, d.log_text()
+        assert udp_inode(udp) == inode
+        assert datagrams.exchange(GIST) == RUNNING
+        log = d.log_text()
+        assert log.count("listening on fatek serial") == 1, log
+        assert log.count("listening on fatek udp") == 1, log
+
+        # A new speed is the line opened again with it; the UDP listener stays.
+        Path(d.config_path).write_text(text.replace("BAUD", "19200").replace("SETPOINT", "2"))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: applied to 1 of 2 PLCs", timeout=5), d.log_text()
+        deadline = time.monotonic() + 5
+        while d.log_text().count("listening on fatek serial") < 2:
+            assert time.monotonic() < deadline, d.log_text()
+            time.sleep(0.05)
+        assert "19200" in d.log_text().split("listening on fatek serial")[-1].splitlines()[0]
+        assert udp_inode(udp) == inode

@@ -9,12 +9,15 @@
 #include <gtest/gtest.h>
 
 #include <asio.hpp>
+#include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "fatek/checksum.hpp"
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
 #include "simulator/simulator_unit.hpp"
@@ -307,6 +310,65 @@ TEST_F(ListenersTest, APlcLeftOnItsPreviousConfigKeepsThatConfigsListeners) {
     ASSERT_TRUE(reload(text));
     EXPECT_NE(listeners_.describe_all().at(1).find(", fatek udp 127.0.0.1:"), std::string::npos)
         << listeners_.describe_all().at(1);
+}
+
+// `text` with PLC a's entry given a FATEK UDP listener on 127.0.0.1, the kernel's port, and
+// `init` in place of its init.
+std::string with_udp_on_a(std::string text, const std::string& init = "init: {R0: 11}") {
+    const std::string a_init = "init: {R0: 11}";
+    const auto at = text.find(a_init);
+    EXPECT_NE(at, std::string::npos);
+    text.replace(at, a_init.size(),
+                 init + ", fatek: {udp: {enabled: true, bind: 127.0.0.1, port: 0}}");
+    return text;
+}
+
+// R0 of station 1 read with FATEK's command 46h in one datagram to 127.0.0.1:`port`, or -1 when
+// no answer came in 300 ms.
+int fatek_r0_over_udp(asio::io_context& io, std::uint16_t port) {
+    std::string request = "014601R00000";
+    const std::string head = "\x02" + request;
+    char hex[3];
+    std::snprintf(
+        hex, sizeof hex, "%02X",
+        fatek::checksum({reinterpret_cast<const std::uint8_t*>(head.data()), head.size()}));
+    request = head + hex + "\x03";
+    asio::ip::udp::socket client(io, asio::ip::udp::v4());
+    client.send_to(asio::buffer(request), {asio::ip::make_address("127.0.0.1"), port});
+    std::string got(64, '\0');
+    std::size_t n = 0;
+    asio::ip::udp::endpoint from;
+    client.async_receive_from(asio::buffer(got), from,
+                              [&](const asio::error_code& ec, std::size_t k) {
+                                  if (!ec) n = k;
+                              });
+    io.restart();
+    io.run_for(std::chrono::milliseconds(300));
+    // "<STX>01460" (no error) then R0 in four hex digits, its checksum, ETX.
+    if (n != 13 || got.compare(0, 6,
+                               "\x02"
+                               "01460") != 0)
+        return -1;
+    return std::stoi(got.substr(6, 4), nullptr, 16);
+}
+
+TEST_F(ListenersTest, AnUnchangedUdpListenerGoesOnThroughAReloadServingTheNewPlcs) {
+    const std::uint16_t pa = free_port();
+    const std::uint16_t pb = free_port();
+    open(with_udp_on_a(two_plcs(pa, pb)));
+    const std::string udp = ", fatek udp 127.0.0.1:";
+    const std::string before = listeners_.describe_all().at(0);
+    ASSERT_NE(before.find(udp), std::string::npos) << before;
+    const auto port =
+        static_cast<std::uint16_t>(std::stoi(before.substr(before.find(udp) + udp.size())));
+    EXPECT_EQ(fatek_r0_over_udp(io_, port), 11);
+    // Every PLC is built anew (a's R0 preset changes); the listener's settings do not: the same
+    // socket (the kernel's port, which a new one would not keep) serves the new PLC, not the
+    // one the reload freed.
+    ASSERT_TRUE(reload(with_udp_on_a(two_plcs(pa, pb), "init: {R0: 33}")));
+    EXPECT_EQ(listeners_.describe_all().at(0), before);
+    EXPECT_EQ(fatek_r0_over_udp(io_, port), 33);
+    EXPECT_EQ(r0_at(pa, 1), 33);
 }
 
 TEST_F(ListenersTest, ChangingWhichPlcsShareAListenerIsRefused) {
