@@ -23,6 +23,7 @@ SyncThread::~SyncThread() {
     }
     cv_.notify_all();
     if (thread_.joinable()) thread_.join();
+    limiter_.flush_to_log(Clock::time_point::max(), "persistence: ");
 }
 
 SyncThread::Id SyncThread::add(image::StateFile& file, std::chrono::milliseconds period) {
@@ -108,21 +109,26 @@ void SyncThread::run() {
             syncing_ = 0;
             cv_.notify_all();
         }
+        limiter_.flush_to_log(Clock::now(), "persistence: ");
     }
 }
 
 // Counts a sync (`error`: 0, or the errno it failed with); a file's failure is logged when an
 // episode of them begins, and its recovery when it ends, so that a failing disk cannot fill the
-// log. Each file keeps its own episode: one that fails does not make another's sync news.
+// log. Each file keeps its own episode: one that fails does not make another's sync news. Many
+// files beginning or ending an episode at once (one disk under all of them) are a few lines
+// each way and a count.
 void SyncThread::synced(Entry& e, int error) {
+    const auto now = Clock::now();
     if (error == 0) {
         census_.syncs.fetch_add(1, std::memory_order_relaxed);
-        if (e.failing) spdlog::info("persistence: {}: syncing again", e.file->path());
+        if (e.failing && limiter_.allow(modbus::LogCause::SyncResumed, now))
+            spdlog::info("persistence: {}: syncing again", e.file->path());
         e.failing = false;
         return;
     }
     census_.sync_failures.fetch_add(1, std::memory_order_relaxed);
-    if (!e.failing) {
+    if (!e.failing && limiter_.allow(modbus::LogCause::SyncFailed, now)) {
         spdlog::error(
             "persistence: {}: sync failed ({}); the state stays in memory and is "
             "synced again every period",

@@ -17,6 +17,7 @@
 #include "plcemu/config/listener_key.hpp"
 #include "plcemu/image/state_file.hpp"
 #include "plcemu/listener/census.hpp"
+#include "modbus/log_limiter.hpp"
 
 namespace plcemu::daemon {
 
@@ -62,6 +63,9 @@ private:
     Id syncing_ = 0;  // the file being synced now, 0 = none
     bool changed_ = false;
     bool stop_ = false;
+    // The lines of failures and recoveries: a few each 2 s, the rest summed up (one disk under
+    // 5,000 files would otherwise log 5,000 lines each way).
+    modbus::LogLimiter limiter_{5, std::chrono::seconds(2)};
     listener::Census& census_;
     std::thread thread_;
 };

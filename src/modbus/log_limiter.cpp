@@ -47,6 +47,10 @@ std::string_view describe(LogCause cause) noexcept {
             return "connections closed for bytes not asked for";
         case LogCause::CommFault:
             return "communication faults switched on or off";
+        case LogCause::SyncFailed:
+            return "state files failing to sync";
+        case LogCause::SyncResumed:
+            return "state files syncing again";
         case LogCause::Count:
             break;
     }

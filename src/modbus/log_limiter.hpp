@@ -1,8 +1,9 @@
 #pragma once
 // Rate limit for log lines that remote peers can cause (refused connects, connects and
-// disconnects, refused station changes, an MBUS slave's faults): the first few lines of each
-// cause in a window are logged, the rest are counted and summed up in one line when the window
-// ends. spdlog has no such limit of its own.
+// disconnects, refused station changes, an MBUS slave's faults), or a failing disk under
+// thousands of state files: the first few lines of each cause in a window are logged, the rest
+// are counted and summed up in one line when the window ends. spdlog has no such limit of its
+// own.
 
 #include <array>
 #include <chrono>
@@ -23,6 +24,8 @@ enum class LogCause : std::uint8_t {
     FrameLeft,          ///< a slave left part of a frame (its length field lied)
     Flood,              ///< a slave sent the MBUS master more than it asked for
     CommFault,          ///< a communication fault switched on or off (a master may toggle one)
+    SyncFailed,         ///< a state file's sync failed, after good ones
+    SyncResumed,        ///< a state file synced again, after failures
     Count,
 };
 

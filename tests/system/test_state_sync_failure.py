@@ -305,3 +305,40 @@ def test_one_failing_file_is_its_own_episode_beside_healthy_ones(
     assert len(recovered) == 1 and "two-line-a.state" in recovered[0], d.log_text()
     assert len(lines_with(d, FAILED_LINE)) == 1, d.log_text()
     assert d.stop(signal.SIGTERM) == 0, d.log_text()
+
+
+def told(d, line, summary):
+    """(lines naming a file, files counted in summary lines) of the log so far."""
+    counted = sum(int(m.group(1)) for m in re.finditer(
+        rf"persistence: (\d+) more {summary} in the last 2 s", d.log_text()))
+    return len(lines_with(d, line)), counted
+
+
+def test_a_disk_failing_under_many_files_is_a_few_lines_and_a_count(
+        start_plcs, tmp_path, monkeypatch):
+    # One disk under every PLC's state file: its failure begins an episode for each file at once.
+    # Five files are named each way in 2 s, the rest counted in one line (5,000 PLCs logged
+    # 10,000 lines for one hiccup). Each PLC copies the calendar's second into R100 (retentive),
+    # so that each file has a page to write every second.
+    _, _, control, hits_file, _ = preload_shim(tmp_path, monkeypatch)
+    count = 30
+    hp = free_port()
+    d = start_plcs(
+        f"http: {{bind: 127.0.0.1, port: {hp}}}\n"
+        "plcs:\n" + "".join(
+            f"  - {{name: p{i}, profile: fbs, persistence: {{sync_ms: {SYNC_MS}}},"
+            f" modbus: {{tcp: {{bind: 127.0.0.1, port: 0}}}},"
+            f" program: [{{MOV: {{en: M1926, s: R4128, d: R100}}}}]}}\n" for i in range(count)),
+        [hp], name="many")
+    wait_until(lambda: syncs(hp)["ok"] >= 2 * count, EFFECT_TIMEOUT_S,
+               lambda: f"no syncs counted: {syncs(hp)}\n{d.log_text()}")
+    # Each file told once failing and once syncing again, by name or in a count; a window of
+    # 2 s names five at most.
+    for change, line, summary in ((control.touch, FAILED_LINE, "state files failing to sync"),
+                                  (control.unlink, RECOVERED_LINE, "state files syncing again")):
+        change()
+        wait_until(lambda: sum(told(d, line, summary)) == count, EFFECT_TIMEOUT_S,
+                   lambda: f"{summary}: not told of every file: {syncs(hp)}\n{d.log_text()}")
+        named, counted = told(d, line, summary)
+        assert counted >= count - 10 and named <= 10, d.log_text()
+    assert d.stop(signal.SIGTERM) == 0, d.log_text()
