@@ -54,16 +54,26 @@ std::pair<int, std::string> descriptors_for(
     return {clients + kPerPlc * static_cast<int>(plcs - 1), what};
 }
 
-// A network listener's settings.
+// How logs and the status line name a listener's kind: "tcp" and "rtu" for Modbus (as always),
+// "fatek tcp", "fatek udp", "fatek serial" for the others.
+std::string kind_words(std::string_view protocol, Carrier carrier) {
+    if (protocol == "modbus-tcp") return "tcp";
+    if (protocol == "modbus-rtu") return "rtu";
+    if (protocol == "http") return "http";
+    const char* c = carrier == Carrier::Tcp ? "tcp" : carrier == Carrier::Udp ? "udp" : "serial";
+    return std::string(protocol) + " " + c;
+}
+
+// A network listener's settings; its log lines begin with its kind ("tcp: 192.0.2.7:50312
+// connected", "fatek tcp: ...").
 listener::TcpOptions net_options(const config::ListenerConfig& l) {
     const config::TcpConfig& t = *l.net;
     listener::TcpOptions o;
     o.net = t;
     o.section = std::string(l.section);
-    if (l.protocol == "http") {
-        o.log_name = "http";
-        o.comm_faults = false;  // the console switches faults off: it never refuses
-    }
+    o.log_name = kind_words(l.protocol, l.carrier);
+    // The console switches faults off: it never refuses.
+    if (l.protocol == "http") o.comm_faults = false;
     o.protocol = l.protocol;
     return o;
 }
@@ -75,16 +85,6 @@ std::optional<config::ListenerConfig> listener_in(const config::Config& c,
         if (l.section == section) return l;
     }
     return std::nullopt;
-}
-
-// How logs and the status line name a listener's kind: "tcp" and "rtu" for Modbus (as always),
-// "fatek tcp", "fatek udp", "fatek serial" for the others.
-std::string kind_words(std::string_view protocol, Carrier carrier) {
-    if (protocol == "modbus-tcp") return "tcp";
-    if (protocol == "modbus-rtu") return "rtu";
-    if (protocol == "http") return "http";
-    const char* c = carrier == Carrier::Tcp ? "tcp" : carrier == Carrier::Udp ? "udp" : "serial";
-    return std::string(protocol) + " " + c;
 }
 
 bool is_modbus(std::string_view protocol) { return protocol.rfind("modbus", 0) == 0; }

@@ -24,7 +24,7 @@ struct TcpOptions {
     /// connection is closed at accept), idle_timeout_s, frame_timeout_ms and the allow list.
     config::TcpConfig net;
     std::string section = "modbus.tcp";  ///< the config section, as log lines name its keys
-    std::string log_name = "tcp";        ///< what starts its log lines: "tcp", "http"
+    std::string log_name = "tcp";        ///< what starts its log lines: "tcp", "fatek tcp", "http"
     std::string_view protocol = "";      ///< the protocol's name, as its clients are listed
     /// The PLCs' communication fault `refuse_connections` closes it (the console's listener
     /// stays open whatever the PLCs suffer, so faults can always be switched off).

@@ -155,12 +155,18 @@ def test_udp_allow_list_ignores_other_peers(start_plcemud):
 
 def test_max_clients_refuses_extra_connections_and_keeps_the_others(start_plcemud):
     port = free_port()
-    start_plcemud(tcp_config(port, ", max_clients: 2"))
+    d = start_plcemud(tcp_config(port, ", max_clients: 2"))
     with Fatek.tcp(port) as a, Fatek.tcp(port) as b:
         assert a.exchange(GIST) == RUNNING and b.exchange(GIST) == RUNNING
         with Fatek.tcp(port) as extra:
+            peer = "127.0.0.1:%d" % extra.line.sock.getsockname()[1]
             assert closed_by_server(extra)
         assert a.exchange(GIST) == RUNNING and b.exchange(GIST) == RUNNING
+    # The lines name the listener's protocol, as its `listening on` line does (the Modbus
+    # listener's are "tcp: ...").
+    assert d.wait_log(f"fatek tcp: {peer} refused: 2 clients already connected "
+                      "(fatek.tcp.max_clients)"), d.log_text()
+    assert re.search(r"fatek tcp: 127\.0\.0\.1:\d+ connected", d.log_text()), d.log_text()
 
 
 def test_idle_connections_are_closed_busy_ones_kept(start_plcemud):
