@@ -19,7 +19,7 @@ public:
     std::function<engine::OutboundCompletion(const engine::OutboundRequest&)> responder;
     /// Every request submitted, in order.
     std::vector<engine::OutboundRequest> sent;
-    /// Requests given up.
+    /// Requests given up (abandon() with nothing in flight gives up none).
     int abandoned = 0;
 
     bool submit(const engine::OutboundRequest& r) noexcept override {
@@ -37,9 +37,9 @@ public:
         return c;
     }
     void abandon() noexcept override {
+        if (busy_) ++abandoned;
         busy_ = false;
         ready_.reset();
-        ++abandoned;
     }
 
     /// True while a request waits for its completion.

@@ -289,6 +289,24 @@ def test_master_with_its_slave_down_keeps_serving(pair):
     assert got, "the cycle goes on past the dead slave"
 
 
+def test_stop_and_run_again_keep_mbus_polling(pair):
+    """A transfer in flight when the PLC goes to STOP (the communication fault `stop`) is given
+    up at the first scan in RUN, and the passes go on (MBUS once never sent again, its link
+    holding that transfer's completion, until a reload)."""
+    master, _ = pair(slave_up=False)
+    c = master.client()
+    assert not c.write_register(8129, 50, slave=1).isError()  # D9129: 0.5 s a transfer
+    enable(c)
+    got, _ = wait_for(lambda: status(c) >> 8 == 5, timeout=3.0)
+    assert got, hex(status(c))
+    assert not c.write_register(31, 1, slave=247).isError()  # STOP, a transfer in flight
+    time.sleep(0.3)
+    assert not c.write_register(31, 0, slave=247).isError()  # RUN
+    passes = regs(c, 102)[0]
+    got, _ = wait_for(lambda: regs(c, 102)[0] >= passes + 1, timeout=4.0)
+    assert got, f"no pass after RUN: S2+2 stays {regs(c, 102)[0]}\n{master.log_text()}"
+
+
 def polling_over_rtu(start_plcemud, pty, d9129=None):
     """A slave on one end of `pty`, a master on the other with set 1 of the table only (the
     read from station 5), EN ON and its first read landed: (slave, master, master's client)."""

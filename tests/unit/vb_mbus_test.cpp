@@ -489,6 +489,31 @@ TEST(Mbus, EnFallingAbandonsTheRequestAndRestartsAtSet1) {
     EXPECT_EQ(r.p.word(Area::D, 101), 1);
 }
 
+// A request in flight when the PLC went to STOP completes while the program does not run; the
+// first scan in RUN starts the table afresh and gives it up, so the link is free for set 1 (it
+// was left holding that completion, and MBUS never sent again until a reload).
+TEST(Mbus, StopToRunGivesUpTheRequestLeftInFlightAndStartsAtSet1) {
+    Rig r;
+    r.table({kWrite2, kRead5});
+    r.enable();
+    r.p.scan();
+    ASSERT_TRUE(r.link.busy());
+    r.p.plc.engine().set_running(false);
+    r.p.scan(2);
+    r.link.reply();  // its answer comes while the PLC is in STOP
+    r.p.scan(2);
+    const auto sent = r.link.sent.size();
+    r.p.plc.engine().set_running(true);
+    r.p.scan();
+    EXPECT_EQ(r.link.abandoned, 1);
+    ASSERT_EQ(r.link.sent.size(), sent + 1) << "set 1 sent again at the first scan in RUN";
+    EXPECT_EQ(r.link.sent.back().station, 2);
+    r.link.responder = echo_slave;
+    r.link.reply();
+    r.p.scan(3);
+    EXPECT_EQ(r.p.d(2000, 1), W{100}) << "the passes go on: set 2 read";
+}
+
 TEST(Mbus, EnFallingWithAReadInFlightWritesNoMasterDevice) {
     Rig r;
     r.table({kRead5});

@@ -94,8 +94,13 @@ public:
     }
 
     void execute(engine::ScanContext& ctx) noexcept override {
-        // A power-up or reload starts the table afresh; its link has nothing in flight.
-        if (ctx.first_scan) s_ = State{};
+        // A power-up, a reload or STOP->RUN starts the table afresh. The link may still hold a
+        // request sent before a STOP (its completion never polled while the program did not
+        // run): it is given up, or the link would refuse every request from then on.
+        if (ctx.first_scan) {
+            if (ctx.outbound != nullptr) ctx.outbound->abandon();
+            s_ = State{};
+        }
         image::Image& img = ctx.image;
         if (!b_.en.read(img)) {
             if (s_.running) stop(ctx);
