@@ -22,7 +22,7 @@ public:
 
     void execute(engine::ScanContext& ctx) noexcept override {
         const bool on = en_.read(ctx.image);
-        if (!(pulse_ ? edge_(on) : on)) return;
+        if (!(pulse_ ? edge_(on, ctx.first_scan) : on)) return;
         const auto a = static_cast<std::int16_t>(s1_.read(ctx.image));
         const auto b = static_cast<std::int16_t>(s2_.read(ctx.image));
         image::Device d = d_;

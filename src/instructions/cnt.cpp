@@ -29,7 +29,7 @@ public:
 
     void execute(engine::ScanContext& ctx) noexcept override {
         image::Image& img = ctx.image;
-        const bool edge = edge_(b_.en.read(img));
+        const bool edge = edge_(b_.en.read(img), ctx.first_scan);
         long long k = b_.k;
         if (!b_.k_constant) {
             const std::uint32_t lo = img.read_word(b_.k_device);

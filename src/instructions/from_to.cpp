@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "edge.hpp"
 #include "operands.hpp"
 
 namespace plcemu::instructions {
@@ -33,9 +34,7 @@ public:
 
     void execute(engine::ScanContext& ctx) noexcept override {
         const bool on = en_.read(ctx.image);
-        const bool rising = on && !was_on_;
-        was_on_ = on;
-        if (!(pulse_ ? rising : on)) return;
+        if (!(pulse_ ? edge_(on, ctx.first_scan) : on)) return;
         image::Image& img = ctx.image;
         const int module = static_cast<std::int16_t>(module_.read(img));
         const int first = static_cast<std::int16_t>(word_.read(img));
@@ -75,7 +74,7 @@ private:
     std::uint32_t n_;
     std::optional<OperationError> error_;
     int index_;
-    bool was_on_ = false;
+    RisingEdge edge_;  // the pulse form's
 };
 
 // Buffer words one FROM/TO moves at most.

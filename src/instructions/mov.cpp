@@ -18,7 +18,7 @@ public:
     void execute(engine::ScanContext& ctx) noexcept override {
         const bool on = en_.read(ctx.image);
         // The edge is tracked in every scan, so a pulse form sees each OFF→ON once.
-        const bool edge = edge_(on);
+        const bool edge = edge_(on, ctx.first_scan);
         if (pulse_ ? edge : on) ctx.image.write_word(d_, s_.read(ctx.image));
     }
 

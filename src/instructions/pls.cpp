@@ -16,7 +16,7 @@ public:
           mnemonic_(mnemonic) {}
 
     void execute(engine::ScanContext& ctx) noexcept override {
-        ctx.image.write_bit(d_, edge_(en_.read(ctx.image)));
+        ctx.image.write_bit(d_, edge_(en_.read(ctx.image), ctx.first_scan));
     }
 
     std::string_view mnemonic() const noexcept override { return mnemonic_; }

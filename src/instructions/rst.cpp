@@ -22,7 +22,7 @@ public:
 
     void execute(engine::ScanContext& ctx) noexcept override {
         const bool on = en_.read(ctx.image);
-        if (!(pulse_ ? edge_(on) : on)) return;
+        if (!(pulse_ ? edge_(on, ctx.first_scan) : on)) return;
         for (std::uint32_t i = bits_.start; i < bits_.end(); ++i) {
             ctx.image.write_bit({bits_.area, i}, false);
         }

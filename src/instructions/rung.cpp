@@ -32,7 +32,7 @@ public:
           source_(source) {}
 
     void execute(engine::ScanContext& ctx) noexcept override {
-        const bool v = value(ctx.image);
+        const bool v = value(ctx.image, ctx.first_scan);
         Rung& r = *rung_;
         switch (join_) {
             case Join::Start:
@@ -54,7 +54,7 @@ public:
     std::string_view mnemonic() const noexcept override { return mnemonic_; }
 
 private:
-    bool value(const image::Image& img) noexcept {
+    bool value(const image::Image& img, bool first_scan) noexcept {
         if constexpr (kind == Contact::Compare) {
             return holds(source_.relation, static_cast<std::int16_t>(source_.s1.read(img)),
                          static_cast<std::int16_t>(source_.s2.read(img)));
@@ -62,7 +62,8 @@ private:
             const bool in = img.read_bit(source_.device);
             if constexpr (kind == Contact::Open) return in;
             if constexpr (kind == Contact::Closed) return !in;
-            if constexpr (kind == Contact::Rising || kind == Contact::Falling) return edge_(in);
+            if constexpr (kind == Contact::Rising || kind == Contact::Falling)
+                return edge_(in, first_scan);
         }
     }
 
@@ -87,7 +88,7 @@ public:
           op_(op),
           at_(static_cast<std::size_t>(depth)) {}
 
-    void execute(engine::ScanContext& /*ctx*/) noexcept override {
+    void execute(engine::ScanContext& ctx) noexcept override {
         Rung& r = *rung_;
         switch (op_) {
             case RungOp::AndBlock:
@@ -106,10 +107,10 @@ public:
                 r.result = !r.result && r.enabled;
                 break;
             case RungOp::Rising:
-                r.result = rising_(r.result);
+                r.result = rising_(r.result, ctx.first_scan);
                 break;
             case RungOp::Falling:
-                r.result = falling_(r.result);
+                r.result = falling_(r.result, ctx.first_scan);
                 break;
             case RungOp::Save:
                 r.saved[at_] = r.result;
@@ -153,7 +154,7 @@ public:
                 if (v) ctx.image.write_bit(d_, true);
                 break;
             case CoilOp::SetOnRising:
-                if (edge_(v)) ctx.image.write_bit(d_, true);
+                if (edge_(v, ctx.first_scan)) ctx.image.write_bit(d_, true);
                 break;
         }
     }

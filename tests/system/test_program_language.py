@@ -219,3 +219,30 @@ def test_worked_example_oven(start_plcemud):
     press(RESET)
     assert bits(BATCH) == [False] and regs(c, 9500)[0] == 0
     assert d.stop() == 0, d.log_text()
+
+
+def test_an_edge_fires_again_after_stop_and_run(start_plcemud):
+    """docs/program-language.md: the remembered value of an edge is OFF after STOP->RUN, so M0
+    held ON across a STOP counts once more (C0 through a TU contact, C1 by its own edge) when
+    the PLC runs again (the communication fault `stop`, unit 247's register 31)."""
+    d = start_plcemud("profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1}}\n"
+                      "persistence: {enabled: false}\n"
+                      "program: {il: ['ORG TU M0', 'OUT M10', 'ORG M10', 'CTR C0 100',"
+                      " 'ORG M0', 'CTR C1 100']}\n")
+    c = d.client()
+    C0 = 9500
+
+    def counts(expected):
+        deadline = time.monotonic() + 5
+        while regs(c, C0, 2) != expected:
+            assert time.monotonic() < deadline, (regs(c, C0, 2), d.log_text())
+            time.sleep(0.02)
+
+    assert not c.write_coil(2000, True, slave=1).isError()  # M0 ON, and left ON
+    counts([1, 1])
+    assert not c.write_register(31, 1, slave=247).isError()  # STOP
+    time.sleep(0.2)
+    assert not c.write_register(31, 0, slave=247).isError()  # RUN
+    counts([2, 2])
+    time.sleep(0.2)
+    assert regs(c, C0, 2) == [2, 2]

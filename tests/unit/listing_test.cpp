@@ -197,6 +197,42 @@ TEST(FatekListing, CounterCountsRisingEdgesAndRstClearsIt) {
     EXPECT_FALSE(p.bit(Area::C, 0));
 }
 
+// The remembered value of every edge is OFF after STOP->RUN as at a start
+// (docs/program-language.md): an input ON across the STOP is a rising edge again in the first scan
+// in RUN, and one that went OFF during the STOP is no falling edge. They once kept the value of the
+// last scan before STOP.
+TEST(FatekListing, EdgesStartOverAtStopToRun) {
+    ListingPlc p("fbs", {"ORG X0", "CTR C0 100",                           // the counter's own edge
+                         "ORG TU X0", "OUT M10", "ORG M10", "CTR C1 100",  // a TU contact
+                         "ORG X0", "TU", "OUT M11", "ORG M11", "CTR C2 100",  // TU on the rung
+                         "ORG X0", "SET P M20",                               // SET's pulse form
+                         "ORG X0", "FUN8P MOV S:R10 D:R11",                   // MOVP
+                         "ORG TD X1", "OUT M12", "ORG M12", "CTR C3 100"});   // a TD contact
+    p.set_r(10, 7);
+    inputs(p, {true, true});
+    p.scan(3);
+    auto counts = [&] {
+        return std::vector<int>{p.word(Area::CV, 0), p.word(Area::CV, 1), p.word(Area::CV, 2),
+                                p.word(Area::CV, 3)};
+    };
+    EXPECT_EQ(counts(), (std::vector<int>{1, 1, 1, 0}));
+    EXPECT_TRUE(p.bit(Area::M, 20));
+    EXPECT_EQ(p.r(11), 7);
+    p.plc.engine().set_running(false);
+    p.scan(2);
+    p.set(Area::M, 20, false);
+    p.set_r(11, 0);
+    inputs(p, {true, false});  // X1 goes OFF while the program does not run
+    p.scan(2);
+    p.plc.engine().set_running(true);
+    p.scan();
+    EXPECT_EQ(counts(), (std::vector<int>{2, 2, 2, 0}));
+    EXPECT_TRUE(p.bit(Area::M, 20));
+    EXPECT_EQ(p.r(11), 7);
+    p.scan(3);
+    EXPECT_EQ(counts(), (std::vector<int>{2, 2, 2, 0})) << "one edge, not one a scan";
+}
+
 TEST(FatekListing, FunctionTakesItsEnableFromTheRung) {
     // FUN8 MOV written three ways, and its pulse form.
     ListingPlc p("fbs", {"ORG X0", "AND X1", "FUN8 MOV S:R0 D:R10", "ORG X0", "FUN 8 MOV",

@@ -39,7 +39,7 @@ struct ScanContext {
     Duration now;                      ///< simulated time of this scan's start
     Duration dt;                       ///< simulated time since the previous scan (the scan period)
     std::uint64_t scan;                ///< scans completed before this one
-    bool first_scan;                   ///< true during the first scan after power-up
+    bool first_scan;                   ///< the first scan after a power-up, a reload or STOP->RUN
     ModuleBus* modules = nullptr;      ///< the special modules (null: the PLC has none)
     OutboundLink* outbound = nullptr;  ///< the Modbus master port (null: none attached)
     bool running = true;               ///< RUN (true) or STOP: the program runs only in RUN
