@@ -21,6 +21,25 @@ Holds::Holds(const image::Layout& layout) {
         b.held.assign((b.size + kWord - 1) / kWord, 0);
         b.value.assign(b.held.size(), 0);
     }
+    point();
+}
+
+Holds::Holds(const Holds& other)
+    : areas_(other.areas_),
+      count_(other.count_) {
+    point();
+}
+
+Holds& Holds::operator=(const Holds& other) {
+    areas_ = other.areas_;
+    count_ = other.count_;
+    point();
+    return *this;
+}
+
+void Holds::point() noexcept {
+    for (std::size_t a = 0; a < image::kAreaCount; ++a)
+        view_[a] = areas_[a].held.empty() ? nullptr : areas_[a].held.data();
 }
 
 bool Holds::set(image::Area area, std::uint32_t index, bool held) noexcept {

@@ -77,12 +77,14 @@ void Image::write_word(const Device& d, std::uint16_t v) {
     const std::uint32_t n = layout_.size_of(d.area);
     if (d.word_of_bits) {
         for (std::uint32_t b = 0; b < 16 && d.index + b < n; ++b) {
+            if (held_ != nullptr && held(d.area, d.index + b)) continue;
             bits(d.area)[d.index + b] = (v >> b) & 1u;
         }
         return;
     }
     if (d.index >= n) return;
     if (is_bit_area(d.area)) {
+        if (held_ != nullptr && held(d.area, d.index)) return;
         bits(d.area)[d.index] = v ? 1 : 0;
     } else {
         words(d.area)[d.index] = v;
@@ -98,6 +100,7 @@ bool Image::read_bit(const Device& d) const {
 void Image::write_bit(const Device& d, bool v) {
     if (d.index >= layout_.size_of(d.area)) return;
     if (is_bit_area(d.area)) {
+        if (held_ != nullptr && held(d.area, d.index)) return;
         bits(d.area)[d.index] = v ? 1 : 0;
     } else {
         words(d.area)[d.index] = v ? 1 : 0;

@@ -301,6 +301,19 @@ def test_stop_and_disabled_discretes_survive_a_reload(start_plcemud):
         assert fatek.exchange(GIST) == RUNNING
 
 
+def test_the_program_reads_a_disabled_relay_as_the_master_set_it(start_plcemud):
+    # docs/profile-fbs.md, "FATEK protocol": the program does not change a disabled discrete, so
+    # the rung after an OUT to it sees the master's value (M6 follows the forced M5; X0 is OFF).
+    port = free_port()
+    d = start_plcemud(tcp_config(port) + "program: {il: ['ORG X0', 'OUT M5', 'ORG M5',"
+                                         " 'OUT M6']}\n")
+    with Fatek.tcp(port) as fatek:
+        assert fatek.exchange(frame(1, 0x42, "1M0005")) == frame(1, 0x42, "0")  # disable M5
+        assert fatek.exchange(frame(1, 0x42, "3M0005")) == frame(1, 0x42, "0")  # set it
+        time.sleep(0.2)  # scans
+        assert fatek.exchange(frame(1, 0x44, "02M0005")) == frame(1, 0x44, "011"), d.log_text()
+
+
 # --- a reload keeps what it does not change
 
 

@@ -12,6 +12,7 @@
 
 #include "plcemu/config/config.hpp"
 #include "plcemu/daemon/plc.hpp"
+#include "plcemu/engine/holds.hpp"
 #include "plcemu/engine/loops.hpp"
 #include "support/listing_plc.hpp"
 #include "support/profiles.hpp"
@@ -231,6 +232,37 @@ TEST(FatekListing, EdgesStartOverAtStopToRun) {
     EXPECT_EQ(p.r(11), 7);
     p.scan(3);
     EXPECT_EQ(counts(), (std::vector<int>{2, 2, 2, 0})) << "one edge, not one a scan";
+}
+
+// A disabled discrete (FATEK command 42) is not changed by the program (docs/profile-fbs.md,
+// "FATEK protocol"): the rungs after an OUT to it see what the master put there, as do a word
+// written over it (WM16 holds M16-M31) and the scan after. It once took the program's value
+// until the scan's end.
+TEST(FatekListing, RungsSeeWhatAMasterPutInADisabledDiscrete) {
+    ListingPlc p("fbs", {"ORG X0", "OUT M5", "ORG M5", "OUT M6",  //
+                         "ORG M1926", "FUN8 MOV S:R0 D:WM16", "ORG M20", "OUT M7"});
+    engine::Holds& h = p.plc.engine().holds();
+    ASSERT_TRUE(h.set(Area::M, 5, true));
+    ASSERT_TRUE(h.set(Area::M, 20, true));
+    p.set(Area::M, 5, true);  // the master sets them; X0 is OFF and R0 is 0
+    p.set(Area::M, 20, true);
+    p.set_r(0, 0x0003);
+    p.scan();
+    EXPECT_TRUE(p.bit(Area::M, 5));
+    EXPECT_TRUE(p.bit(Area::M, 6)) << "the rung after the OUT saw the forced M5";
+    EXPECT_TRUE(p.bit(Area::M, 20));
+    EXPECT_TRUE(p.bit(Area::M, 7)) << "the rung after the MOV saw the forced M20";
+    EXPECT_TRUE(p.bit(Area::M, 16));
+    EXPECT_TRUE(p.bit(Area::M, 17));
+    EXPECT_FALSE(p.bit(Area::M, 18));
+    // Enabled again, the program drives them.
+    h.set(Area::M, 5, false);
+    h.set(Area::M, 20, false);
+    p.scan();
+    EXPECT_FALSE(p.bit(Area::M, 5));
+    EXPECT_FALSE(p.bit(Area::M, 6));
+    EXPECT_FALSE(p.bit(Area::M, 20));
+    EXPECT_FALSE(p.bit(Area::M, 7));
 }
 
 TEST(FatekListing, FunctionTakesItsEnableFromTheRung) {

@@ -16,6 +16,9 @@ class Holds {
 public:
     /// Flags for every discrete of `layout`'s bit areas, all enabled.
     explicit Holds(const image::Layout& layout);
+    /// A copy's bits() points into its own words.
+    Holds(const Holds& other);
+    Holds& operator=(const Holds& other);
 
     /// Disables (true) or enables (false) discrete `index` of bit area `area`; false when the
     /// discrete does not exist.
@@ -31,6 +34,8 @@ public:
     void take(const image::Image& image) noexcept;
     /// Puts the values taken back (after the I/O refresh and after the program).
     void put(image::Image& image) const noexcept;
+    /// The disabled flags, for image::Image::hold() while the program runs.
+    const image::Image::HeldBits& bits() const noexcept { return view_; }
 
 private:
     // One bit a discrete of each bit area: disabled or not, and its value at the last take().
@@ -45,8 +50,11 @@ private:
     // Calls `f(area, index)` for each disabled discrete.
     template <class F>
     void each_held(F f) const;
+    // Points view_ at areas_'s words.
+    void point() noexcept;
 
     std::array<Bits, image::kAreaCount> areas_;
+    image::Image::HeldBits view_{};  // areas_[a].held.data(), null for a word area
     std::uint32_t count_ = 0;
 };
 

@@ -1,6 +1,7 @@
 #pragma once
 // The register image: every device area of the PLC in one block of memory.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -72,6 +73,14 @@ public:
     /// Writes a bit device.
     void write_bit(const Device& d, bool v);
 
+    /// One bit per discrete of each bit area (null for an area without any): the discretes a
+    /// master disabled (engine::Holds).
+    using HeldBits = std::array<const std::uint64_t*, kAreaCount>;
+    /// While `held` is set (not null), write_bit() and write_word() leave the discretes it names
+    /// as they are: the engine sets it for the program's part of a scan, so that a rung after an
+    /// OUT to a disabled discrete sees what the master put there.
+    void hold(const HeldBits* held) noexcept { held_ = held; }
+
     /// Clears every device outside the given retentive ranges.
     void clear_non_retentive(const std::vector<Range>& retentive);
     /// Clears everything.
@@ -79,11 +88,17 @@ public:
 
 private:
     std::byte* base(Area a) const { return storage_.data() + offset_[static_cast<std::size_t>(a)]; }
+    // Whether bit `i` of bit area `a` is held (held_ set).
+    bool held(Area a, std::uint32_t i) const noexcept {
+        const std::uint64_t* w = (*held_)[static_cast<std::size_t>(a)];
+        return w != nullptr && ((w[i / 64] >> (i % 64)) & 1u) != 0;
+    }
 
     Layout layout_;
     std::vector<std::byte> owned_;
     std::span<std::byte> storage_;
     std::array<std::size_t, kAreaCount> offset_{};
+    const HeldBits* held_ = nullptr;
 };
 
 }  // namespace plcemu::image
