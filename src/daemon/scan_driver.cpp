@@ -169,7 +169,8 @@ ScanDriver::Clock::time_point ScanDriver::due(Clock::time_point now) {
 ScanDriver::Clock::time_point ScanDriver::tick(Clock::time_point start) {
     auto now = start;
     for (auto d = schedule_.due(now); d.scans > 0; d = schedule_.due(now)) {
-        lateness_.record(now - d.next_deadline);
+        lateness_.record(now - d.next_deadline + skipped_);
+        skipped_ = {};
         const auto began = now;
         run_one(schedule_.next_sim(), now);
         schedule_.ran();
@@ -178,7 +179,12 @@ ScanDriver::Clock::time_point ScanDriver::tick(Clock::time_point start) {
         last_scan_ = now;
         if (now - start > kBudget) break;
     }
+    const auto behind = now - schedule_.deadline(schedule_.next_sim());
     if (schedule_.skip_ahead(now)) {
+        // The next scan starts on the new schedule, but as late as the old one said: its
+        // lateness counts what was skipped, and the PLC is not on schedule for a while.
+        skipped_ = behind;
+        last_skip_ = now;
         spdlog::warn(
             "{}scan: more than {} s behind real time at time scale {}; skipping ahead", prefix_,
             std::chrono::duration_cast<std::chrono::seconds>(ScanSchedule::kMaxBehind).count(),
@@ -193,8 +199,10 @@ bool ScanDriver::on_schedule() const noexcept {
     if (schedule_.frozen()) return true;
     const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
         std::chrono::duration<double>(engine_.scan_period()).count() / schedule_.time_scale()));
-    return Clock::now() - last_scan_ <
-           std::max<Clock::duration>(2 * period, std::chrono::seconds(2));
+    const auto window = std::max<Clock::duration>(2 * period, std::chrono::seconds(2));
+    const auto now = Clock::now();
+    return now - last_scan_ < window &&
+           (last_skip_ == Clock::time_point{} || now - last_skip_ >= window);
 }
 
 }  // namespace plcemu::daemon

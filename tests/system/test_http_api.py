@@ -1627,6 +1627,33 @@ def test_healthz_is_ok(fbs):
         {"id": "0", "scanning": True, "frozen": False, "running": True}]}
 
 
+def test_healthz_is_503_while_the_scans_cannot_keep_up(tmp_path):
+    """docs/console.md, /healthz: at a time scale no host can keep up with (a 10 ms scan a
+    microsecond of real time) the scans fall more than a second behind and the schedule skips
+    ahead, again and again: 503, not scanning (it answered 200, the scans having run just before
+    the request), the lateness counting the seconds behind; 200 again two seconds after the time
+    scale is one a host keeps up with."""
+    hp, mp = free_port(), free_port()
+    d = spawn(tmp_path, single_config(hp, extra="persistence: {enabled: false}\n"
+                                                "time_scale: 100000\n"), [hp, mp],
+              modbus_port=mp)
+    try:
+        wait_for(lambda: "skipping ahead" in d.log_text(), timeout=10.0,
+                 what="the schedule skipped ahead")
+        r = get(hp, "/healthz")
+        assert r.status == 503, r
+        assert r.json()["plcs"][0]["scanning"] is False, r.json()
+        late = get(hp, "/api/v1/plcs").json()["plcs"][0]["lateness_max_us"]
+        assert late >= 1_000_000, late
+        # The simulator unit's time scale (holding register 0 of unit 247) back to 1.
+        c = d.client()
+        assert not c.write_register(0, 1, slave=247).isError()
+        wait_for(lambda: get(hp, "/healthz").status == 200, timeout=5.0,
+                 what="200 again two seconds after")
+    finally:
+        d.stop()
+
+
 METRIC_NAME = r"[a-zA-Z_:][a-zA-Z0-9_:]*"
 LABEL = r'[a-zA-Z_][a-zA-Z0-9_]*="(?:[^"\\\n]|\\[\\"n])*"'
 SAMPLE = re.compile(

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "plcemu/engine/engine.hpp"
@@ -250,6 +251,65 @@ TEST_F(ScanDriverTest, WithoutACheckEveryStationRequestIsGranted) {
     run_steps();
     EXPECT_EQ(engine_->station(), 7);
     EXPECT_EQ(img_.word(Area::R, 4055), 7);
+}
+
+}  // namespace
+}  // namespace plcemu::daemon
+
+namespace plcemu::daemon {
+namespace {
+
+// An instruction that takes `hold` of real time in the scan after `slow` is set, once.
+class Stall final : public engine::Instruction {
+public:
+    Stall(bool& slow, Clock::duration hold)
+        : slow_(slow),
+          hold_(hold) {}
+    void execute(engine::ScanContext& /*ctx*/) noexcept override {
+        if (!slow_) return;
+        slow_ = false;
+        std::this_thread::sleep_for(hold_);
+    }
+    std::string_view mnemonic() const noexcept override { return "STALL"; }
+
+private:
+    bool& slow_;
+    Clock::duration hold_;
+};
+
+// docs/console.md, /healthz: a scan that leaves the schedule more than a second behind real time
+// makes it skip ahead; the PLC is then off schedule for two seconds, and the scan after counts
+// the whole delay as its lateness (it once read as on time: the new schedule's).
+TEST(ScanDriverBehind, ASkipAheadIsOffScheduleAndCountsItsLateness) {
+    bool slow = false;
+    engine::Program p;
+    p.push_back(std::make_unique<Stall>(slow, 1300ms));
+    engine::EngineOptions o;
+    o.scan_period = 10ms;
+    o.station = 1;
+    image::Image img{testing::fbs_layout()};
+    engine::Engine engine(img, o, std::move(p), profiles::fbs::make_specials(0x0118));
+    engine.power_up();
+    asio::io_context io{1};
+    ScanTimer timer{io};
+    StepRounds rounds{io};
+    ScanDriver d(timer, rounds, engine, 1.0);
+    const auto run = [&](Clock::duration t) {
+        asio::steady_timer awake(io, t);
+        awake.async_wait([](const asio::error_code&) {});
+        io.restart();
+        io.run_for(t + 5ms);
+    };
+    d.start();
+    run(50ms);
+    EXPECT_TRUE(d.on_schedule());
+    EXPECT_LT(d.lateness_max_us(), 1'000'000u);
+    slow = true;
+    run(1500ms);
+    EXPECT_FALSE(d.on_schedule()) << "skipped ahead less than 2 s ago";
+    EXPECT_GE(d.lateness_max_us(), 1'000'000u);
+    run(2100ms);
+    EXPECT_TRUE(d.on_schedule()) << "on schedule again 2 s after";
 }
 
 }  // namespace
