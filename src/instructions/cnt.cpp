@@ -43,7 +43,8 @@ public:
             }
         }
         if (!b_.wide) {
-            long long v = img.word(Area::CV, b_.value_word);
+            // Signed, as a timer's value: one a master wrote negative counts up towards K.
+            long long v = static_cast<std::int16_t>(img.word(Area::CV, b_.value_word));
             if (edge && v < k) ++v;
             img.set_word(Area::CV, b_.value_word, static_cast<std::uint16_t>(v));
             img.set_bit(Area::C, b_.counter, v >= k);

@@ -46,6 +46,22 @@ TEST(Cnt, SixteenBitCounterCountsRisingEdgesAndStopsAtK) {
     EXPECT_TRUE(rig.contact(5));
 }
 
+// A 16-bit value is signed, as a timer's is (docs/profile-vb.md): one a master writes negative
+// counts up towards K with the contact OFF. Read unsigned, FFFFh was 65,535, over any K: the
+// contact came ON and the counter never counted again.
+TEST(Cnt, ANegativeValueAMasterWroteCountsUpTowardsK) {
+    Rig rig("  - CNT: {en: M0, c: C0, k: 5}\n");
+    rig.plc.image().set_word(Area::CV, 0, 0xFFFF);
+    rig.scan();
+    EXPECT_FALSE(rig.contact(0));
+    rig.pulse(0, 2);
+    EXPECT_EQ(rig.cv(0), 1);
+    rig.plc.image().set_word(Area::CV, 0, 0x8000);
+    rig.pulse(0);
+    EXPECT_EQ(rig.cv(0), 0x8001);
+    EXPECT_FALSE(rig.contact(0));
+}
+
 TEST(Cnt, KFromARegister) {
     Rig rig("  - CNT: {en: M0, c: C0, k: D10}\n");
     rig.plc.image().set_word(Area::D, 10, 2);
