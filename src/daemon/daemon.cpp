@@ -144,7 +144,14 @@ public:
         spdlog::info("{}plcemud {}: profile {}, model {}, station {}, scan {} ms, time scale {}",
                      prefix_, version(), cfg_->profile, cfg_->model, int(cfg_->station),
                      cfg_->scan_ms, cfg_->time_scale);
-        spdlog::info("{}program: {} instruction(s)", prefix_, cfg_->program.size());
+        if (cfg_->listing.empty()) {
+            spdlog::info("{}program: {} instruction(s)", prefix_, cfg_->program.size());
+        } else {
+            // A listing's statements and continuation lines are not one instruction each: the
+            // lines as written, and the steps the engine runs.
+            spdlog::info("{}program: instruction list of {} lines, {} steps", prefix_,
+                         cfg_->listing.size(), plc_->engine().program().size());
+        }
     }
 
     void stop() {
