@@ -42,11 +42,7 @@ void apply_overrides(config::Config& config, const Overrides& o) {
     if (o.time_scale) config.time_scale = *o.time_scale;
 }
 
-namespace {
-
-// The config's PLCs, with the command line's overrides (which a `plcs:` list does not take: its
-// PLCs have ports of their own).
-std::vector<config::Config> load(const std::string& path, const Overrides& overrides) {
+std::vector<config::Config> load_configs(const std::string& path, const Overrides& overrides) {
     std::vector<config::Config> v = config::load_plcs(path);
     if (v.front().index >= 0 && overrides.port) {
         throw config::ConfigError({path, 0, 0},
@@ -55,6 +51,8 @@ std::vector<config::Config> load(const std::string& path, const Overrides& overr
     for (auto& c : v) apply_overrides(c, overrides);
     return v;
 }
+
+namespace {
 
 // One PLC of the process: its state file, its Plc, its master port and its scan driver, on the
 // event loop the Runtime owns (which also owns the listeners, shared or not). A reload builds the
@@ -374,7 +372,7 @@ public:
     Runtime& operator=(const Runtime&) = delete;
 
     int run() {
-        std::vector<config::Config> loaded = load(config_path_, overrides_);
+        std::vector<config::Config> loaded = load_configs(config_path_, overrides_);
         log_level_ = loaded.front().log.level;
         spdlog::set_level(spdlog::level::from_str(log_level_));
         // Everything the config can get wrong, found before any file or port is touched.
@@ -538,7 +536,7 @@ private:
         // Runtime is gone.
         auto work = [p, path = config_path_, overrides = overrides_, running = std::move(running)] {
             try {
-                p->configs = load(path, overrides);
+                p->configs = load_configs(path, overrides);
                 // A PLC whose config reads as it did is neither built nor touched: 5,000 PLCs
                 // with one setpoint changed rebuild one (docs/operations.md, "Reload").
                 p->unchanged.assign(p->configs.size(), false);

@@ -20,6 +20,11 @@ struct Overrides {
 /// Applies the overrides to a loaded config.
 void apply_overrides(config::Config& config, const Overrides& o);
 
+/// The PLCs of the config file at `path` with the overrides applied, as a start, a reload and
+/// --check-config read them: --port with a `plcs:` file is an error (its PLCs have ports of
+/// their own). Throws config::ConfigError.
+std::vector<config::Config> load_configs(const std::string& path, const Overrides& overrides);
+
 /// Builds the PLC of `config` on an image of its own, as a check of everything the config can
 /// get wrong that the loader cannot (program operands, the allow list), and returns its program,
 /// bound and checked. An error names the `plcs:` entry. Throws config::ConfigError.

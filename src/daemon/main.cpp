@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
             char* end = nullptr;
             if (!value(v)) return usage_error("--http-port needs a number");
             const long p = std::strtol(v.c_str(), &end, 10);
-            if (*end != '\0' || p < 1 || p > 65535) return usage_error("--http-port: 1..65535");
+            if (*end != '\0' || p < 0 || p > 65535) return usage_error("--http-port: 0..65535");
             overrides.http_port = static_cast<std::uint16_t>(p);
         } else if (a == "--time-scale") {
             char* end = nullptr;
@@ -179,8 +179,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (check) {
-            std::vector<plcemu::config::Config> plcs = plcemu::config::load_plcs(config_path);
-            for (auto& cfg : plcs) plcemu::daemon::apply_overrides(cfg, overrides);
+            // The start's own reading: what it would refuse, this refuses.
+            const std::vector<plcemu::config::Config> plcs =
+                plcemu::daemon::load_configs(config_path, overrides);
             plcemu::daemon::probe_all(plcs);  // binds the programs: operand errors too
             for (const auto& cfg : plcs) {
                 if (!cfg.label.empty()) {

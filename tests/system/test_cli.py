@@ -194,6 +194,16 @@ def test_port_override(start_plcemud):
     assert f"listening on tcp 127.0.0.1:{d.port}" in d.log_text()
 
 
+def test_http_port_override_turns_a_disabled_console_on_and_takes_0(start_plcemud):
+    # docs/console.md: --http-port turns the console on where the config has none or turns it
+    # off; 0 is any free port, said in the log, as `http.port: 0` (it was refused).
+    d = start_plcemud("profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1}}\n"
+                      "http: {enabled: false, port: 1}\n", "--http-port", "0")
+    assert d.wait_log("listening on http 127.0.0.1:"), d.log_text()
+    port = int(re.search(r"listening on http 127\.0\.0\.1:(\d+)", d.log_text()).group(1))
+    assert port not in (0, 1) and port_open(port)
+
+
 def sample_coil(client, addr, seconds):
     values = set()
     deadline = time.monotonic() + seconds

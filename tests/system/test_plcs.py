@@ -350,11 +350,13 @@ plcs:
         assert d.stop() == 0
 
 
-def test_port_override_is_refused_with_plcs(tmp_path):
+@pytest.mark.parametrize("check", [[], ["--check-config"]])
+def test_port_override_is_refused_with_plcs(tmp_path, check):
+    # --check-config refuses what a start would (it said ok).
     path = tmp_path / "p.yaml"
     path.write_text(f"plcs:\n  - {{profile: fbs, modbus: {{tcp: {{port: {free_port()}}}}}}}\n")
-    r = run_plcemud("-c", path, "--port", free_port(), timeout=10)
-    assert r.returncode == 2
+    r = run_plcemud("-c", path, "--port", free_port(), *check, timeout=10)
+    assert r.returncode == 2, r
     assert "--port: a config with plcs: sets each PLC's port itself" in r.stderr
 
 
