@@ -745,9 +745,12 @@ void TcpListener::State::arm_sweep() {
 
 TcpListener::TcpListener(asio::io_context& io, StreamProtocol& protocol, TcpOptions options)
     : state_(std::make_shared<State>(io, protocol, std::move(options))) {
-    // The error names the endpoint: "bind: Address already in use" alone does not say which.
-    const std::string where = "cannot listen on tcp " + state_->options.net.bind + ":" +
-                              std::to_string(state_->options.net.port);
+    // The error names the listener and its section: "bind: Address already in use" alone does
+    // not say which ("cannot listen on fatek tcp 0.0.0.0:500 (fatek.tcp)").
+    const TcpOptions& o = state_->options;
+    std::string where =
+        "cannot listen on " + o.log_name + " " + o.net.bind + ":" + std::to_string(o.net.port);
+    if (!o.section.empty()) where += " (" + o.section + ")";
     asio::error_code ec;
     const auto addr = asio::ip::make_address(state_->options.net.bind, ec);
     if (ec) throw std::system_error(ec, where);

@@ -267,18 +267,27 @@ def test_signals_stop_cleanly_with_exit_0(start_plcemud, sig):
     assert not port_open(d.port)
 
 
-def test_listen_failure_exits_nonzero_with_message(start_plcemud, tmp_path):
-    """A port already in use: a clear error, not a hang."""
+@pytest.mark.parametrize("section,kind", [
+    ("modbus", "tcp"), ("fatek", "fatek tcp"), ("http", "http")])
+def test_listen_failure_exits_nonzero_with_message(tmp_path, section, kind):
+    """A port already in use: a clear error naming the listener and its section, not a hang."""
     with socket.socket() as s:
         s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         s.bind(("127.0.0.1", 0))
         s.listen()
         busy = s.getsockname()[1]
-        p = write(tmp_path, BASE_CONFIG)
-        r = run_plcemud("-c", p, "--port", busy)
-    assert r.returncode != 0
-    assert r.returncode == 1
-    assert f"cannot listen on tcp 127.0.0.1:{busy}" in r.stderr, r.stderr
+        listeners = {
+            "modbus": f"modbus: {{tcp: {{bind: 127.0.0.1, port: {busy}}}}}\n",
+            "fatek": f"modbus: {{tcp: {{bind: 127.0.0.1, port: {free_port()}}}}}\n"
+                     f"fatek: {{tcp: {{bind: 127.0.0.1, port: {busy}}}}}\n",
+            "http": f"modbus: {{tcp: {{bind: 127.0.0.1, port: {free_port()}}}}}\n"
+                    f"http: {{bind: 127.0.0.1, port: {busy}}}\n",
+        }
+        p = write(tmp_path, "profile: fbs\npersistence: {enabled: false}\n" + listeners[section])
+        r = run_plcemud("-c", p)
+    assert r.returncode == 1, r
+    where = section + ".tcp" if section != "http" else "http"
+    assert f"cannot listen on {kind} 127.0.0.1:{busy} ({where})" in r.stderr, r.stderr
     assert "in use" in r.stderr, r.stderr
 
 
