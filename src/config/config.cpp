@@ -248,9 +248,12 @@ void read_init(const Reader& r, const Node& n, std::vector<InitEntry>& init) {
                 {e.device.area, e.device.index, e.device.word_of_bits}, key, e.pos.line);
             if (!fresh) r.fail(it->first, "init: " + again("device", key, at->second));
             const std::string what = "init." + excerpt(key);
+            // A bit device takes 0 or 1 (2 or -1 once read as ON without a word); a word, or 16
+            // bits of a WMn, any 16-bit value.
+            const bool bit = image::is_bit_area(e.device.area) && !e.device.word_of_bits;
             auto one = [&](const Node& v) {
-                e.values.push_back(
-                    static_cast<std::uint16_t>(r.integer(v, what, -32768, 65535) & 0xFFFF));
+                e.values.push_back(static_cast<std::uint16_t>(
+                    r.integer(v, what, bit ? 0 : -32768, bit ? 1 : 65535) & 0xFFFF));
             };
             const Node& value = it->second;
             if (value.is_sequence()) {

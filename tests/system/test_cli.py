@@ -57,6 +57,9 @@ def test_check_config_valid_exits_0(tmp_path):
         ("profile: fbs\nscan_ms: fast\n", 2, 10, "expected an integer"),
         ("profile: fbs\nprogram:\n  - MOV: {s: R1, d: Q7}\n", 3, 21, "MOV.d"),
         ("profile: fbs\ninit:\n  R8071: [1, 2]\n", 3, 3, "outside"),
+        # A bit device takes 0 or 1 (2 and -1 were taken as ON without a word).
+        ("profile: fbs\ninit:\n  M0: [1, 2, 0]\n", 3, 11, "init.M0: 2 is out of range 0..1"),
+        ("profile: fbs\ninit:\n  Y5: -1\n", 3, 7, "init.Y5: -1 is out of range 0..1"),
         ("model: FBs-24MC\n", 1, 1, "'profile' is required"),
     ],
 )
