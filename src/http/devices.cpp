@@ -124,9 +124,12 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
                 return error(400, k.substr(0, 40) + ": unknown key (expected values)");
         }
         const auto it = body.find("values");
-        if (it == body.end() || !it->is_array() || it->empty()) {
-            return error(
-                400, "values: expected a list of 1 to " + std::to_string(kMaxCount) + " numbers");
+        if (it == body.end() || !it->is_array() || it->empty() || it->size() > kMaxCount) {
+            std::string why =
+                "values: expected a list of 1 to " + std::to_string(kMaxCount) + " numbers";
+            if (it != body.end() && it->is_array() && !it->empty())
+                why += ", got " + std::to_string(it->size());
+            return error(400, why);
         }
         count = static_cast<std::uint32_t>(std::min<std::size_t>(it->size(), kMaxCount + 1));
         const Span s = parse_span(plc, device, count, refused);
