@@ -71,6 +71,17 @@ Zone zone_of(Operands& ops,
         z.words = {first.area, first.index, n};
         ops.refuse_reserved(key, z.words);
     }
+    // A zone through numbers no device has (M3072-M8999 between a VB's M3071 and its special
+    // relays at M9000, D8000-D8999) would clear what lies beyond them: refused, naming them.
+    for (const image::Range& r : {z.bits, z.words}) {
+        for (const image::Range& h : ctx.layout.holes) {
+            if (r.count > 0 && h.overlaps(r)) {
+                ops.fail(key, ctx.naming.format_range({first.area, first.index, n}) +
+                                  " runs through " + ctx.naming.format_range(h) +
+                                  ", which this PLC does not have");
+            }
+        }
+    }
     if (z.words.count > 0 && !ctx.layout.contains(z.words)) {
         ops.fail(key,
                  ctx.naming.format_device(first.area, first.index) + " has no value in this PLC");

@@ -143,6 +143,13 @@ TEST(Zrst, PulseFormAndOperandErrors) {
     expect_program_error("  - ZRST: {en: M0, d1: M5, d2: M4}\n", 32,
                          "ZRST.d2: must not come before d1");
     expect_program_error("  - ZRST: {en: M0, d1: X0, d2: X7}\n", 24, "ZRST.d1");
+    // A zone through numbers the VB has no device for would clear the special relays beyond
+    // them (M9000-) in mid-scan; D0-D9255 was refused as "D0 has no value".
+    expect_program_error("  - ZRST: {en: M0, d1: M0, d2: M9255}\n", 24,
+                         "ZRST.d1: M0-M9255 runs through M3072-M8999, which this PLC does not "
+                         "have");
+    expect_program_error("  - ZRST: {en: M0, d1: D0, d2: D9255}\n", 24,
+                         "ZRST.d1: D0-D9255 runs through D8000-D8999");
 }
 
 }  // namespace
