@@ -290,9 +290,11 @@ void read_listing_file(const Reader& r, const Node& file, std::vector<ListingLin
         if (end == std::string::npos) end = text.size();
         if (end > start || end < text.size()) {
             // Room for the most statements a program holds, with comments and operand lines.
+            // Refused at the line that crosses the limit, as a statement past 100,000 is.
             if (line > kMaxListingLines) {
-                r.fail(file, "program.file: " + path + " has more than " +
-                                 std::to_string(kMaxListingLines) + " lines; refused");
+                throw ConfigError(Position{path, line, 1}, "program.file: more than " +
+                                                               std::to_string(kMaxListingLines) +
+                                                               " lines; refused");
             }
             listing.push_back({text.substr(start, end - start), {path, line, 1}});
         }
