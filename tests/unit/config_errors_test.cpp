@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <tuple>
 
 #include "daemon/daemon.hpp"
 #include "plcemu/config/config.hpp"
@@ -206,6 +207,25 @@ TEST(ConfigErrors, EveryErrorInTheFbsTemperatureSectionIsReported) {
                           {4, 20, "temperature.modules: unknown module 'TC7'"},
                           {4, 25, "temperature.modules: unknown sensor 'K'"},
                           {5, 14, "temperature.scan_rate: expected 'normal' or 'fast'"}});
+}
+
+// A table the PLC's registers cannot hold (its four words and one per module) is refused at its
+// key: at R8071, or across R4168-R4999, it would never be valid. D3995 leaves room for one
+// module, R8064 not for five.
+TEST(ConfigErrors, ATemperatureTablePastThePlcsRegistersIsRefused) {
+    for (const auto& [table, modules, words] :
+         {std::tuple{"R8071", "[]", "R8071-R8075 (5 words"},
+          std::tuple{"R4165", "[TC6:K]", "R4165-R4169 (5 words"},
+          std::tuple{"R8064", "[TC6, TC6, TC6, TC6, TC6]", "R8064-R8072 (9 words"}}) {
+        const ConfigFailure f = one_plc(std::string("profile: fbs\ntemperature:\n  table: ") +
+                                        table + "\n  modules: " + modules + "\n");
+        expect_config_errors(f, "t.yaml",
+                             {{3, 10,
+                               std::string("temperature.table: ") + words +
+                                   ": SR+0 to SR+3 and one per module) are not all "
+                                   "registers of this PLC"}});
+    }
+    EXPECT_NO_THROW(parse_config("profile: fbs\ntemperature: {table: D3995}\n", "t.yaml"));
 }
 
 // The FB's `temperature:`: keys of the FBs and module entries, each its own error.

@@ -1,5 +1,6 @@
 #include "profiles/fbs/temperature_config.hpp"
 
+#include <algorithm>
 #include <map>
 #include <string>
 
@@ -91,6 +92,25 @@ std::shared_ptr<const Settings> read_settings(const config::Config& config,
                                               const config::Reader& r) {
     auto s = std::make_shared<Settings>();
     read_section(config, r, "temperature", &read, s->temperature);
+    // The table's four words and one per module (at least one: SR+1 is 1-8) must be registers
+    // the PLC has (FBs manual §21.3.1): R8071 or R4165 would leave it never valid.
+    if (const auto& table = s->temperature.table) {
+        const std::uint32_t words =
+            4 + static_cast<std::uint32_t>(std::max<std::size_t>(1, s->temperature.modules.size()));
+        const image::Range r_table{table->area, table->index, words};
+        if (!of(config).layout().contains(r_table)) {
+            for (const auto& section : config.sections) {
+                if (section.first != "temperature") continue;
+                const config::Node& node = section.second;
+                r.attempt([&] {
+                    r.fail(node["table"], "temperature.table: " + r.naming().format_range(r_table) +
+                                              " (" + std::to_string(words) +
+                                              " words: SR+0 to SR+3 and one per module) are not "
+                                              "all registers of this PLC");
+                });
+            }
+        }
+    }
     return s;
 }
 
