@@ -123,6 +123,23 @@ TEST(VbPid, OverlappingBlocksAreRefusedNamingBoth) {
               "");
 }
 
+// D inside its own block would overwrite a parameter at every execution (D = S3: the sampling
+// time); it was accepted.
+TEST(VbPid, AnOutputInsideItsOwnBlockIsRefused) {
+    for (const char* d : {"D200", "D212", "D224"}) {
+        const std::string line =
+            "  - PID: {en: M0, s1: D100, s2: D101, s3: D200, d: " + std::string(d) + "}\n";
+        const auto f = testing::config_failure([&] {
+            (void)daemon::build_program(
+                config::parse_config("profile: vb\nprogram:\n" + line, "pid_test.yaml"));
+        });
+        // At d's operand, the line's last mention of it (s3 may be the same register).
+        testing::expect_config_error(f, "pid_test.yaml", 3, static_cast<int>(line.rfind(d)) + 1,
+                                     std::string("PID.d: ") + d + " is S3+");
+    }
+    EXPECT_EQ(load_error("  - PID: {en: M0, s1: D100, s2: D101, s3: D200, d: D225}\n"), "");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Parameter checks: VB manual FNC88, error table, "stops operation"
 

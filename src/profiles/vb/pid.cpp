@@ -62,6 +62,12 @@ Bound bind(const instructions::Entry& entry, const instructions::BindContext& ct
         ops.fail("s3", "S3 needs 25 registers in D0-D7999 (S3…S3+24), got " + ops.format(block));
     }
     ops.refuse_reserved("s3", block);
+    // MV written into the block would overwrite a parameter every execution (D = S3 is the
+    // sampling time).
+    if (block.overlaps({Area::D, b.mv, 1})) {
+        ops.fail("d", "D" + std::to_string(b.mv) + " is S3+" + std::to_string(b.mv - b.s3) +
+                          ", in the PID's own block S3…S3+24 = " + ops.format(block));
+    }
     // The block holds the loop's parameters and the instruction writes into it: two PIDs on one
     // block would overwrite each other's tuning results and alarms.
     for (const auto& c : ctx.earlier.claims) {
