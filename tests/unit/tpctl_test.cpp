@@ -213,6 +213,18 @@ TEST(Tpctl, WorkingRegistersCantBeRepeatedRefusedAtLoad) {
         tpctl(std::string(kOps).replace(std::string(kOps).find("sv: R100"), 8, "sv: R305") +
               "wr: R300"),
         4, 63, "TPCTL.sv: R305-R314 overlaps this instruction's working registers R300-R308");
+    // Its outputs over its own settings, a flag on its PWM outputs, both flags on one bit: each
+    // written twice a scan, and they were accepted.
+    const std::string ops(kOps);
+    auto with = [&](const std::string& from, const std::string& to) {
+        return std::string(ops).replace(ops.find(from), from.size(), to);
+    };
+    expect_tpctl_error(tpctl(with("or: R200", "or: R100") + "wr: R300"), 4, 113,
+                       "TPCTL.or: R100-R109 overlaps this instruction's sv R100-R109");
+    expect_tpctl_error(tpctl(kOps + std::string("wr: R300, err: Y31")), 4, 134,
+                       "TPCTL.err: Y31 is one of this instruction's PWM outputs Y30-Y39");
+    expect_tpctl_error(tpctl(kOps + std::string("wr: R300, err: M7, alm: M7")), 4, 143,
+                       "TPCTL.alm: alm is the same bit as err");
 }
 
 // FBs manual §21.3: "each module occupies 1 IR and 8 DO"; the declared chain's modules follow

@@ -94,6 +94,24 @@ void check_overlaps(const Bound& me, const instructions::Entry& ic, const BindCo
                               ops.format(wr));
         }
     }
+    // The outputs it writes every scan would replace its own settings (`or` = `sv`), and a flag
+    // inside its PWM outputs, or both flags on one bit, would be written twice a scan.
+    const Range own_or = block(me.l.out, me.points);
+    for (const auto& [key, r] : own) {
+        if (std::string_view(key) != "or" && r.overlaps(own_or)) {
+            ops.fail("or", ops.format(own_or) + " overlaps this instruction's " + key + " " +
+                               ops.format(r));
+        }
+    }
+    const Range own_y = block(me.yn, me.points);
+    for (const auto& [key, flag] : {std::pair{"err", me.err}, std::pair{"alm", me.alm}}) {
+        if (flag && own_y.overlaps({flag->area, flag->index, 1})) {
+            ops.fail(key, ops.format({flag->area, flag->index, 1}) +
+                              " is one of this instruction's PWM outputs " + ops.format(own_y));
+        }
+    }
+    if (me.err && me.alm && me.err->area == me.alm->area && me.err->index == me.alm->index)
+        ops.fail("alm", "alm is the same bit as err");
     // Each pair is checked once, at the later entry, against what the earlier ones own.
     const Range mine_or = block(me.l.out, me.points);
     const Range mine_y = block(me.yn, me.points);
