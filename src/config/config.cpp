@@ -581,7 +581,7 @@ void check_own_units(const Reader& r, const Node& root, const Config& c) {
 
 // `entry`: a `plcs:` entry, which may have a `name:` and may not have `log:` (one process, one
 // log).
-Config read_root(Reader& r, const Node& root, bool entry = false) {
+Config read_root(Reader& r, const Node& root, const Overrides& overrides, bool entry = false) {
     Config c;
     const std::size_t errors_before = r.errors_found();
     if (!root.is_map()) {
@@ -675,7 +675,7 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
         }
         read_fatek(r, f, c.fatek);
     });
-    r.attempt([&] { read_http(r, root["http"], c.http); });
+    r.attempt([&] { read_http(r, root["http"], c.http, overrides.http_port.has_value()); });
     section(r, root, "init", read_init, c.init);
     r.attempt([&] {
         if (const Node& n = root["program"]) read_program(r, n, c.program, c.listing);
@@ -703,6 +703,7 @@ Config read_root(Reader& r, const Node& root, bool entry = false) {
     // The checks below compare what several keys said: after an error in one of them they would
     // only repeat it in other words (docs/configuration.md, "Configuration").
     if (r.errors_found() != errors_before) return c;
+    apply(overrides, c);
     check_own_units(r, root, c);
     c.settings = profile->read(c, r);
     check_own_listeners(r, root, c);
@@ -1040,6 +1041,7 @@ bool per_plc_key(const std::string& key) {
 std::vector<Config> read_plcs(const YamlDocument& doc,
                               const Node& root,
                               const std::string& file,
+                              const Overrides& overrides,
                               Errors& errors) {
     Reader top(errors);
     for (const auto& [key, value] : root.entries) {
@@ -1063,11 +1065,18 @@ std::vector<Config> read_plcs(const YamlDocument& doc,
     if (!list.is_sequence() || doc.items() == 0) {
         top.fail(list, "plcs: expected a list of PLC configs, each with at least 'profile:'");
     }
+    // Before any entry takes them: with them, the entries' listeners would clash.
+    if (overrides.port) top.fail(list, "--port: a config with plcs: sets each PLC's port itself");
+    if (overrides.http_port == 0) {
+        top.fail(list,
+                 "--http-port 0: with plcs: each PLC would get a console of its own on a "
+                 "port of the kernel's choosing; give a port");
+    }
     LogConfig log;
     section(top, root, "log", read_log, log);
     // `http:` beside `plcs:` is one console for every PLC that has no `http:` of its own.
     std::optional<TcpConfig> http;
-    top.attempt([&] { read_http(top, root["http"], http); });
+    top.attempt([&] { read_http(top, root["http"], http, overrides.http_port.has_value()); });
     std::vector<Config> out;
     std::vector<Taken> taken;
     Clashes clashes;
@@ -1091,7 +1100,7 @@ std::vector<Config> read_plcs(const YamlDocument& doc,
                 label += " (" + name + ")";
                 errors.set_prefix(label + ": ");
             }
-            Config c = read_root(r, e, true);
+            Config c = read_root(r, e, overrides, true);
             // Compared with the other entries only when it is whole: a key in error would
             // only be refused again as a clash.
             if (errors.size() != errors_before) return;
@@ -1100,7 +1109,15 @@ std::vector<Config> read_plcs(const YamlDocument& doc,
             c.label = label;
             c.index = static_cast<int>(i);
             c.log = log;
-            if (!e["http"]) c.http = http;
+            if (!e["http"]) {
+                // The console beside `plcs:`, and what the command line sets of it; checked
+                // against the entry's own listeners as those were.
+                c.http = http;
+                Overrides console;
+                console.http_port = overrides.http_port;
+                apply(console, c);
+                check_own_listeners(r, e, c);
+            }
             c.fingerprint = fingerprint(c, e, e["http"] ? nullptr : &root["http"]);
             Taken mine(c, e);
             check_shared(r, e, c, mine, out, taken, clashes);
@@ -1138,14 +1155,14 @@ Config parse_config(const std::string& text, const std::string& name) {
     return read_config(parse_yaml_tree(text, name), name);
 }
 
-Config read_config(const Node& root, const std::string& name) {
+Config read_config(const Node& root, const std::string& name, const Overrides& overrides) {
     if (root.is_map() && root["plcs"]) {
         Reader r;
         r.fail(root["plcs"], "plcs: this command takes a config holding one PLC");
     }
     Config c = collecting([&](Errors& errors) {
         Reader r(errors);
-        return read_root(r, root);
+        return read_root(r, root, overrides);
     });
     c.path = name;
     c.fingerprint = fingerprint(c, root, nullptr);
@@ -1154,19 +1171,22 @@ Config read_config(const Node& root, const std::string& name) {
 
 Config load_config(const std::string& path) { return parse_config(read_config_file(path), path); }
 
-std::vector<Config> parse_plcs(const std::string& text, const std::string& name) {
+std::vector<Config> parse_plcs(const std::string& text,
+                               const std::string& name,
+                               const Overrides& overrides) {
     YamlDocument doc(text, name);
     const Node root = doc.tree_without_items("plcs");
     if (root.is_map() && root["plcs"]) {
-        return collecting([&](Errors& errors) { return read_plcs(doc, root, name, errors); });
+        return collecting(
+            [&](Errors& errors) { return read_plcs(doc, root, name, overrides, errors); });
     }
     std::vector<Config> one;
-    one.push_back(read_config(root, name));
+    one.push_back(read_config(root, name, overrides));
     return one;
 }
 
-std::vector<Config> load_plcs(const std::string& path) {
-    return parse_plcs(read_config_file(path), path);
+std::vector<Config> load_plcs(const std::string& path, const Overrides& overrides) {
+    return parse_plcs(read_config_file(path), path, overrides);
 }
 
 }  // namespace plcemu::config

@@ -168,7 +168,7 @@ void read_fatek(const Reader& r, const Node& n, FatekConfig& fatek) {
     });
 }
 
-void read_http(const Reader& r, const Node& n, std::optional<TcpConfig>& http) {
+void read_http(const Reader& r, const Node& n, std::optional<TcpConfig>& http, bool on_anyway) {
     if (!n || n.is_null()) return;
     // The console can write: it listens on the loopback address unless told otherwise.
     constexpr std::uint16_t kHttpPort = 8020;
@@ -176,6 +176,9 @@ void read_http(const Reader& r, const Node& n, std::optional<TcpConfig>& http) {
     t.bind = "127.0.0.1";
     t.port = kHttpPort;
     read_tcp(r, n, t, "http");
+    // --http-port turns on a console the file turns off, with the file's token, read_only and
+    // allow: never a console more open than the one written.
+    if (on_anyway) t.enabled = true;
     if (t.enabled) http = t;
 }
 

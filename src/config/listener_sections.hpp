@@ -18,8 +18,12 @@ void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp, const std::string&
 void read_line(
     const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what, bool with_read_only);
 
-/// Reads `http:` (the console and REST API; docs/console.md).
-void read_http(const Reader& r, const Node& n, std::optional<TcpConfig>& http);
+/// Reads `http:` (the console and REST API; docs/console.md); `on_anyway` (the command line's
+/// --http-port) keeps a console the section turns off.
+void read_http(const Reader& r,
+               const Node& n,
+               std::optional<TcpConfig>& http,
+               bool on_anyway = false);
 /// Reads `fatek:`.
 void read_fatek(const Reader& r, const Node& n, FatekConfig& fatek);
 

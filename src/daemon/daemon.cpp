@@ -29,29 +29,6 @@
 
 namespace plcemu::daemon {
 
-void apply_overrides(config::Config& config, const Overrides& o) {
-    if (o.port) config.modbus.tcp.port = *o.port;
-    if (o.http_port) {
-        // A config without `http:` gets the console with its defaults (127.0.0.1).
-        if (!config.http) {
-            config.http.emplace();
-            config.http->bind = "127.0.0.1";
-        }
-        config.http->port = *o.http_port;
-    }
-    if (o.time_scale) config.time_scale = *o.time_scale;
-}
-
-std::vector<config::Config> load_configs(const std::string& path, const Overrides& overrides) {
-    std::vector<config::Config> v = config::load_plcs(path);
-    if (v.front().index >= 0 && overrides.port) {
-        throw config::ConfigError({path, 0, 0},
-                                  "--port: a config with plcs: sets each PLC's port itself");
-    }
-    for (auto& c : v) apply_overrides(c, overrides);
-    return v;
-}
-
 namespace {
 
 // One PLC of the process: its state file, its Plc, its master port and its scan driver, on the
@@ -372,7 +349,7 @@ public:
     Runtime& operator=(const Runtime&) = delete;
 
     int run() {
-        std::vector<config::Config> loaded = load_configs(config_path_, overrides_);
+        std::vector<config::Config> loaded = config::load_plcs(config_path_, overrides_);
         log_level_ = loaded.front().log.level;
         spdlog::set_level(spdlog::level::from_str(log_level_));
         // Everything the config can get wrong, found before any file or port is touched.
@@ -536,7 +513,7 @@ private:
         // Runtime is gone.
         auto work = [p, path = config_path_, overrides = overrides_, running = std::move(running)] {
             try {
-                p->configs = load_configs(path, overrides);
+                p->configs = config::load_plcs(path, overrides);
                 // A PLC whose config reads as it did is neither built nor touched: 5,000 PLCs
                 // with one setpoint changed rebuild one (docs/operations.md, "Reload").
                 p->unchanged.assign(p->configs.size(), false);

@@ -10,20 +10,8 @@
 
 namespace plcemu::daemon {
 
-/// Command-line overrides of config values.
-struct Overrides {
-    std::optional<std::uint16_t> port;       ///< --port
-    std::optional<std::uint16_t> http_port;  ///< --http-port
-    std::optional<double> time_scale;        ///< --time-scale
-};
-
-/// Applies the overrides to a loaded config.
-void apply_overrides(config::Config& config, const Overrides& o);
-
-/// The PLCs of the config file at `path` with the overrides applied, as a start, a reload and
-/// --check-config read them: --port with a `plcs:` file is an error (its PLCs have ports of
-/// their own). Throws config::ConfigError.
-std::vector<config::Config> load_configs(const std::string& path, const Overrides& overrides);
+/// Command-line overrides of config values (config::load_plcs applies them).
+using Overrides = config::Overrides;
 
 /// Builds the PLC of `config` on an image of its own, as a check of everything the config can
 /// get wrong that the loader cannot (program operands, the allow list), and returns its program,

@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
         if (check) {
             // The start's own reading: what it would refuse, this refuses.
             const std::vector<plcemu::config::Config> plcs =
-                plcemu::daemon::load_configs(config_path, overrides);
+                plcemu::config::load_plcs(config_path, overrides);
             plcemu::daemon::probe_all(plcs);  // binds the programs: operand errors too
             for (const auto& cfg : plcs) {
                 if (!cfg.label.empty()) {

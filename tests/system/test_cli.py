@@ -4,6 +4,7 @@ and logging (point 9): --check-config, --print-map [--format csv], --port, --tim
 
 import csv
 import io
+import http.client
 import re
 import signal
 import socket
@@ -205,6 +206,46 @@ def test_http_port_override_turns_a_disabled_console_on_and_takes_0(start_plcemu
     assert d.wait_log("listening on http 127.0.0.1:"), d.log_text()
     port = int(re.search(r"listening on http 127\.0\.0\.1:(\d+)", d.log_text()).group(1))
     assert port not in (0, 1) and port_open(port)
+
+
+@pytest.mark.parametrize("check", [[], ["--check-config"]])
+def test_overrides_are_checked_as_if_the_file_said_them(tmp_path, check):
+    # The command line's ports are applied before the loader checks the listeners: a console
+    # --http-port makes shared must agree (b's token and read_only were dropped, a's console
+    # served both), and a port taken twice by one PLC is refused (FATEK went unserved).
+    plcs = write(tmp_path, "plcs:\n"
+                 f"  - {{name: a, profile: fbs, modbus: {{tcp: {{port: {free_port()}}}}},"
+                 f" http: {{port: {free_port()}}}}}\n"
+                 f"  - {{name: b, profile: fbs, station: 2, modbus: {{tcp: {{port: {free_port()}}}}},"
+                 f" http: {{port: {free_port()}, token: s3cretTOKEN, read_only: true}}}}\n")
+    r = run_plcemud("-c", plcs, "--http-port", free_port(), *check, timeout=20)
+    assert r.returncode == 2, r
+    assert "plcs[1] (b): http.read_only: differs from plcs[0] (a)'s" in r.stderr, r.stderr
+    r = run_plcemud("-c", plcs, "--http-port", "0", *check, timeout=20)
+    assert r.returncode == 2 and "--http-port 0: with plcs:" in r.stderr, r
+    fatek = free_port()
+    one = tmp_path / "one.yaml"
+    one.write_text(f"profile: fbs\npersistence: {{enabled: false}}\n"
+                   f"modbus: {{tcp: {{bind: 127.0.0.1, port: {free_port()}}}}}\n"
+                   f"fatek: {{tcp: {{bind: 127.0.0.1, port: {fatek}}}}}\n")
+    r = run_plcemud("-c", one, "--port", fatek, *check, timeout=20)
+    assert r.returncode == 2, r
+    assert f"fatek.tcp.port: {fatek} is also this PLC's modbus.tcp port" in r.stderr, r.stderr
+
+
+def test_http_port_turns_on_the_console_the_file_turned_off_with_its_settings(start_plcemud):
+    # Never a console more open than the one written: its read_only and token hold.
+    d = start_plcemud("profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1}}\n"
+                      "http: {enabled: false, token: s3cretTOKEN, read_only: true}\n",
+                      "--http-port", "0")
+    assert d.wait_log("listening on http 127.0.0.1:"), d.log_text()
+    port = int(re.search(r"listening on http 127\.0\.0\.1:(\d+)", d.log_text()).group(1))
+    conn = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
+    conn.request("PUT", "/api/v1/plcs/0/devices/R100", body=b'{"values": [42]}',
+                 headers={"Content-Type": "application/json"})
+    reply = conn.getresponse()
+    assert reply.status in (401, 403), (reply.status, reply.read())
+    conn.close()
 
 
 def sample_coil(client, addr, seconds):

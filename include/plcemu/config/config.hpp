@@ -218,6 +218,19 @@ struct Config {
     Fingerprint fingerprint;
 };
 
+/// What the command line sets in every PLC's config (`--port`, `--http-port`, `--time-scale`).
+/// The loader applies them to each PLC as it reads it, before it checks the listeners against
+/// each other: ports an override makes equal are refused, or shared only where the PLCs agree,
+/// exactly as if the file said so.
+struct Overrides {
+    std::optional<std::uint16_t> port;       ///< modbus.tcp.port
+    std::optional<std::uint16_t> http_port;  ///< http.port; a console on 127.0.0.1 where none
+    std::optional<double> time_scale;        ///< time_scale
+};
+
+/// Applies the overrides to one PLC's config.
+void apply(const Overrides& overrides, Config& config);
+
 /// Reads a serial line's settings (`modbus.rtu`, or a profile's own port) into `rtu`; `what`
 /// names the key in errors. Throws ConfigError.
 void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what);
@@ -234,10 +247,12 @@ Config load_config(const std::string& path);
 
 /// Reads and validates a config file holding one PLC or, under `plcs:`, several: one Config per
 /// PLC, in file order. Throws ConfigError naming file, line and column (and the entry).
-std::vector<Config> load_plcs(const std::string& path);
+std::vector<Config> load_plcs(const std::string& path, const Overrides& overrides = {});
 
 /// The same for config text; `name` is used in error positions.
-std::vector<Config> parse_plcs(const std::string& text, const std::string& name);
+std::vector<Config> parse_plcs(const std::string& text,
+                               const std::string& name,
+                               const Overrides& overrides = {});
 
 /// How machine-readable output names a `plcs:` entry (the `plc` column of `--print-map --format
 /// csv` and of `--export-tags`, the prefix of its exported tag names): its `name:`, or "plcs[2]"

@@ -11,8 +11,9 @@
 
 namespace plcemu::config {
 
-/// Reads and validates a config tree whose root is `root`; `name` becomes Config::path. Throws
-/// ConfigError at the position of the node at fault.
-Config read_config(const Node& root, const std::string& name);
+/// Reads and validates a config tree whose root is `root`; `name` becomes Config::path, and
+/// `overrides` (the command line's) are applied before the checks. Throws ConfigError at the
+/// position of the node at fault.
+Config read_config(const Node& root, const std::string& name, const Overrides& overrides = {});
 
 }  // namespace plcemu::config
