@@ -326,17 +326,34 @@ void Listeners::open(const std::vector<ListenerMember>& plcs) {
 
 namespace {
 
-// Whether the open UDP listener or serial line `r` serves what group `g` asks for (`l` its
-// settings) as it is: the same protocol, address or device, PLCs, line settings and access.
+// Whether the open UDP listener or serial line `r` can serve what group `g` asks for (`l` its
+// settings) without being opened again: the same protocol, address (a port-0 listener's key
+// does not hold it) or device, PLCs and line settings. Its access (`allow`, `read_only`) is
+// then updated in place (keep()).
 bool serves_as_is(const Listeners::Listener& r, const Group& g, const config::ListenerConfig& l) {
     if (!r.open() || r.key != g.key || r.protocol != g.protocol || r.members != g.members)
         return false;
     if (g.carrier == Carrier::Udp)
-        return r.options.net.allow == l.net->allow && r.options.net.read_only == l.net->read_only;
+        return r.options.net.bind == l.net->bind && r.options.net.port == l.net->port;
     const config::RtuConfig& was = r.line_config;
     const config::RtuConfig& now = *l.line;
     return was.baud == now.baud && was.parity == now.parity && was.data_bits == now.data_bits &&
-           was.stop_bits == now.stop_bits && was.read_only == now.read_only;
+           was.stop_bits == now.stop_bits;
+}
+
+// A UDP listener or serial line kept across a reload takes the new access settings and seats.
+void keep(Listeners::Listener& r,
+          const config::ListenerConfig& l,
+          std::vector<listener::Seat> seated) {
+    r.units().assign(std::move(seated));
+    if (r.udp) {
+        r.options.net = *l.net;
+        r.udp->set_allow(l.net->allow);
+        r.units().set_read_only(l.net->read_only);
+    } else {
+        r.line_config = *l.line;
+        r.units().set_read_only(l.line->read_only);
+    }
 }
 
 }  // namespace
@@ -367,8 +384,8 @@ void Listeners::open_reopened(const std::vector<ListenerMember>& plcs,
     for (const auto& g : in_force_->all) {
         if (g.carrier == Carrier::Tcp) continue;
         if (const auto found = kept.find(g.key); found != kept.end()) {
-            Listener& r = *found->second;
-            r.units().assign(seats(g.members, plcs));
+            keep(*found->second, *listener_in(*plcs[g.members.front()].config, g.section),
+                 seats(g.members, plcs));
             reopened_.push_back(std::move(found->second));
             continue;
         }
@@ -393,8 +410,17 @@ void Listeners::open_reopened(const std::vector<ListenerMember>& plcs,
                 setup.line = {s.device, s.baud, s.parity, s.data_bits, s.stop_bits};
                 setup.read_only = s.read_only;
                 r->serial = protocol(g.protocol).serial(setup);
-                r->line = std::make_unique<listener::SerialListener>(io_, *r->serial, setup.line,
-                                                                     r->what(), g.protocol);
+                // At a reload a device that is not there (a USB adapter unplugged, a link not
+                // yet made) is waited for with back-off, as one lost while open.
+                r->line = std::make_unique<listener::SerialListener>(
+                    io_, *r->serial, setup.line, r->what(), g.protocol, !at_start);
+                if (!r->line->absent().empty()) {
+                    spdlog::error("reload: {}{}; trying it again with back-off{}", prefix,
+                                  r->line->absent(),
+                                  g.members.size() > 1 ? " for " + names(g.members, plcs_) : "");
+                    reopened_.push_back(std::move(r));
+                    continue;
+                }
             }
         } catch (const std::exception& e) {
             if (at_start) throw;
@@ -510,12 +536,18 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
                    ? tcp_.end()
                    : tcp_.begin() + static_cast<std::ptrdiff_t>(found->second);
     };
+    // Whether the running listener serves `g` as it is: the same key and address (a port-0
+    // listener's key does not hold its address).
+    const auto same = [&](const Listener& t, const Group& g) {
+        return t.key == g.key &&
+               t.options.net.bind == listener_in(next[g.members.front()], g.section)->net->bind;
+    };
     // The running listeners this reload keeps; the others close once it is applied.
     std::vector<bool> kept(tcp_.size(), false);
     for (const auto& g : plan->all) {
         if (g.carrier != Carrier::Tcp) continue;
         const auto running = running_for(g);
-        if (running != tcp_.end() && (*running)->key == g.key)
+        if (running != tcp_.end() && same(**running, g))
             kept[static_cast<std::size_t>(running - tcp_.begin())] = true;
     }
     for (const auto& g : plan->all) {
@@ -523,7 +555,7 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
         const std::size_t first = g.members.front();
         const auto running = running_for(g);
         Staged s;
-        if (running != tcp_.end() && (*running)->key == g.key) {
+        if (running != tcp_.end() && same(**running, g)) {
             s.kept = static_cast<std::size_t>(running - tcp_.begin());
             staged_.push_back(std::move(s));
             continue;

@@ -237,10 +237,20 @@ SerialListener::SerialListener(asio::io_context& io,
                                SerialProtocol& protocol,
                                LineSettings line,
                                std::string name,
-                               std::string_view protocol_name)
+                               std::string_view protocol_name,
+                               bool wait_for_device)
     : state_(
           std::make_shared<State>(io, protocol, std::move(line), std::move(name), protocol_name)) {
-    state_->line.assign(modbus::open_serial_line(state_->options, state_->name));
+    try {
+        state_->line.assign(modbus::open_serial_line(state_->options, state_->name));
+    } catch (const std::system_error& e) {
+        if (!wait_for_device) throw;
+        // As a device lost while open: tried again with back-off, "reopened" once it is back.
+        absent_ = e.what();
+        state_->link = State::Link::Lost;
+        state_->reopen_later();
+        return;
+    }
     state_->read();
 }
 

@@ -20,20 +20,25 @@ namespace plcemu::listener {
 class SerialListener {
 public:
     /// Opens and configures the device (raw, baud, parity, data and stop bits) and starts
-    /// reading; throws std::system_error when it cannot. `protocol` must outlive it; `name`
-    /// starts its log lines ("rtu"); `protocol_name` is the protocol's, as the line's master is
-    /// listed among the clients ("modbus-rtu").
+    /// reading; throws std::system_error when it cannot, unless `wait_for_device`: then it
+    /// tries again with back-off as for a device lost (absent() says why). `protocol` must
+    /// outlive it; `name` starts its log lines ("rtu"); `protocol_name` is the protocol's, as
+    /// the line's master is listed among the clients ("modbus-rtu").
     SerialListener(asio::io_context& io,
                    SerialProtocol& protocol,
                    LineSettings line,
                    std::string name,
-                   std::string_view protocol_name);
+                   std::string_view protocol_name,
+                   bool wait_for_device = false);
     ~SerialListener();
     SerialListener(const SerialListener&) = delete;
     SerialListener& operator=(const SerialListener&) = delete;
 
     /// Device and line settings, as logged.
     std::string description() const;
+    /// Why the device could not be opened when this was made with `wait_for_device` ("cannot
+    /// open /dev/ttyUSB1: No such file or directory"); empty when it was.
+    const std::string& absent() const noexcept { return absent_; }
     /// Stops reading (and reopening) and closes the device.
     void stop();
 
@@ -41,6 +46,7 @@ public:
 
 private:
     std::shared_ptr<State> state_;
+    std::string absent_;
 };
 
 }  // namespace plcemu::listener

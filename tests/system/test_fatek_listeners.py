@@ -372,3 +372,35 @@ def test_a_reload_keeps_an_unchanged_serial_line_and_udp_listener_open(start_plc
             time.sleep(0.05)
         assert "19200" in d.log_text().split("listening on fatek serial")[-1].splitlines()[0]
         assert udp_inode(udp) == inode
+
+
+def test_a_line_whose_device_is_away_at_a_reload_comes_back_by_itself(start_plcs, tmp_path):
+    # The device is a link (socat's, as udev's /dev/serial/by-id ones are); it goes away, a
+    # reload comes while it is away (its name now resolves elsewhere, so the line is opened
+    # anew and cannot be), and the device comes back: the line is tried with back-off and
+    # answers without another reload (it stayed dead until one).
+    from rtu_pty import PtyPair
+
+    pair = PtyPair(tmp_path)
+    tcp = free_port()
+    text = ("plcs:\n"
+            f"  - {{name: a, profile: fbs, persistence: {{enabled: false}},"
+            f" modbus: {{tcp: {{bind: 127.0.0.1, port: {tcp}}}}},"
+            f" fatek: {{serial: {{device: {pair.slave}}}}}}}\n")
+    d = start_plcs(text, [tcp])
+    try:
+        with Fatek.serial(pair.master) as line:
+            deadline = time.monotonic() + 5
+            while line.exchange(GIST, timeout=0.2) != RUNNING:
+                assert time.monotonic() < deadline, d.log_text()
+        pair.stop()
+        assert d.wait_log("lost ("), d.log_text()
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: applied to 0 of 1 PLCs"), d.log_text()
+        pair = PtyPair(tmp_path)
+        with Fatek.serial(pair.master) as line:
+            deadline = time.monotonic() + 10
+            while line.exchange(GIST, timeout=0.2) != RUNNING:
+                assert time.monotonic() < deadline, d.log_text()
+    finally:
+        pair.stop()

@@ -192,6 +192,19 @@ TEST_F(ListenersTest, OpensAListenerPerPlcOnPortZeroEachServingItsOwnPlc) {
               "its own simulator unit on tcp 127.0.0.1:" + std::to_string(pa));
 }
 
+// A port-0 listener's key is the PLC and section, not the address: a new bind is still a new
+// listener (it was kept on the old address, the reload logging the change).
+TEST_F(ListenersTest, APortZeroListenerMovesToANewAddress) {
+    open(two_plcs(0, 0));
+    const std::uint16_t pa = port_of(0);
+    std::string text = two_plcs(0, 0);
+    text.replace(text.find("bind: 127.0.0.1"), 15, "bind: 0.0.0.0");
+    ASSERT_TRUE(reload(text));
+    const std::string d = listeners_.describe_all().at(0);
+    EXPECT_EQ(d.rfind(", tcp 0.0.0.0:", 0), 0u) << d;
+    EXPECT_EQ(d.find("127.0.0.1:" + std::to_string(pa)), std::string::npos) << d;
+}
+
 TEST_F(ListenersTest, ANewPortIsAFreshListenerAndTheOldPortCloses) {
     const std::uint16_t p1 = free_port();
     open(two_plcs(p1, 0));
@@ -312,14 +325,15 @@ TEST_F(ListenersTest, APlcLeftOnItsPreviousConfigKeepsThatConfigsListeners) {
         << listeners_.describe_all().at(1);
 }
 
-// `text` with PLC a's entry given a FATEK UDP listener on 127.0.0.1, the kernel's port, and
-// `init` in place of its init.
-std::string with_udp_on_a(std::string text, const std::string& init = "init: {R0: 11}") {
+// `text` with PLC a's entry given a FATEK UDP listener on the kernel's port with `udp` (its
+// bind and access), and `init` in place of its init.
+std::string with_udp_on_a(std::string text,
+                          const std::string& init = "init: {R0: 11}",
+                          const std::string& udp = "bind: 127.0.0.1") {
     const std::string a_init = "init: {R0: 11}";
     const auto at = text.find(a_init);
     EXPECT_NE(at, std::string::npos);
-    text.replace(at, a_init.size(),
-                 init + ", fatek: {udp: {enabled: true, bind: 127.0.0.1, port: 0}}");
+    text.replace(at, a_init.size(), init + ", fatek: {udp: {enabled: true, port: 0, " + udp + "}}");
     return text;
 }
 
@@ -369,6 +383,15 @@ TEST_F(ListenersTest, AnUnchangedUdpListenerGoesOnThroughAReloadServingTheNewPlc
     EXPECT_EQ(listeners_.describe_all().at(0), before);
     EXPECT_EQ(fatek_r0_over_udp(io_, port), 33);
     EXPECT_EQ(r0_at(pa, 1), 33);
+    // Its access changes in place, on the same port: 127.0.0.1 is no longer allowed.
+    ASSERT_TRUE(reload(
+        with_udp_on_a(two_plcs(pa, pb), "init: {R0: 33}", "bind: 127.0.0.1, allow: [127.0.0.2]")));
+    EXPECT_EQ(listeners_.describe_all().at(0), before);
+    EXPECT_EQ(fatek_r0_over_udp(io_, port), -1);
+    // A new address is a new socket, though the key of a port-0 listener does not hold it.
+    ASSERT_TRUE(reload(with_udp_on_a(two_plcs(pa, pb), "init: {R0: 33}", "bind: 0.0.0.0")));
+    const std::string after = listeners_.describe_all().at(0);
+    EXPECT_NE(after.find(", fatek udp 0.0.0.0:"), std::string::npos) << after;
 }
 
 TEST_F(ListenersTest, ChangingWhichPlcsShareAListenerIsRefused) {
