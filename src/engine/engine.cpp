@@ -72,7 +72,7 @@ std::optional<std::uint8_t> Engine::step(Duration now, const Calendar& calendar)
     if (holding) holds_.put(image_);
     if (running_) {
         // The program's writes pass the disabled discretes by; the put() after it covers what
-        // is written other than through write_bit() and write_word().
+        // is written through the image's raw pointers.
         if (holding) image_.hold(&holds_.bits());
         for (auto& i : program_) i->execute(ctx);
         image_.hold(nullptr);

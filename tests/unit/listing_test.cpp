@@ -265,6 +265,23 @@ TEST(FatekListing, RungsSeeWhatAMasterPutInADisabledDiscrete) {
     EXPECT_FALSE(p.bit(Area::M, 7));
 }
 
+// A timer's or counter's contact a master disabled and set is read so by the rungs after the
+// TMR or CTR, whose own write of it (OFF: X0 is OFF) passes it by; it once read OFF there.
+TEST(FatekListing, RungsSeeADisabledTimerOrCounterContactAsTheMasterSetIt) {
+    ListingPlc p("fbs", {"ORG X0", "TMR T0 100", "ORG T0", "OUT M6",  //
+                         "ORG X0", "CTR C0 10", "ORG C0", "OUT M7"});
+    engine::Holds& h = p.plc.engine().holds();
+    ASSERT_TRUE(h.set(Area::T, 0, true));
+    ASSERT_TRUE(h.set(Area::C, 0, true));
+    p.set(Area::T, 0, true);
+    p.set(Area::C, 0, true);
+    p.scan(2);
+    EXPECT_TRUE(p.bit(Area::T, 0));
+    EXPECT_TRUE(p.bit(Area::M, 6));
+    EXPECT_TRUE(p.bit(Area::C, 0));
+    EXPECT_TRUE(p.bit(Area::M, 7));
+}
+
 TEST(FatekListing, FunctionTakesItsEnableFromTheRung) {
     // FUN8 MOV written three ways, and its pulse form.
     ListingPlc p("fbs", {"ORG X0", "AND X1", "FUN8 MOV S:R0 D:R10", "ORG X0", "FUN 8 MOV",

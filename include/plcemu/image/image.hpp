@@ -56,8 +56,11 @@ public:
 
     /// Bit `i` of a bit area.
     bool bit(Area a, std::uint32_t i) const { return bits(a)[i] != 0; }
-    /// Sets bit `i` of a bit area.
-    void set_bit(Area a, std::uint32_t i, bool v) { bits(a)[i] = v ? 1 : 0; }
+    /// Sets bit `i` of a bit area (not one hold() names, while it is set).
+    void set_bit(Area a, std::uint32_t i, bool v) {
+        if (held_ != nullptr && held(a, i)) return;
+        bits(a)[i] = v ? 1 : 0;
+    }
     /// Word `i` of a word area.
     std::uint16_t word(Area a, std::uint32_t i) const { return words(a)[i]; }
     /// Sets word `i` of a word area.
@@ -76,9 +79,10 @@ public:
     /// One bit per discrete of each bit area (null for an area without any): the discretes a
     /// master disabled (engine::Holds).
     using HeldBits = std::array<const std::uint64_t*, kAreaCount>;
-    /// While `held` is set (not null), write_bit() and write_word() leave the discretes it names
-    /// as they are: the engine sets it for the program's part of a scan, so that a rung after an
-    /// OUT to a disabled discrete sees what the master put there.
+    /// While `held` is set (not null), set_bit(), write_bit() and write_word() leave the
+    /// discretes it names as they are: the engine sets it for the program's part of a scan, so
+    /// that a rung after an OUT to a disabled discrete (or a timer's or counter's contact) sees
+    /// what the master put there.
     void hold(const HeldBits* held) noexcept { held_ = held; }
 
     /// Clears every device outside the given retentive ranges.
