@@ -184,6 +184,7 @@ ScanDriver::Clock::time_point ScanDriver::tick(Clock::time_point start) {
         // The next scan starts on the new schedule, but as late as the old one said: its
         // lateness counts what was skipped, and the PLC is not on schedule for a while.
         skipped_ = behind;
+        previous_skip_ = last_skip_;
         last_skip_ = now;
         spdlog::warn(
             "{}scan: more than {} s behind real time at time scale {}; skipping ahead", prefix_,
@@ -201,8 +202,12 @@ bool ScanDriver::on_schedule() const noexcept {
         std::chrono::duration<double>(engine_.scan_period()).count() / schedule_.time_scale()));
     const auto window = std::max<Clock::duration>(2 * period, std::chrono::seconds(2));
     const auto now = Clock::now();
-    return now - last_scan_ < window &&
-           (last_skip_ == Clock::time_point{} || now - last_skip_ >= window);
+    // One skip is a pause the scans came out of (the process stopped, the host busy for a
+    // moment); a second within two windows of it, scans that cannot keep up.
+    const bool falling_behind = previous_skip_ != Clock::time_point{} &&
+                                last_skip_ - previous_skip_ < 2 * window &&
+                                now - last_skip_ < window;
+    return now - last_scan_ < window && !falling_behind;
 }
 
 }  // namespace plcemu::daemon

@@ -82,8 +82,8 @@ public:
     /// Simulated time of the last scan.
     engine::Duration simulated_time() const noexcept override { return engine_.now(); }
     /// True while frozen, or while the scans keep their schedule: the last one ran within two
-    /// periods (at least 2 s), and the schedule was not skipped ahead within as long
-    /// (engine::TimeControl::on_schedule).
+    /// periods (at least 2 s), and the schedule was not skipped ahead twice, the second time
+    /// within as long (engine::TimeControl::on_schedule).
     bool on_schedule() const noexcept override;
     std::uint64_t lateness_p99_us() const noexcept override {
         return static_cast<std::uint64_t>(lateness_.percentile(0.99).count());
@@ -132,6 +132,7 @@ private:
     engine::DurationHistogram duration_;  // how long the scans took
     Clock::time_point last_scan_{};       // real time of the last scan tick() ran (or the start)
     Clock::time_point last_skip_{};       // when the schedule last skipped ahead (never: epoch)
+    Clock::time_point previous_skip_{};   // the skip before that
     Clock::duration skipped_{};           // how far behind it was then, for the next lateness
 };
 

@@ -59,8 +59,8 @@ public:
     virtual Duration simulated_time() const noexcept = 0;
     /// True while the scans keep their schedule: frozen on purpose, or the last scan ran less
     /// than two scan periods (and at least two seconds) ago and the scans did not fall so far
-    /// behind real time within as long that the schedule skipped ahead (a health check asks
-    /// it).
+    /// behind real time, again and again, that the schedule skipped ahead twice, the second
+    /// time within as long (a health check asks it).
     virtual bool on_schedule() const noexcept { return true; }
     /// How late scans started against their real-time deadlines: the 99th percentile and the
     /// worst, µs (0 without a real-time driver).
