@@ -122,10 +122,8 @@ public:
         if (cfg_->listing.empty()) {
             spdlog::info("{}program: {} instruction(s)", prefix_, cfg_->program.size());
         } else {
-            // A listing's statements and continuation lines are not one instruction each: the
-            // lines as written, and the steps the engine runs.
-            spdlog::info("{}program: instruction list of {} lines, {} steps", prefix_,
-                         cfg_->listing.size(), plc_->engine().program().size());
+            // A listing's lines as written (--print-program numbers its steps).
+            spdlog::info("{}program: instruction list of {} lines", prefix_, cfg_->listing.size());
         }
     }
 

@@ -57,8 +57,12 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
 
     void serve(std::size_t n) noexcept {
         if (n > protocol.max_frame()) return;
+        const auto now = std::chrono::steady_clock::now();
+        // What the last window held back is summed up at the first datagram after it (there is
+        // no timer here: a listener nobody sends to has nothing to say).
+        limiter.flush_to_log(now, log_prefix);
         if (!allowed(sender.address())) {
-            if (limiter.allow(LogCause::RefusedNotAllowed, std::chrono::steady_clock::now())) {
+            if (limiter.allow(LogCause::RefusedNotAllowed, now)) {
                 spdlog::warn("udp {}: ignored a datagram from {}, not in the allow list", name,
                              peer_name(sender));
             }
@@ -145,6 +149,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     udp::endpoint sender;
     LogLimiter limiter{kLogBurst, kLogWindow};
     std::string name;
+    std::string log_prefix;  // "udp 0.0.0.0:500: ", for the limiter's summaries
     struct Peer {
         udp::endpoint endpoint;
         Client client;
@@ -156,8 +161,13 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
 
 UdpListener::UdpListener(asio::io_context& io, StreamProtocol& protocol, UdpOptions options)
     : state_(std::make_shared<State>(io, protocol, std::move(options))) {
-    const std::string where =
-        "cannot listen on udp " + state_->options.bind + ":" + std::to_string(state_->options.port);
+    // Named as its `listening on` line names it, with its section: "cannot listen on fatek udp
+    // 0.0.0.0:500 (fatek.udp)".
+    const std::string_view speaks = state_->options.protocol;
+    std::string where = "cannot listen on " +
+                        (speaks.empty() ? std::string() : std::string(speaks) + " ") + "udp " +
+                        state_->options.bind + ":" + std::to_string(state_->options.port);
+    if (!speaks.empty()) where += " (" + std::string(speaks) + ".udp)";
     asio::error_code ec;
     const auto addr = asio::ip::make_address(state_->options.bind, ec);
     if (ec) throw std::system_error(ec, where);
@@ -167,6 +177,7 @@ UdpListener::UdpListener(asio::io_context& io, StreamProtocol& protocol, UdpOpti
     if (!ec) state_->socket.non_blocking(true, ec);
     if (ec) throw std::system_error(ec, where);
     state_->name = endpoint();
+    state_->log_prefix = "udp " + state_->name + ": ";
     state_->receive();
 }
 

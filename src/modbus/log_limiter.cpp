@@ -30,9 +30,9 @@ void LogLimiter::flush_to_log(Clock::time_point now, std::string_view prefix) no
 std::string_view describe(LogCause cause) noexcept {
     switch (cause) {
         case LogCause::RefusedNotAllowed:
-            return "connections refused (not in modbus.tcp.allow)";
+            return "connections refused (not in the allow list)";
         case LogCause::RefusedFull:
-            return "connections refused (modbus.tcp.max_clients reached)";
+            return "connections refused (max_clients reached)";
         case LogCause::Connected:
             return "connects";
         case LogCause::Disconnected:

@@ -153,6 +153,18 @@ def test_udp_allow_list_ignores_other_peers(start_plcemud):
         assert refused.exchange(GIST, timeout=0.5) is None
 
 
+def test_a_udp_port_in_use_names_the_listener_and_its_section(tmp_path):
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as taken:
+        taken.bind(("127.0.0.1", 0))
+        port = taken.getsockname()[1]
+        cfg = tmp_path / "c.yaml"
+        cfg.write_text(config(f"  udp: {{bind: 127.0.0.1, port: {port}}}\n").replace(
+            "modbus: {tcp: {bind: 127.0.0.1}}", f"modbus: {{tcp: {{bind: 127.0.0.1, port: {free_port()}}}}}"))
+        r = run_plcemud("-c", cfg, timeout=20)
+    assert r.returncode == 1, r
+    assert f"cannot listen on fatek udp 127.0.0.1:{port} (fatek.udp)" in r.stderr, r.stderr
+
+
 def test_max_clients_refuses_extra_connections_and_keeps_the_others(start_plcemud):
     port = free_port()
     d = start_plcemud(tcp_config(port, ", max_clients: 2"))

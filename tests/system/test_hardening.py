@@ -390,7 +390,7 @@ def test_refused_connects_do_not_flood_the_log(start_plcemud):
     grown = os.path.getsize(d.log_path) - before
     assert grown < 20_000, grown
     # The rest is summed up once the window ends.
-    assert d.wait_log("more connections refused (not in modbus.tcp.allow)", 15), d.log_text()
+    assert d.wait_log("more connections refused (not in the allow list)", 15), d.log_text()
     assert d.proc.poll() is None
 
 
