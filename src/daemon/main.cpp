@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
                 config_path.empty()
                     ? plcemu::config::parse_plcs(
                           "profile: " + std::string(default_profile().name()) + "\n", "<built-in>")
-                    : plcemu::config::load_plcs(config_path);
+                    : plcemu::config::load_plcs(config_path, overrides);
             // Several PLCs: one map after another, each headed by the PLC it is.
             for (std::size_t i = 0; i < plcs.size(); ++i) {
                 if (i > 0) std::cout << '\n';
@@ -158,7 +158,7 @@ int main(int argc, char** argv) {
                                    : "no configuration file (-c FILE)");
         }
         if (show_program) {
-            const auto plcs = plcemu::config::load_plcs(config_path);
+            const auto plcs = plcemu::config::load_plcs(config_path, overrides);
             for (std::size_t i = 0; i < plcs.size(); ++i) {
                 if (plcs.size() > 1) {
                     std::cout << (i > 0 ? "\n" : "") << "# " << plcs[i].label << "\n";
@@ -170,7 +170,8 @@ int main(int argc, char** argv) {
         if (!tags.empty()) {
             // Every PLC of a `plcs:` file, each row saying which and where (docs/configuration.md,
             // "Tag export").
-            const auto e = plcemu::daemon::export_tags(plcemu::config::load_plcs(config_path));
+            const auto e =
+                plcemu::daemon::export_tags(plcemu::config::load_plcs(config_path, overrides));
             plcemu::daemon::write_tags(std::cout, e.rows, tag_format);
             // Devices the configuration names that no Modbus address serves (a modbus.map that
             // leaves them out) are said on stderr: an import cannot reach them.

@@ -202,12 +202,15 @@ bool ScanDriver::on_schedule() const noexcept {
         std::chrono::duration<double>(engine_.scan_period()).count() / schedule_.time_scale()));
     const auto window = std::max<Clock::duration>(2 * period, std::chrono::seconds(2));
     const auto now = Clock::now();
-    // One skip is a pause the scans came out of (the process stopped, the host busy for a
-    // moment); a second within two windows of it, scans that cannot keep up.
-    const bool falling_behind = previous_skip_ != Clock::time_point{} &&
-                                last_skip_ - previous_skip_ < 2 * window &&
-                                now - last_skip_ < window;
-    return now - last_scan_ < window && !falling_behind;
+    // Scans that cannot keep up: the next one is overdue by more than two periods (at least
+    // half a second), as a PLC drifting behind is between its skips ahead, or the schedule
+    // skipped ahead a second time soon after the first. One skip alone is a pause the scans
+    // came out of (the process stopped, the host busy for a moment).
+    const bool overdue = now - schedule_.deadline(schedule_.next_sim()) >
+                         std::max<Clock::duration>(2 * period, std::chrono::milliseconds(500));
+    const bool skipping = previous_skip_ != Clock::time_point{} &&
+                          last_skip_ - previous_skip_ < 2 * window && now - last_skip_ < window;
+    return now - last_scan_ < window && !overdue && !skipping;
 }
 
 }  // namespace plcemu::daemon

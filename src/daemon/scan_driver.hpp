@@ -82,8 +82,9 @@ public:
     /// Simulated time of the last scan.
     engine::Duration simulated_time() const noexcept override { return engine_.now(); }
     /// True while frozen, or while the scans keep their schedule: the last one ran within two
-    /// periods (at least 2 s), and the schedule was not skipped ahead twice, the second time
-    /// within as long (engine::TimeControl::on_schedule).
+    /// periods (at least 2 s), the next is not overdue by more than two periods (at least
+    /// 0.5 s), and the schedule was not skipped ahead twice, the second time within as long
+    /// (engine::TimeControl::on_schedule).
     bool on_schedule() const noexcept override;
     std::uint64_t lateness_p99_us() const noexcept override {
         return static_cast<std::uint64_t>(lateness_.percentile(0.99).count());

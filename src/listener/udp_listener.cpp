@@ -62,7 +62,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
         // no timer here: a listener nobody sends to has nothing to say).
         limiter.flush_to_log(now, log_prefix);
         if (!allowed(sender.address())) {
-            if (limiter.allow(LogCause::RefusedNotAllowed, now)) {
+            if (limiter.allow(LogCause::DatagramRefused, now)) {
                 spdlog::warn("udp {}: ignored a datagram from {}, not in the allow list", name,
                              peer_name(sender));
             }

@@ -20,10 +20,10 @@ bool LogLimiter::allow(LogCause cause, Clock::time_point now) noexcept {
 }
 
 void LogLimiter::flush_to_log(Clock::time_point now, std::string_view prefix) noexcept {
-    flush(now, [&](LogCause cause, std::uint64_t n) {
+    flush(now, [&](LogCause cause, std::uint64_t n, Clock::duration span) {
         spdlog::warn("{}{} more {} in the last {} s (not logged one by one)", prefix, n,
                      describe(cause),
-                     std::chrono::duration_cast<std::chrono::seconds>(window_).count());
+                     std::chrono::duration_cast<std::chrono::seconds>(span).count());
     });
 }
 
@@ -47,6 +47,8 @@ std::string_view describe(LogCause cause) noexcept {
             return "connections closed for bytes not asked for";
         case LogCause::CommFault:
             return "communication faults switched on or off";
+        case LogCause::DatagramRefused:
+            return "datagrams ignored (not in the allow list)";
         case LogCause::SyncFailed:
             return "state files failing to sync";
         case LogCause::SyncResumed:

@@ -24,6 +24,7 @@ enum class LogCause : std::uint8_t {
     FrameLeft,          ///< a slave left part of a frame (its length field lied)
     Flood,              ///< a slave sent the MBUS master more than it asked for
     CommFault,          ///< a communication fault switched on or off (a master may toggle one)
+    DatagramRefused,    ///< a datagram from a peer outside a UDP listener's allow list
     SyncFailed,         ///< a state file's sync failed, after good ones
     SyncResumed,        ///< a state file synced again, after failures
     Count,
@@ -42,19 +43,21 @@ public:
     /// True when a line for `cause` may be written now; otherwise counts it as suppressed.
     bool allow(LogCause cause, Clock::time_point now) noexcept;
 
-    /// For each cause whose window is over with lines suppressed: calls `report(cause, count)`
-    /// once and starts a new window. Call it now and then (the transports' sweep timer does).
+    /// For each cause whose window is over with lines suppressed: calls `report(cause, count,
+    /// span)` once (`span`: since the window began, the window or longer when flushed late) and
+    /// starts a new window. Call it now and then (the transports' sweep timer does).
     template <typename F>
     void flush(Clock::time_point now, F&& report) {
         for (std::size_t i = 0; i < budgets_.size(); ++i) {
             Budget& b = budgets_[i];
             if (b.suppressed == 0 || now - b.window_start < window_) continue;
-            report(static_cast<LogCause>(i), b.suppressed);
+            report(static_cast<LogCause>(i), b.suppressed, now - b.window_start);
             b = Budget{};
         }
     }
 
-    /// flush() as warnings: "PREFIX N more CAUSE in the last W s (not logged one by one)".
+    /// flush() as warnings: "PREFIX N more CAUSE in the last S s (not logged one by one)", S the
+    /// whole seconds since the window began.
     void flush_to_log(Clock::time_point now, std::string_view prefix) noexcept;
 
 private:

@@ -350,9 +350,10 @@ plcs:
         assert d.stop() == 0
 
 
-@pytest.mark.parametrize("check", [[], ["--check-config"]])
+@pytest.mark.parametrize("check", [[], ["--check-config"], ["--print-program"], ["--print-map"],
+                                   ["--export-tags", "csv"]])
 def test_port_override_is_refused_with_plcs(tmp_path, check):
-    # --check-config refuses what a start would (it said ok).
+    # --check-config and the printing commands refuse what a start would (they said ok).
     path = tmp_path / "p.yaml"
     path.write_text(f"plcs:\n  - {{profile: fbs, modbus: {{tcp: {{port: {free_port()}}}}}}}\n")
     r = run_plcemud("-c", path, "--port", free_port(), *check, timeout=10)

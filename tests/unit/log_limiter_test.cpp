@@ -30,13 +30,19 @@ TEST(LogLimiter, SummaryComesOnceWhenTheWindowEndsWithTheCount) {
     const Clock::time_point t0{1h};
     for (int i = 0; i < 12; ++i) l.allow(LogCause::RefusedFull, t0);
     std::vector<std::pair<LogCause, std::uint64_t>> seen;
-    auto report = [&](LogCause c, std::uint64_t n) { seen.emplace_back(c, n); };
+    Clock::duration span{};
+    auto report = [&](LogCause c, std::uint64_t n, Clock::duration s) {
+        seen.emplace_back(c, n);
+        span = s;
+    };
     l.flush(t0 + 9s, report);
     EXPECT_TRUE(seen.empty()) << "no summary before the window ends";
-    l.flush(t0 + 10s, report);
+    // Flushed late (a UDP listener flushes at its next datagram): the span says how late.
+    l.flush(t0 + 14s, report);
     ASSERT_EQ(seen.size(), 1u);
     EXPECT_EQ(seen[0].first, LogCause::RefusedFull);
     EXPECT_EQ(seen[0].second, 10u);
+    EXPECT_EQ(span, 14s);
     l.flush(t0 + 30s, report);
     EXPECT_EQ(seen.size(), 1u) << "a summary is given once";
     // A new window gives a new burst.

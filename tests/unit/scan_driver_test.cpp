@@ -12,6 +12,7 @@
 #include <asio.hpp>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -312,6 +313,42 @@ TEST(ScanDriverBehind, SkipsAheadAgainAndAgainAreOffScheduleAndCountTheirLatenes
     slow = 2;
     run(2500ms);
     EXPECT_FALSE(d.on_schedule()) << "skipped ahead twice within 4 s";
+}
+
+// Scans a little slower than their period drift behind without a skip for seconds: off
+// schedule once the next scan is overdue by half a second (the skips alone came 4 s apart and
+// were missed).
+TEST(ScanDriverBehind, ScansSlowerThanTheirPeriodAreOffScheduleBetweenSkips) {
+    int slow = 0;
+    engine::Program p;
+    p.push_back(std::make_unique<Stall>(slow, 13ms));
+    engine::EngineOptions o;
+    o.scan_period = 10ms;
+    o.station = 1;
+    image::Image img{testing::fbs_layout()};
+    engine::Engine engine(img, o, std::move(p), profiles::fbs::make_specials(0x0118));
+    engine.power_up();
+    asio::io_context io{1};
+    ScanTimer timer{io};
+    StepRounds rounds{io};
+    ScanDriver d(timer, rounds, engine, 1.0);
+    d.start();
+    slow = 1'000'000;
+    // 13 ms a 10 ms scan: 0.3 s behind a second (more on a loaded machine), over 0.5 s well
+    // before the 1 s that skips ahead. Asked every 50 ms between the scans, as /healthz is.
+    asio::steady_timer ask(io);
+    bool off = false;
+    std::function<void()> again = [&] {
+        ask.expires_after(50ms);
+        ask.async_wait([&](const asio::error_code& ec) {
+            if (ec) return;
+            off = off || !d.on_schedule();
+            again();
+        });
+    };
+    again();
+    io.run_for(3s);
+    EXPECT_TRUE(off) << "never off schedule while drifting behind";
 }
 
 }  // namespace
