@@ -41,18 +41,24 @@ private:
     std::vector<engine::Duration>& seen_;
 };
 
+// An FBs engine on `img`, a 10 ms scan, whose program is `only`, powered up.
+std::unique_ptr<engine::Engine> engine_of(image::Image& img,
+                                          std::unique_ptr<engine::Instruction> only) {
+    engine::Program p;
+    p.push_back(std::move(only));
+    engine::EngineOptions o;
+    o.scan_period = 10ms;
+    o.station = 1;
+    auto e = std::make_unique<engine::Engine>(img, o, std::move(p),
+                                              profiles::fbs::make_specials(0x0118));
+    e->power_up();
+    return e;
+}
+
 class ScanDriverTest : public ::testing::Test {
 protected:
-    ScanDriverTest() {
-        engine::Program p;
-        p.push_back(std::make_unique<Probe>(seen_));
-        engine::EngineOptions o;
-        o.scan_period = 10ms;
-        o.station = 1;
-        engine_ = std::make_unique<engine::Engine>(img_, o, std::move(p),
-                                                   profiles::fbs::make_specials(0x0118));
-        engine_->power_up();
-    }
+    ScanDriverTest()
+        : engine_(engine_of(img_, std::make_unique<Probe>(seen_))) {}
 
     std::unique_ptr<ScanDriver> driver(double scale = 1.0) {
         auto d = std::make_unique<ScanDriver>(timer_, rounds_, *engine_, scale);
@@ -278,40 +284,45 @@ private:
     Clock::duration hold_;
 };
 
+// An engine whose program stalls `hold` in each of its next `slow` scans, driven from real time.
+struct StallRig {
+    explicit StallRig(Clock::duration hold)
+        : engine(engine_of(img, std::make_unique<Stall>(slow, hold))),
+          driver(std::make_unique<ScanDriver>(timer, rounds, *engine, 1.0)) {}
+    // Runs the loop for `t` of real time.
+    void run(Clock::duration t) {
+        asio::steady_timer awake(io, t);
+        awake.async_wait([](const asio::error_code&) {});
+        io.restart();
+        io.run_for(t + 5ms);
+    }
+
+    int slow = 0;
+    image::Image img{testing::fbs_layout()};
+    std::unique_ptr<engine::Engine> engine;
+    asio::io_context io{1};
+    ScanTimer timer{io};
+    StepRounds rounds{io};
+    std::unique_ptr<ScanDriver> driver;
+};
+
 // docs/console.md, /healthz: a scan that leaves the schedule more than a second behind real time
 // makes it skip ahead, and the scan after counts the whole delay as its lateness (it once read
 // as on time: the new schedule's). One skip is a pause the scans came out of; a second soon
 // after it, scans that cannot keep up: off schedule for two seconds.
 TEST(ScanDriverBehind, SkipsAheadAgainAndAgainAreOffScheduleAndCountTheirLateness) {
-    int slow = 0;
-    engine::Program p;
-    p.push_back(std::make_unique<Stall>(slow, 1200ms));
-    engine::EngineOptions o;
-    o.scan_period = 10ms;
-    o.station = 1;
-    image::Image img{testing::fbs_layout()};
-    engine::Engine engine(img, o, std::move(p), profiles::fbs::make_specials(0x0118));
-    engine.power_up();
-    asio::io_context io{1};
-    ScanTimer timer{io};
-    StepRounds rounds{io};
-    ScanDriver d(timer, rounds, engine, 1.0);
-    const auto run = [&](Clock::duration t) {
-        asio::steady_timer awake(io, t);
-        awake.async_wait([](const asio::error_code&) {});
-        io.restart();
-        io.run_for(t + 5ms);
-    };
+    StallRig r(1200ms);
+    ScanDriver& d = *r.driver;
     d.start();
-    run(50ms);
+    r.run(50ms);
     EXPECT_TRUE(d.on_schedule());
     EXPECT_LT(d.lateness_max_us(), 1'000'000u);
-    slow = 1;
-    run(1300ms);
+    r.slow = 1;
+    r.run(1300ms);
     EXPECT_TRUE(d.on_schedule()) << "one skip: a pause";
     EXPECT_GE(d.lateness_max_us(), 1'000'000u);
-    slow = 2;
-    run(2500ms);
+    r.slow = 2;
+    r.run(2500ms);
     EXPECT_FALSE(d.on_schedule()) << "skipped ahead twice within 4 s";
 }
 
@@ -319,24 +330,13 @@ TEST(ScanDriverBehind, SkipsAheadAgainAndAgainAreOffScheduleAndCountTheirLatenes
 // schedule once the next scan is overdue by half a second (the skips alone came 4 s apart and
 // were missed).
 TEST(ScanDriverBehind, ScansSlowerThanTheirPeriodAreOffScheduleBetweenSkips) {
-    int slow = 0;
-    engine::Program p;
-    p.push_back(std::make_unique<Stall>(slow, 13ms));
-    engine::EngineOptions o;
-    o.scan_period = 10ms;
-    o.station = 1;
-    image::Image img{testing::fbs_layout()};
-    engine::Engine engine(img, o, std::move(p), profiles::fbs::make_specials(0x0118));
-    engine.power_up();
-    asio::io_context io{1};
-    ScanTimer timer{io};
-    StepRounds rounds{io};
-    ScanDriver d(timer, rounds, engine, 1.0);
+    StallRig r(13ms);
+    ScanDriver& d = *r.driver;
     d.start();
-    slow = 1'000'000;
+    r.slow = 1'000'000;
     // 13 ms a 10 ms scan: 0.3 s behind a second (more on a loaded machine), over 0.5 s well
     // before the 1 s that skips ahead. Asked every 50 ms between the scans, as /healthz is.
-    asio::steady_timer ask(io);
+    asio::steady_timer ask(r.io);
     bool off = false;
     std::function<void()> again = [&] {
         ask.expires_after(50ms);
@@ -347,7 +347,7 @@ TEST(ScanDriverBehind, ScansSlowerThanTheirPeriodAreOffScheduleBetweenSkips) {
         });
     };
     again();
-    io.run_for(3s);
+    r.io.run_for(3s);
     EXPECT_TRUE(off) << "never off schedule while drifting behind";
 }
 
