@@ -65,8 +65,14 @@ Bound bind(const instructions::Entry& entry, const instructions::BindContext& ct
     // MV written into the block would overwrite a parameter every execution (D = S3 is the
     // sampling time).
     if (block.overlaps({Area::D, b.mv, 1})) {
-        ops.fail("d", "D" + std::to_string(b.mv) + " is S3+" + std::to_string(b.mv - b.s3) +
-                          ", in the PID's own block S3…S3+24 = " + ops.format(block));
+        // Appended piece by piece: GCC 12's -Wrestrict takes `"D" + std::string&&` at -O2 for
+        // an overlapping copy (a false positive that -Werror would make fatal).
+        std::string why = ops.format({Area::D, b.mv, 1});
+        why += " is S3+";
+        why += std::to_string(b.mv - b.s3);
+        why += ", in the PID's own block S3…S3+24 = ";
+        why += ops.format(block);
+        ops.fail("d", why);
     }
     // The block holds the loop's parameters and the instruction writes into it: two PIDs on one
     // block would overwrite each other's tuning results and alarms.
