@@ -338,7 +338,7 @@ private:
 // scan at periods and time scales of their own and the simulator unit freezes one PLC.
 class Runtime {
 public:
-    Runtime(std::string config_path, Overrides overrides)
+    Runtime(std::string config_path, config::Overrides overrides)
         : config_path_(std::move(config_path)),
           overrides_(overrides) {}
     // An exception out of run() after a reload must not meet a joinable thread.
@@ -625,7 +625,7 @@ private:
     }
 
     std::string config_path_;
-    Overrides overrides_;
+    config::Overrides overrides_;
     std::string log_level_;  // `log.level` in force
     asio::io_context io_{1};
     Notifier notify_;
@@ -678,7 +678,7 @@ std::vector<engine::Program> probe_all(const std::vector<config::Config>& config
     return programs;
 }
 
-int run_daemon(const std::string& config_path, const Overrides& overrides) {
+int run_daemon(const std::string& config_path, const config::Overrides& overrides) {
     return Runtime(config_path, overrides).run();
 }
 

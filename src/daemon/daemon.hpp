@@ -10,9 +10,6 @@
 
 namespace plcemu::daemon {
 
-/// Command-line overrides of config values (config::load_plcs applies them).
-using Overrides = config::Overrides;
-
 /// Builds the PLC of `config` on an image of its own, as a check of everything the config can
 /// get wrong that the loader cannot (program operands, the allow list), and returns its program,
 /// bound and checked. An error names the `plcs:` entry. Throws config::ConfigError.
@@ -27,6 +24,7 @@ std::vector<engine::Program> probe_all(const std::vector<config::Config>& config
 
 /// Runs until SIGINT or SIGTERM. Throws config::ConfigError for a bad config and
 /// std::system_error when a listener cannot be opened. Returns the exit status.
-int run_daemon(const std::string& config_path, const Overrides& overrides);
+/// `overrides`: the command line's ports, which config::load_plcs applies at each (re)load.
+int run_daemon(const std::string& config_path, const config::Overrides& overrides);
 
 }  // namespace plcemu::daemon

@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
     bool csv = false;
     std::string tags;  // --export-tags: the format's name
     plcemu::daemon::TagFormat tag_format = plcemu::daemon::TagFormat::Csv;
-    plcemu::daemon::Overrides overrides;
+    plcemu::config::Overrides overrides;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto value = [&](std::string& out) {
