@@ -39,6 +39,7 @@ std::string peer_name(const udp::endpoint& ep) {
 struct UdpListener::State : std::enable_shared_from_this<State> {
     State(asio::io_context& io, StreamProtocol& p, UdpOptions o)
         : socket(io),
+          summary(io),
           protocol(p),
           options(std::move(o)),
           in(p.max_frame() + 1),
@@ -57,14 +58,12 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
 
     void serve(std::size_t n) noexcept {
         if (n > protocol.max_frame()) return;
-        const auto now = std::chrono::steady_clock::now();
-        // What the last window held back is summed up at the first datagram after it (there is
-        // no timer here: a listener nobody sends to has nothing to say).
-        limiter.flush_to_log(now, log_prefix);
         if (!allowed(sender.address())) {
-            if (limiter.allow(LogCause::DatagramRefused, now)) {
+            if (limiter.allow(LogCause::DatagramRefused, std::chrono::steady_clock::now())) {
                 spdlog::warn("udp {}: ignored a datagram from {}, not in the allow list", name,
                              peer_name(sender));
+            } else {
+                arm_summary(kLogWindow);
             }
             return;
         }
@@ -81,6 +80,20 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
         // full, the reply is lost as on a real network and the master asks again.
         asio::error_code ec;
         socket.send_to(asio::buffer(out.data(), size), sender, 0, ec);
+    }
+
+    // What the limiter holds back is summed up by a timer off the request path, armed only
+    // while something is held back: at the window's end, then each second until it is said.
+    void arm_summary(std::chrono::steady_clock::duration after) noexcept {
+        if (summary_armed || !socket.is_open()) return;
+        summary_armed = true;
+        summary.expires_after(after);
+        summary.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+            self->summary_armed = false;
+            if (ec || !self->socket.is_open()) return;
+            self->limiter.flush_to_log(std::chrono::steady_clock::now(), self->log_prefix);
+            if (self->limiter.holding()) self->arm_summary(std::chrono::seconds(1));
+        });
     }
 
     // Sends an answer of `size` bytes (in out) to the sender after `delay` (a communication
@@ -142,6 +155,8 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     }
 
     udp::socket socket;
+    asio::steady_timer summary;  // sums up what the limiter held back
+    bool summary_armed = false;
     StreamProtocol& protocol;
     UdpOptions options;
     std::vector<std::uint8_t> in;
@@ -164,10 +179,12 @@ UdpListener::UdpListener(asio::io_context& io, StreamProtocol& protocol, UdpOpti
     // Named as its `listening on` line names it, with its section: "cannot listen on fatek udp
     // 0.0.0.0:500 (fatek.udp)".
     const std::string_view speaks = state_->options.protocol;
-    std::string where = "cannot listen on " +
-                        (speaks.empty() ? std::string() : std::string(speaks) + " ") + "udp " +
-                        state_->options.bind + ":" + std::to_string(state_->options.port);
-    if (!speaks.empty()) where += " (" + std::string(speaks) + ".udp)";
+    // Appended piece by piece: GCC 12 at -O2 sees a false overlap in `"..." + std::string&&`.
+    std::string where = "cannot listen on ";
+    if (!speaks.empty()) where.append(speaks).append(" ");
+    where.append("udp ").append(state_->options.bind).append(":");
+    where += std::to_string(state_->options.port);
+    if (!speaks.empty()) where.append(" (").append(speaks).append(".udp)");
     asio::error_code ec;
     const auto addr = asio::ip::make_address(state_->options.bind, ec);
     if (ec) throw std::system_error(ec, where);
@@ -198,6 +215,7 @@ void UdpListener::set_allow(std::vector<Cidr> allow) { state_->options.allow = s
 void UdpListener::stop() {
     asio::error_code ec;
     state_->socket.close(ec);
+    state_->summary.cancel();
     for (const auto& p : state_->peers) state_->protocol.units().client_gone(p.client.id);
     state_->peers.clear();
 }

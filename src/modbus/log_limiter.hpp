@@ -56,6 +56,14 @@ public:
         }
     }
 
+    /// True while some cause has lines held back, to be summed up by flush().
+    bool holding() const noexcept {
+        for (const Budget& b : budgets_) {
+            if (b.suppressed != 0) return true;
+        }
+        return false;
+    }
+
     /// flush() as warnings: "PREFIX N more CAUSE in the last S s (not logged one by one)", S the
     /// whole seconds since the window began.
     void flush_to_log(Clock::time_point now, std::string_view prefix) noexcept;
