@@ -139,9 +139,13 @@ Routed route(const Request& rq, listener::UnitTable& units) {
     if (p.empty()) return {page(call, "overview.html"), {}};
     if (p.size() == 2 && p[0] == "static") return {page(call, p[1]), {}};
     if (p.size() == 3 && p[0] == "plcs") {
-        if (find_plc(units, p[1]) == nullptr) return {no_such_plc(units, p[1]), {}};
         for (std::string_view view : {"devices", "loops", "plant", "traffic"}) {
-            if (p[2] == view) return {page(call, std::string(view) + ".html"), {}};
+            if (p[2] != view) continue;
+            // An unknown PLC's page is still the page, as a 404: a browser shows it, and the
+            // page says what the API says ("no PLC 'zz' here (there are: ...)") as text.
+            Response r = page(call, std::string(view) + ".html");
+            if (find_plc(units, p[1]) == nullptr) r.status = 404;
+            return {std::move(r), {}};
         }
     }
     return {not_found(rq), {}};

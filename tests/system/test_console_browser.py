@@ -271,6 +271,23 @@ def test_text_from_the_server_is_shown_as_text(browser, start_plcemud):
             browser.switch_to.alert.text  # noqa: B018 - raises when there is no alert
 
 
+def test_an_unknown_plcs_page_says_so_as_text(browser, start_plcemud):
+    # docs/console.md, "Pages": the page comes as a 404 and shows the API's words, never runs
+    # what the address holds.
+    _, base = start_console(start_plcemud)
+    name = "<script>alert(1)</script>"
+    status, expected = api(base, "/api/v1/plcs/" + urllib.parse.quote(name, safe=""))
+    assert status == 404 and "there are: 0" in expected["error"], expected
+    browser.get(f"{base}/plcs/{urllib.parse.quote(name, safe='')}/devices")
+    wait(browser, lambda dr: "error" in message(dr)[1], what="no error shown")
+    text, _, shown = message(browser)
+    assert shown and text == expected["error"], text
+    assert browser.find_elements(By.CSS_SELECTOR, "main script, #nav script") == []
+    assert "PLC " + name in browser.title
+    with pytest.raises(NoAlertPresentException):
+        browser.switch_to.alert.text  # noqa: B018 - raises when there is no alert
+
+
 # ---- Plant -----------------------------------------------------------------------------------
 
 

@@ -2195,8 +2195,17 @@ def test_pages_are_served_with_a_strict_csp(fbs, path, content_type):
     assert r.header("X-Content-Type-Options") == "nosniff"
 
 
-def test_a_page_of_an_unknown_plc_is_404_json(fbs):
-    assert_error(get(fbs.http, "/plcs/9/devices"), 404, "'9'", "there are: 0")
+@pytest.mark.parametrize("view", ["devices", "loops", "plant", "traffic"])
+def test_a_page_of_an_unknown_plc_is_the_page_as_a_404(fbs, view):
+    # docs/console.md, "Pages": a browser shows the page, which says what the API says.
+    r = get(fbs.http, f"/plcs/9/{view}")
+    assert r.status == 404, r
+    assert r.header("Content-Type") == "text/html; charset=utf-8"
+    assert "script-src 'self'" in r.header("Content-Security-Policy")
+    assert r.body == get(fbs.http, f"/plcs/0/{view}").body
+    assert_error(get(fbs.http, "/api/v1/plcs/9"), 404, "'9'", "there are: 0")
+    # A view that is not one stays a JSON 404.
+    assert_error(get(fbs.http, "/plcs/9/nothing"), 404, "nothing at")
 
 
 # --- OpenAPI ----------------------------------------------------------------------------------
