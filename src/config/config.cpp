@@ -25,6 +25,7 @@
 #include "plcemu/config/tree.hpp"
 #include "plcemu/image/layout.hpp"
 #include "plcemu/image/naming.hpp"
+#include "plcemu/image/state_file.hpp"
 
 namespace plcemu::config {
 
@@ -470,7 +471,20 @@ void read_persistence(const Reader& r, const Node& n, PersistenceConfig& p) {
         if (n["enabled"]) p.enabled = r.boolean(n["enabled"], "persistence.enabled");
     });
     r.attempt([&] {
-        if (n["file"]) p.file = r.scalar(n["file"], "persistence.file");
+        if (n["file"]) {
+            p.file = r.scalar(n["file"], "persistence.file");
+            // A damaged file is moved aside as NAME.bad-YYYYmmdd-HHMMSS-N: its name must fit
+            // the file system's 255 bytes too.
+            constexpr std::size_t kMaxName = 230;
+            const std::string name = std::filesystem::path(p.file).filename().string();
+            if (name.size() > kMaxName) {
+                std::string why = "persistence.file: the file's name (after the last '/') is ";
+                why += std::to_string(name.size());
+                r.fail(n["file"], why +
+                                      " bytes long; at most 230, as the daemon names the "
+                                      "file's companions after it (NAME.bad-YYYYmmdd-HHMMSS)");
+            }
+        }
     });
     r.attempt([&] {
         if (n["init"]) {
@@ -496,8 +510,12 @@ void read_persistence(const Reader& r, const Node& n, PersistenceConfig& p) {
             for (const auto& e : ret.items) {
                 r.attempt([&] { v.push_back(r.range(e, "persistence.retentive entry")); });
             }
-            // The state file's header records them (image::kMaxRetentiveRanges).
-            if (v.size() > 256) r.fail(ret, "persistence.retentive: at most 256 ranges");
+            // The state file's header records them, with those the family always keeps.
+            if (v.size() > image::kMaxConfiguredRanges) {
+                std::string why = "persistence.retentive: at most ";
+                why += std::to_string(image::kMaxConfiguredRanges);
+                r.fail(ret, why + " ranges");
+            }
             p.retentive = v;
         }
     });
@@ -922,6 +940,9 @@ void check_own_listeners(const Reader& r, const Node& entry, const Config& c) {
     }
 }
 
+// What a state file brings beside it: its lock, and the temporary it is made through.
+constexpr std::array<std::string_view, 2> kStateCompanions = {".new", ".lock"};
+
 // The devices and files an entry takes, checked against the earlier entries: PLCs may share a
 // listener (same bind and port, or same device) when it carries one protocol, they agree on its
 // settings and answer to different unit IDs; they cannot write one state file.
@@ -955,7 +976,17 @@ public:
                 take(by_port_, std::pair<int, int>{static_cast<int>(m.carrier), m.net.port});
             }
         }
-        if (!mine.state_file.empty()) take(by_file_, mine.state_file);
+        if (!mine.state_file.empty()) {
+            take(by_file_, mine.state_file);
+            // A file that is another's lock or temporary, or whose own are another's file.
+            for (const std::string_view companion : kStateCompanions) {
+                take(by_file_, mine.state_file + std::string(companion));
+                if (mine.state_file.ends_with(companion)) {
+                    take(by_file_,
+                         mine.state_file.substr(0, mine.state_file.size() - companion.size()));
+                }
+            }
+        }
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
         return out;
@@ -997,16 +1028,33 @@ void check_shared(const Reader& r,
                 }
             }
         }
-        if (!mine.state_file.empty() && mine.state_file == t.state_file) {
-            // Paths are quoted whole up to a length real ones do not reach.
-            constexpr std::size_t kPath = 1024;
-            const Position& at = t.state_at;
+        if (mine.state_file.empty() || t.state_file.empty()) continue;
+        // Paths are quoted whole up to a length real ones do not reach.
+        constexpr std::size_t kPath = 1024;
+        const Position& at = t.state_at;
+        const std::string other = "('" + excerpt(default_state_file(o), kPath) + "' at " +
+                                  at.file.str() + ":" + std::to_string(at.line) + ":" +
+                                  std::to_string(at.column);
+        if (mine.state_file == t.state_file) {
             r.fail(where(entry, {"persistence", "file"}),
                    "persistence.file: '" + excerpt(default_state_file(c), kPath) + "' is also " +
-                       o.label + "'s state file ('" + excerpt(default_state_file(o), kPath) +
-                       "' at " + at.file.str() + ":" + std::to_string(at.line) + ":" +
-                       std::to_string(at.column) + "; both are " + excerpt(mine.state_file, kPath) +
-                       ")");
+                       o.label + "'s state file " + other + "; both are " +
+                       excerpt(mine.state_file, kPath) + ")");
+        }
+        // A state file has two companions beside it, its lock and the temporary it is made
+        // through (docs/operations.md, "Retentive memory"): another's file may be neither.
+        for (const std::string_view companion : kStateCompanions) {
+            const std::string suffix(companion);
+            if (mine.state_file == t.state_file + suffix ||
+                t.state_file == mine.state_file + suffix) {
+                std::string why = "persistence.file: '";
+                why.append(excerpt(default_state_file(c), kPath)).append("' and ");
+                why.append(o.label).append("'s state file ").append(other);
+                why.append(") differ only by '").append(suffix).append("', the name of a ");
+                why.append(suffix == ".new" ? "state file's temporary" : "state file's lock");
+                why.append(": a start would take the other's file for its own");
+                r.fail(where(entry, {"persistence", "file"}), why);
+            }
         }
     }
 }

@@ -370,3 +370,25 @@ def test_the_sync_thread_yields_to_the_event_loop(start_plcemud, tmp_path):
     tasks = [int(t) for t in os.listdir(f"/proc/{pid}/task")]
     others = sorted(nice(t) for t in tasks if t != pid)
     assert min(process + 10, 19) in others, (process, others)
+
+
+def test_a_reload_to_the_most_retentive_ranges_keeps_the_daemon(start_plcemud, tmp_path):
+    # 256 ranges is what a config may list; R4057, which the family always keeps, is one more.
+    # The state file refused the 257th at the reload's apply: the daemon stopped.
+    state = tmp_path / "r.state"
+    ranges = ", ".join(f"D{2 * i}" for i in range(256))
+    d = start_plcemud("profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1}}\n"
+                      f"persistence: {{file: '{state}', retentive: [D0]}}\n")
+    c = d.client()
+    assert not c.write_register(D0 + 2, 77, slave=1).isError()
+    Path(d.config_path).write_text(Path(d.config_path).read_text().replace(
+        "retentive: [D0]", f"retentive: [{ranges}]"))
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: done"), d.log_text()
+    time.sleep(0.5)
+    assert d.proc.poll() is None, d.log_text()
+    assert read(c, D0 + 2) == [77]
+    d.stop()
+    # And a start with them.
+    d = start_plcemud(Path(d.config_path).read_text())
+    assert read(d.client(), D0 + 2) == [77], d.log_text()

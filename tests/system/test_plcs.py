@@ -281,6 +281,16 @@ def tcp_disagrees(setting):
         ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}, persistence: {file: x.state}}\n"
          "  - {profile: fbs, modbus: {tcp: {port: 1503}}, persistence: {file: x.state}}\n",
          ":3:69:", "plcs[1]: persistence.file: 'x.state' is also plcs[0]'s state file"),
+        # One's state file the other's temporary or lock: a start unlinked the temporary, the
+        # other PLC's live file, as a leftover.
+        ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}, persistence: {file: y.state.new}}\n"
+         "  - {profile: fbs, modbus: {tcp: {port: 1503}}, persistence: {file: y.state}}\n",
+         ":3:69:", "plcs[1]: persistence.file: 'y.state' and plcs[0]'s state file ('y.state.new' "
+         "at "),
+        ("plcs:\n  - {profile: fbs, modbus: {tcp: {port: 1502}}, persistence: {file: z.state}}\n"
+         "  - {profile: fbs, modbus: {tcp: {port: 1503}}, persistence: {file: z.state.lock}}\n",
+         ":3:69:", "plcs[1]: persistence.file: 'z.state.lock' and plcs[0]'s state file ('z.state' "
+         "at "),
         # A per-PLC key beside plcs:.
         ("profile: fbs\nplcs:\n  - {profile: fbs}\n",
          ":1:1:", "profile: belongs to one PLC; beside 'plcs:' only 'log:' and 'http:' may stand"),

@@ -381,6 +381,23 @@ TEST(Config, ASecondDocumentIsRefusedWhereItBegins) {
     EXPECT_EQ(parse_config("---\nprofile: fbs\nstation: 3\n...\n", "t.yaml").station, 3);
 }
 
+// persistence.retentive holds at most 256 ranges (the state file keeps them and R4057 beside);
+// persistence.file's name leaves room for the names the daemon makes after it.
+TEST(Config, RetentiveRangesAndTheStateFilesNameHaveTheirLimits) {
+    std::string ranges;
+    for (int i = 0; i < 257; ++i) ranges += (i == 0 ? "D" : ", D") + std::to_string(i);
+    expect_error("profile: fbs\npersistence:\n  retentive: [" + ranges + "]\n", 3, 14,
+                 "persistence.retentive: at most 256 ranges");
+    ranges = ranges.substr(0, ranges.rfind(','));
+    EXPECT_EQ(parse_config("profile: fbs\npersistence:\n  retentive: [" + ranges + "]\n", "t.yaml")
+                  .persistence.retentive->size(),
+              256u);
+    expect_error("profile: fbs\npersistence: {file: /var/lib/" + std::string(231, 'x') + "}\n", 2,
+                 21, "the file's name (after the last '/') is 231 bytes long; at most 230");
+    EXPECT_NO_THROW(parse_config(
+        "profile: fbs\npersistence: {file: " + std::string(230, 'x') + "}\n", "t.yaml"));
+}
+
 // Nesting past 64 levels is refused at the first node past them, while the YAML is parsed
 // (docs/configuration.md, "The config file"): not the YAML library's own recursion error.
 TEST(Config, DeepNestingIsRefusedAtTheFirstLevelPastTheLimit) {

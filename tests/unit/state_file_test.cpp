@@ -703,6 +703,24 @@ TEST_F(StateFileTest, R4057StaysRetentiveWhenTheConfigNamesOtherRanges) {
     EXPECT_EQ(l.retentive[1], (image::Range{Area::R, 4057, 1}));
 }
 
+// The most ranges a config may list (256) and the R4057 the family adds: the file takes them all,
+// at the start and at a reload (a file that refused the 257th stopped the daemon).
+TEST_F(StateFileTest, TheMostRangesAConfigMayListFitBesideR4057) {
+    std::string ranges;
+    for (int i = 0; i < static_cast<int>(image::kMaxConfiguredRanges); ++i) {
+        ranges += (i == 0 ? "" : ", ") + std::string("D") + std::to_string(2 * i);
+    }
+    const auto cfg = plc_config("persistence: {retentive: [" + ranges + "]}\n");
+    const auto l = daemon::plc_layout(cfg);
+    ASSERT_EQ(l.retentive.size(), image::kMaxConfiguredRanges + 1);
+    {
+        StateFile f(path_, layout(), fixed_now());
+        f.set_retentive(l.retentive);
+    }
+    StateFile f(path_, l, fixed_now());
+    EXPECT_EQ(header().retentive_count, image::kMaxConfiguredRanges + 1);
+}
+
 // Decision (docs/operations.md): init presets reach retentive devices only on a fresh state file,
 // unless persistence.init is `always`; non-retentive devices get them at every start.
 TEST_F(StateFileTest, InitPresetsDoNotOverwriteRetainedValuesByDefault) {

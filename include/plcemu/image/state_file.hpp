@@ -38,8 +38,11 @@ struct StateFileHeader {
 inline constexpr std::uint32_t kStateFileVersion = 1;
 /// Offset of the image in the file (one page: the image is page-aligned).
 inline constexpr std::size_t kDataOffset = 4096;
-/// Retentive ranges a header can record.
-inline constexpr std::size_t kMaxRetentiveRanges = 256;
+/// Retentive ranges a config may list (`persistence.retentive`).
+inline constexpr std::size_t kMaxConfiguredRanges = 256;
+/// Retentive ranges a header can record: a config's, and those its family keeps whatever the
+/// config says (R4057), with room to spare.
+inline constexpr std::size_t kMaxRetentiveRanges = kMaxConfiguredRanges + 16;
 /// `state` while a process has the file open (a crash leaves it so).
 inline constexpr std::uint32_t kStateOpen = 1;
 /// `state` after a clean close (the data checksum is then valid).
