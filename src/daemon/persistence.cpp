@@ -103,13 +103,31 @@ void SyncThread::run() {
             const std::uint64_t pages = file->pages_synced();
             const int error = file->sync() ? 0 : errno;
             census_.pages_synced.fetch_add(file->pages_synced() - pages, std::memory_order_relaxed);
+            const bool in_place = file->in_place();
             lock.lock();
             it = find(id);
-            if (it != entries_.end()) synced(*it, error);
+            if (it != entries_.end()) {
+                synced(*it, error);
+                moved(*it, in_place);
+            }
             syncing_ = 0;
             cv_.notify_all();
         }
         limiter_.flush_to_log(Clock::now(), "persistence: ");
+    }
+}
+
+// A state file deleted, moved away or replaced while in use is said once: its PLC runs on, but
+// what it keeps from now on goes to a file no start will find.
+void SyncThread::moved(Entry& e, bool in_place) {
+    if (in_place || e.gone) return;
+    e.gone = true;
+    if (limiter_.allow(modbus::LogCause::StateFileGone, Clock::now())) {
+        spdlog::warn(
+            "persistence: {}: the state file was deleted or moved away while in use; the PLC "
+            "keeps syncing the file it has open, which the next start will not find: restart "
+            "plcemud to make it anew",
+            e.file->path());
     }
 }
 

@@ -52,9 +52,11 @@ private:
         std::chrono::milliseconds period;
         Clock::time_point due;
         bool failing = false;  // its last sync failed: the next failure is not logged again
+        bool gone = false;     // it was found deleted or moved away (said once)
     };
     void run();
     void synced(Entry& e, int error);
+    void moved(Entry& e, bool in_place);
 
     std::mutex mutex_;
     std::condition_variable cv_;

@@ -204,7 +204,16 @@ StateFile::StateFile(const std::string& path, const Layout& layout, std::time_t 
             set_retentive(layout.retentive);
         } else {
             if (!why.empty()) move_aside(why, now);
-            create(layout, now);
+            try {
+                create(layout, now);
+            } catch (const std::system_error& e) {
+                // The move is said with the failure: no note is logged when the start stops.
+                if (moved_aside_.empty()) throw;
+                std::string what = e.what();
+                what.append(" (the damaged file was moved to ").append(moved_aside_);
+                what.append(" first: ").append(why).append(")");
+                throw std::runtime_error(what);
+            }
         }
     } catch (...) {
         release();
@@ -665,6 +674,17 @@ bool StateFile::sync_pages(std::size_t first, std::size_t end) noexcept {
     if (::msync(base_ + first * kPage, (end - first) * kPage, MS_SYNC) != 0) return false;
     pages_synced_.fetch_add(end - first, std::memory_order_relaxed);
     return true;
+}
+
+bool StateFile::in_place() const noexcept {
+    if (fd_ < 0) return true;
+    struct stat held {};
+    struct stat there {};
+    if (::fstat(fd_, &held) != 0) return true;
+    if (held.st_nlink == 0) return false;
+    // Renamed or replaced: the path names another file, or none.
+    if (::stat(path_.c_str(), &there) != 0) return errno != ENOENT;
+    return held.st_dev == there.st_dev && held.st_ino == there.st_ino;
 }
 
 std::uint64_t StateFile::pages_synced() const {

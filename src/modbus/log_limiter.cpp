@@ -53,6 +53,8 @@ std::string_view describe(LogCause cause) noexcept {
             return "state files failing to sync";
         case LogCause::SyncResumed:
             return "state files syncing again";
+        case LogCause::StateFileGone:
+            return "state files deleted or moved away while in use";
         case LogCause::Count:
             break;
     }

@@ -27,6 +27,7 @@ enum class LogCause : std::uint8_t {
     DatagramRefused,    ///< a datagram from a peer outside a UDP listener's allow list
     SyncFailed,         ///< a state file's sync failed, after good ones
     SyncResumed,        ///< a state file synced again, after failures
+    StateFileGone,      ///< a state file deleted or moved away while in use
     Count,
 };
 

@@ -392,3 +392,23 @@ def test_a_reload_to_the_most_retentive_ranges_keeps_the_daemon(start_plcemud, t
     # And a start with them.
     d = start_plcemud(Path(d.config_path).read_text())
     assert read(d.client(), D0 + 2) == [77], d.log_text()
+
+
+@pytest.mark.parametrize("how", ["deleted", "moved"])
+def test_a_state_file_taken_away_while_in_use_is_said_once(start_plcemud, tmp_path, how):
+    # docs/operations.md, "Retentive memory": said at the next sync, once; the PLC runs on.
+    state = tmp_path / "gone.state"
+    d = start_plcemud(config(state))
+    c = d.client()
+    assert not c.write_register(D0, 5, slave=1).isError()
+    if how == "deleted":
+        state.unlink()
+    else:
+        state.rename(tmp_path / "elsewhere.state")
+    assert d.wait_log("the state file was deleted or moved away while in use", 3), d.log_text()
+    assert f"{state}: the state file was deleted" in d.log_text()
+    time.sleep(0.6)  # three more syncs
+    assert d.log_text().count("deleted or moved away") == 1, d.log_text()
+    assert read(c, D0) == [5]
+    assert not c.write_register(D0, 6, slave=1).isError()
+    assert read(c, D0) == [6]

@@ -172,6 +172,24 @@ TEST_F(StateFileTest, WritesSurviveAProcessThatDiesWithoutClosing) {
     }
 }
 
+// docs/operations.md, Retentive memory: the reason is logged either way; a start that cannot make
+// the fresh file stops with an error that says where the damaged one went.
+TEST_F(StateFileTest, AFreshFileThatCannotBeMadeSaysWhereTheDamagedOneWent) {
+    write_file(std::vector<char>(10000, 'x'));
+    fs::create_directory(path_ + ".new");  // the temporary a fresh file is made through
+    try {
+        StateFile f(path_, layout(), fixed_now());
+        FAIL() << "a fresh file was made";
+    } catch (const std::exception& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("the damaged file was moved to " + path_ + ".bad-20260304-050607"),
+                  std::string::npos)
+            << what;
+        EXPECT_NE(what.find("bad magic"), std::string::npos) << what;
+    }
+    EXPECT_EQ(bad_files().size(), 1u);
+}
+
 TEST_F(StateFileTest, GarbageIsMovedAsideWithATimestampAndAFreshFileCreated) {
     write_file(std::vector<char>(10000, 'x'));
     StateFile f(path_, layout(), fixed_now());

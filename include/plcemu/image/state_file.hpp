@@ -112,6 +112,10 @@ public:
     bool sync() noexcept;
     /// Pages written to disk by sync() so far.
     std::uint64_t pages_synced() const;
+    /// False once the file open is no longer the one at its path (deleted, moved away or
+    /// replaced while in use): what is synced then is lost at the close. Safe from another
+    /// thread.
+    bool in_place() const noexcept;
     /// Syncs, stores the data checksum, marks the file closed and unmaps it. Idempotent.
     /// Returns 0, or the errno of a write the disk did not take: the file is then left marked
     /// open, and the next start recovers what the disk holds as after a crash.
