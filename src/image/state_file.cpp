@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <tuple>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -143,6 +144,28 @@ StateFileHeader expected_header(const Layout& layout) {
     h.storage_size = Image::storage_size(layout);
     h.layout_checksum = layout_checksum(h.profile, h.area_count, h.area_size, h.storage_size);
     return h;
+}
+
+// The devices a list of ranges covers, as sorted, merged ranges: [R0-R9, D0] and [D0, R5-R9,
+// R0-R4] are one set.
+std::vector<Range> merged(std::vector<Range> v) {
+    std::sort(v.begin(), v.end(), [](const Range& a, const Range& b) {
+        return std::tie(a.area, a.start) < std::tie(b.area, b.start);
+    });
+    std::vector<Range> out;
+    for (const Range& r : v) {
+        if (r.count == 0) continue;
+        if (!out.empty() && out.back().area == r.area && r.start <= out.back().end()) {
+            out.back().count = std::max(out.back().end(), r.end()) - out.back().start;
+        } else {
+            out.push_back(r);
+        }
+    }
+    return out;
+}
+
+bool same_devices(const std::vector<Range>& a, const std::vector<Range>& b) {
+    return a == b || merged(a) == merged(b);
 }
 
 std::string describe_layout_difference(const StateFileHeader& file,
@@ -404,7 +427,7 @@ bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
         before.push_back({static_cast<Area>(r.area), r.start, r.count});
     }
     retentive_before_ = before;
-    if (before != layout.retentive) {
+    if (!same_devices(before, layout.retentive)) {
         Layout then = layout;
         then.retentive = before;
         Image(then, storage_).clear_non_retentive(before);

@@ -688,6 +688,31 @@ TEST_F(StateFileTest, ChangedRetentiveRangesKeepOnlyDevicesRetentiveBeforeAndNow
     EXPECT_TRUE(bad_files().empty());
 }
 
+// The same devices listed in another order or split otherwise are no change: nothing is
+// cleared and nothing is said.
+TEST_F(StateFileTest, RetentiveRangesReorderedOrSplitAreNoChange) {
+    image::Layout before = layout();
+    before.retentive = {{Area::D, 0, 11}, {Area::R, 0, 11}};
+    {
+        StateFile f(path_, before, fixed_now());
+        Image(before, f.storage()).set_word(Area::R, 5, 7);
+    }
+    image::Layout now = layout();
+    now.retentive = {{Area::R, 5, 6}, {Area::R, 0, 5}, {Area::D, 0, 11}};
+    StateFile f(path_, now, fixed_now());
+    EXPECT_EQ(Image(now, f.storage()).word(Area::R, 5), 7);
+    for (const auto& n : f.notes()) {
+        EXPECT_EQ(n.text.find("retentive ranges changed"), std::string::npos) << n.text;
+    }
+    f.close();
+    now.retentive = {{Area::R, 0, 10}, {Area::D, 0, 11}};  // R10 is not retentive any more
+    StateFile g(path_, now, fixed_now());
+    bool said = false;
+    for (const auto& n : g.notes())
+        said = said || n.text.find("ranges changed") != std::string::npos;
+    EXPECT_TRUE(said);
+}
+
 // ---- Plc over a state file: start modes, R4057, init policy
 
 config::Config plc_config(const std::string& extra = "") {
