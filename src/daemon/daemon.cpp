@@ -9,6 +9,7 @@
 #include <cstring>
 #include <ctime>
 #include <memory>
+#include <stdexcept>
 
 #include "daemon/listeners.hpp"
 #include "daemon/master_link.hpp"
@@ -92,7 +93,15 @@ public:
     void open(OpenedState opened) {
         Start start = Start::Fresh;
         if (cfg_->persistence.enabled) {
-            if (opened.error) std::rethrow_exception(opened.error);
+            if (opened.error) {
+                // Named as the PLC's other lines are: which of 5,000 files is in use elsewhere.
+                try {
+                    std::rethrow_exception(opened.error);
+                } catch (const std::exception& e) {
+                    if (prefix_.empty()) throw;
+                    throw std::runtime_error(prefix_ + e.what());
+                }
+            }
             state_ = std::move(opened.file);
             for (const auto& n : state_->notes()) {
                 if (n.warning) {

@@ -826,3 +826,19 @@ def test_a_reload_rebuilds_only_the_plcs_whose_entry_changed(tmp_path):
         assert "applied to 0 of 2" not in d.log_text()  # said at info, now below the level
     finally:
         assert d.stop() == 0
+
+
+def test_a_state_file_that_cannot_be_had_names_its_plc(tmp_path):
+    # Of many PLCs, the error says which one's file it is, as its other lines do.
+    (tmp_path / "b.state").mkdir()
+    path = tmp_path / "two.yaml"
+    ports = [free_port(), free_port()]
+    path.write_text(
+        "plcs:\n"
+        f"  - {{name: a, profile: fbs, modbus: {{tcp: {{bind: 127.0.0.1, port: {ports[0]}}}}},"
+        f" persistence: {{file: '{tmp_path / 'a.state'}'}}}}\n"
+        f"  - {{name: b, profile: fbs, modbus: {{tcp: {{bind: 127.0.0.1, port: {ports[1]}}}}},"
+        f" persistence: {{file: '{tmp_path / 'b.state'}'}}}}\n")
+    r = run_plcemud("-c", path, timeout=20)
+    assert r.returncode == 1, r
+    assert f"plcs[1] (b): state file {tmp_path / 'b.state'}" in r.stderr, r.stderr
