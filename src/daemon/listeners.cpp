@@ -337,8 +337,10 @@ bool serves_as_is(const Listeners::Listener& r, const Group& g, const config::Li
         return r.options.net.bind == l.net->bind && r.options.net.port == l.net->port;
     const config::RtuConfig& was = r.line_config;
     const config::RtuConfig& now = *l.line;
-    return was.baud == now.baud && was.parity == now.parity && was.data_bits == now.data_bits &&
-           was.stop_bits == now.stop_bits;
+    // The path as written, too: a line lost is reopened by it, so a new link to the same
+    // device (/dev/serial/by-id/... for /dev/ttyUSB0) must be the one it goes by.
+    return was.device == now.device && was.baud == now.baud && was.parity == now.parity &&
+           was.data_bits == now.data_bits && was.stop_bits == now.stop_bits;
 }
 
 // A UDP listener or serial line kept across a reload takes the new access settings and seats.

@@ -352,7 +352,8 @@ def udp_inode(port):
     return None
 
 
-def test_a_reload_keeps_an_unchanged_serial_line_and_udp_listener_open(start_plcs, pty):
+def test_a_reload_keeps_an_unchanged_serial_line_and_udp_listener_open(start_plcs, pty,
+                                                                      tmp_path):
     # docs/operations.md, "Reload": a PLC's UDP listener and serial line go on through a reload
     # that leaves their settings alone, as its TCP listener does: a frame half received on the
     # line before the SIGHUP is answered when its rest comes after, the datagram socket is the
@@ -398,6 +399,19 @@ def test_a_reload_keeps_an_unchanged_serial_line_and_udp_listener_open(start_plc
             time.sleep(0.05)
         assert "19200" in d.log_text().split("listening on fatek serial")[-1].splitlines()[0]
         assert udp_inode(udp) == inode
+
+        # A new path to the same device (a by-id link for the tty) is the line opened by it:
+        # kept, it went on by the old path, and a lost line came back on the wrong device.
+        link = tmp_path / "by-id-link"
+        link.symlink_to(pty.slave)
+        Path(d.config_path).write_text(text.replace("BAUD", "19200").replace("SETPOINT", "2")
+                                       .replace(f"device: {pty.slave}", f"device: {link}"))
+        d.proc.send_signal(signal.SIGHUP)
+        deadline = time.monotonic() + 5
+        while d.log_text().count("listening on fatek serial") < 3:
+            assert time.monotonic() < deadline, d.log_text()
+            time.sleep(0.05)
+        assert str(link) in d.log_text().split("listening on fatek serial")[-1].splitlines()[0]
 
 
 def test_a_line_whose_device_is_away_at_a_reload_comes_back_by_itself(start_plcs, tmp_path):
