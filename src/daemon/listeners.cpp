@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <stdexcept>
+#include <string>
+#include <system_error>
 #include <unordered_map>
 #include <utility>
 
@@ -546,6 +549,13 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
     };
     // The running listeners this reload keeps; the others close once it is applied.
     std::vector<bool> kept(tcp_.size(), false);
+    // New listeners whose port was in use: staged_'s index, the log prefix, the error.
+    struct InUse {
+        std::size_t index;
+        std::string prefix;
+        std::string what;
+    };
+    std::vector<InUse> in_use;
     for (const auto& g : plan->all) {
         if (g.carrier != Carrier::Tcp) continue;
         const auto running = running_for(g);
@@ -568,35 +578,44 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
         try {
             s.fresh->tcp =
                 std::make_unique<listener::TcpListener>(io_, *s.fresh->stream, s.fresh->options);
-            staged_.push_back(std::move(s));
-            continue;
-        } catch (const std::exception& e) {
-            // The port may be held by running listeners this reload closes anyway: the PLC's
-            // own on another address (127.0.0.1 -> 0.0.0.0), or another PLC's that moves
-            // elsewhere. They go first; if the new one still fails, they come back.
-            const auto port = s.fresh->options.net.port;
-            bool freed = false;
-            for (std::size_t t = 0; port != 0 && t < tcp_.size(); ++t) {
-                Listener& held = *tcp_[t];
-                if (kept[t] || !held.tcp || held.options.net.port != port) continue;
-                spdlog::info("reload: {}closing {} {} to listen on {}:{}", prefix, held.what(),
-                             held.where(), s.fresh->options.net.bind, port);
-                held.tcp->stop();
-                held.tcp.reset();
-                stopped_for_stage_.push_back(t);
-                freed = true;
-            }
+        } catch (const std::system_error& e) {
+            // A port in use may be held by running listeners this reload closes anyway: tried
+            // again below, once every other listener is had. Anything else (an address not of
+            // this host) refuses the reload before any client is disturbed.
             // e.what() names the endpoint ("cannot listen on tcp ADDR:PORT: ...").
-            if (!freed) {
+            if (e.code() != asio::error::address_in_use || s.fresh->options.net.port == 0) {
                 spdlog::error("reload: {}{}", prefix, e.what());
                 unstage();
                 return false;
             }
+            in_use.push_back({staged_.size(), prefix, e.what()});
+        } catch (const std::exception& e) {
+            spdlog::error("reload: {}{}", prefix, e.what());
+            unstage();
+            return false;
+        }
+        staged_.push_back(std::move(s));
+    }
+    // The ports in use: the running listeners that hold them and that this reload closes (the
+    // PLC's own on another address, 127.0.0.1 -> 0.0.0.0, or another PLC's that moves
+    // elsewhere) go first; if the new one still fails, they come back.
+    for (const auto& [index, prefix, what] : in_use) {
+        Listener& fresh = *staged_[index].fresh;
+        const auto port = fresh.options.net.port;
+        bool freed = false;
+        for (std::size_t t = 0; t < tcp_.size(); ++t) {
+            Listener& held = *tcp_[t];
+            if (kept[t] || !held.tcp || held.options.net.port != port) continue;
+            spdlog::info("reload: {}closing {} {} to listen on {}:{}", prefix, held.what(),
+                         held.where(), fresh.options.net.bind, port);
+            held.tcp->stop();
+            held.tcp.reset();
+            stopped_for_stage_.push_back(t);
+            freed = true;
         }
         try {
-            s.fresh->tcp =
-                std::make_unique<listener::TcpListener>(io_, *s.fresh->stream, s.fresh->options);
-            staged_.push_back(std::move(s));
+            if (!freed) throw std::runtime_error(what);
+            fresh.tcp = std::make_unique<listener::TcpListener>(io_, *fresh.stream, fresh.options);
         } catch (const std::exception& e) {
             spdlog::error("reload: {}{}", prefix, e.what());
             unstage();

@@ -576,6 +576,39 @@ def test_a_reload_gives_a_port_one_plc_leaves_to_another(tmp_path):
         assert d.stop() == 0
 
 
+def test_a_reload_refused_for_an_address_disturbs_no_client(tmp_path):
+    """docs/operations.md, "Reload": a reload refused leaves what runs alone. One whose new
+    address is no address of this host freed the port of the running listener first (its
+    clients were closed) as if the port were in use; so did one where a later listener of the
+    same reload could not be had after an earlier one had freed a port."""
+    p1, p2, p3 = free_port(), free_port(), free_port()
+    d = spawn(tmp_path, two_ovens(p1, p2), [p1, p2])
+    nowhere = "bind: 192.0.2.1"  # an address of no interface here
+    try:
+        with socket.create_connection(("127.0.0.1", p1), timeout=3) as a, \
+                socket.create_connection(("127.0.0.1", p2), timeout=3) as b:
+            for text in (
+                    # a's port on a new address.
+                    two_ovens(p1, p2).replace(f"bind: 127.0.0.1, port: {p1}",
+                                              f"{nowhere}, port: {p1}"),
+                    # a takes b's port (b's listener would go first), b's new one cannot be.
+                    two_ovens(p2, p3).replace(f"bind: 127.0.0.1, port: {p3}",
+                                              f"{nowhere}, port: {p3}")):
+                rejected = d.log_text().count("configuration rejected")
+                Path(d.config_path).write_text(text)
+                d.proc.send_signal(signal.SIGHUP)
+                wait_count(d, "configuration rejected", rejected + 1)
+                for sock, r0 in ((a, 111), (b, 222)):
+                    reply = raw_exchange(sock, b"\x03\x00\x00\x00\x01")
+                    assert reply is not None and reply[2:4] == r0.to_bytes(2, "big"), \
+                        d.log_text()
+        log = d.log_text()
+        assert log.count("Cannot assign requested address") == 2, log
+        assert "to listen on" not in log and "server stopping" not in log, log
+    finally:
+        assert d.stop() == 0
+
+
 # --- Unit IDs in force: R4055 and reloads (docs/configuration.md, "Sharing a listener") ---
 
 R4055 = 4055  # fbs: the station; 55h in the high byte sets it
