@@ -23,7 +23,7 @@ SyncThread::~SyncThread() {
     }
     cv_.notify_all();
     if (thread_.joinable()) thread_.join();
-    limiter_.flush_to_log(Clock::time_point::max(), "persistence: ");
+    limiter_.flush_to_log(Clock::now(), "persistence: ", true);
 }
 
 SyncThread::Id SyncThread::add(image::StateFile& file, std::chrono::milliseconds period) {

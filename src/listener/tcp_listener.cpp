@@ -799,6 +799,8 @@ void TcpListener::stop() {
     state_->accept_retry.cancel();
     auto conns = state_->connections;
     for (const auto& c : conns) c->close("server stopping");
+    // What the limiter holds back is said now: no sweep comes after.
+    state_->limiter.flush_to_log(Clock::now(), state_->options.log_name + ": ", true);
 }
 
 }  // namespace plcemu::listener

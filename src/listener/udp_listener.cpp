@@ -214,6 +214,10 @@ void UdpListener::set_allow(std::vector<Cidr> allow) { state_->options.allow = s
 
 void UdpListener::stop() {
     asio::error_code ec;
+    if (state_->socket.is_open()) {
+        // What the limiter holds back is said now: no datagram or timer comes after.
+        state_->limiter.flush_to_log(std::chrono::steady_clock::now(), state_->log_prefix, true);
+    }
     state_->socket.close(ec);
     state_->summary.cancel();
     for (const auto& p : state_->peers) state_->protocol.units().client_gone(p.client.id);

@@ -19,12 +19,15 @@ bool LogLimiter::allow(LogCause cause, Clock::time_point now) noexcept {
     return false;
 }
 
-void LogLimiter::flush_to_log(Clock::time_point now, std::string_view prefix) noexcept {
-    flush(now, [&](LogCause cause, std::uint64_t n, Clock::duration span) {
-        spdlog::warn("{}{} more {} in the last {} s (not logged one by one)", prefix, n,
-                     describe(cause),
-                     std::chrono::duration_cast<std::chrono::seconds>(span).count());
-    });
+void LogLimiter::flush_to_log(Clock::time_point now, std::string_view prefix, bool all) noexcept {
+    flush(
+        now,
+        [&](LogCause cause, std::uint64_t n, Clock::duration span) {
+            spdlog::warn("{}{} more {} in the last {} s (not logged one by one)", prefix, n,
+                         describe(cause),
+                         std::chrono::duration_cast<std::chrono::seconds>(span).count());
+        },
+        all);
 }
 
 std::string_view describe(LogCause cause) noexcept {

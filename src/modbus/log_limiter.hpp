@@ -47,11 +47,12 @@ public:
     /// For each cause whose window is over with lines suppressed: calls `report(cause, count,
     /// span)` once (`span`: since the window began, the window or longer when flushed late) and
     /// starts a new window. Call it now and then (the transports' sweep timer does).
+    /// `all`: every cause with lines suppressed, its window over or not (the listener closes).
     template <typename F>
-    void flush(Clock::time_point now, F&& report) {
+    void flush(Clock::time_point now, F&& report, bool all = false) {
         for (std::size_t i = 0; i < budgets_.size(); ++i) {
             Budget& b = budgets_[i];
-            if (b.suppressed == 0 || now - b.window_start < window_) continue;
+            if (b.suppressed == 0 || (!all && now - b.window_start < window_)) continue;
             report(static_cast<LogCause>(i), b.suppressed, now - b.window_start);
             b = Budget{};
         }
@@ -67,7 +68,7 @@ public:
 
     /// flush() as warnings: "PREFIX N more CAUSE in the last S s (not logged one by one)", S the
     /// whole seconds since the window began.
-    void flush_to_log(Clock::time_point now, std::string_view prefix) noexcept;
+    void flush_to_log(Clock::time_point now, std::string_view prefix, bool all = false) noexcept;
 
 private:
     struct Budget {

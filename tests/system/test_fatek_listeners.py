@@ -167,6 +167,19 @@ def test_ignored_datagrams_are_summed_up_when_the_window_ends(start_plcemud):
     assert d.log_text().count("ignored a datagram from 127.0.0.3") == 5, d.log_text()
 
 
+def test_ignored_datagrams_are_summed_up_at_the_stop(start_plcemud):
+    port = free_port()
+    d = start_plcemud(config(f"  udp: {{bind: 127.0.0.1, port: {port}, allow: [127.0.0.2]}}\n"))
+    with Fatek.udp(port, source="127.0.0.3") as refused:
+        for _ in range(40):
+            refused.send(GIST)
+    assert d.wait_log("not in the allow list"), d.log_text()
+    time.sleep(0.3)
+    assert d.stop() == 0
+    assert "35 more datagrams ignored (not in the allow list) in the last 0 s" in d.log_text(), \
+        d.log_text()
+
+
 def test_a_udp_port_in_use_names_the_listener_and_its_section(tmp_path):
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as taken:
         taken.bind(("127.0.0.1", 0))

@@ -3,6 +3,7 @@ under load, clients that stop reading or half-send frames, running out of descri
 log floods, read-only gateways, long steps, huge programs, sd_notify."""
 
 import os
+import re
 import resource
 import signal
 import socket
@@ -392,6 +393,26 @@ def test_refused_connects_do_not_flood_the_log(start_plcemud):
     # The rest is summed up once the window ends.
     assert d.wait_log("more connections refused (not in the allow list)", 15), d.log_text()
     assert d.proc.poll() is None
+
+
+def test_what_the_log_held_back_is_summed_up_at_the_stop(start_plcemud):
+    # The summary comes at the window's end; a stop before it (or a reload closing the
+    # listener) says it then, or the log undercounts what happened.
+    d = start_plcemud(
+        "profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1, allow: [10.0.0.0/8]}}\n"
+    )
+    for _ in range(120):
+        try:
+            connect(d.port, 1.0).close()
+        except OSError:
+            pass
+    time.sleep(0.3)
+    assert d.stop() == 0
+    log = d.log_text()
+    summed = re.search(r"(\d+) more connections refused \(not in the allow list\) in the last 0 s",
+                       log)
+    assert summed, log
+    assert int(summed.group(1)) + log.count("refused: not in modbus.tcp.allow") >= 110, log
 
 
 # --- 10: sd_notify without a service manager's help
