@@ -1125,6 +1125,12 @@ std::vector<Config> read_plcs(const YamlDocument& doc,
     // `http:` beside `plcs:` is one console for every PLC that has no `http:` of its own.
     std::optional<TcpConfig> http;
     top.attempt([&] { read_http(top, root["http"], http, overrides.http_port.has_value()); });
+    if (http && http->port == 0 && !overrides.http_port) {
+        // As --http-port 0: one console for every PLC cannot be "any free port" for each.
+        top.fail(root["http"]["port"],
+                 "http.port: 0 beside plcs: each PLC would get a console of its own on a port "
+                 "of the kernel's choosing; give a port");
+    }
     std::vector<Config> out;
     std::vector<Taken> taken;
     Clashes clashes;

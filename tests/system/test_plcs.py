@@ -291,6 +291,9 @@ def tcp_disagrees(setting):
          "  - {profile: fbs, modbus: {tcp: {port: 1503}}, persistence: {file: z.state.lock}}\n",
          ":3:69:", "plcs[1]: persistence.file: 'z.state.lock' and plcs[0]'s state file ('z.state' "
          "at "),
+        # One console for every PLC cannot be on a port of the kernel's choosing for each.
+        ("http: {port: 0}\nplcs:\n  - {profile: fbs}\n",
+         ":1:14:", "http.port: 0 beside plcs: each PLC would get a console of its own"),
         # A per-PLC key beside plcs:.
         ("profile: fbs\nplcs:\n  - {profile: fbs}\n",
          ":1:1:", "profile: belongs to one PLC; beside 'plcs:' only 'log:' and 'http:' may stand"),
