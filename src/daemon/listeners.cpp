@@ -527,6 +527,28 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
     staged_.clear();
     staged_plan_.reset();
     stopped_for_stage_.clear();
+    // A UDP port the reload moves to must be free, as a TCP one must: the socket opens at the
+    // apply, after the old one closed, and a port in use then left the PLC without it. Tried
+    // here, beside the running ones; a port a running UDP listener holds is freed at the apply.
+    for (const auto& g : plan->all) {
+        if (g.carrier != Carrier::Udp) continue;
+        const config::TcpConfig& net = *listener_in(next[g.members.front()], g.section)->net;
+        const bool ours = std::any_of(reopened_.begin(), reopened_.end(), [&](const auto& r) {
+            return r->udp && r->udp->port() == net.port;
+        });
+        if (net.port == 0 || ours) continue;
+        asio::error_code ec;
+        const auto address = asio::ip::make_address(net.bind, ec);
+        asio::ip::udp::socket probe(io_);
+        if (!ec) probe.open(address.is_v6() ? asio::ip::udp::v6() : asio::ip::udp::v4(), ec);
+        if (!ec) probe.bind({address, net.port}, ec);
+        if (!ec) continue;
+        const std::string& label = next[g.members.front()].label;
+        spdlog::error("reload: {}cannot listen on {} {}:{} ({}): {}",
+                      label.empty() ? "" : label + ": ", kind_words(g.protocol, g.carrier),
+                      net.bind, net.port, g.section, ec.message());
+        return false;
+    }
     // The running TCP listener of each PLC and section.
     std::map<std::pair<std::size_t, std::string_view>, std::size_t> running_of;
     for (std::size_t t = 0; t < tcp_.size(); ++t) {

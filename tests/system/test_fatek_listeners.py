@@ -192,6 +192,24 @@ def test_a_udp_port_in_use_names_the_listener_and_its_section(tmp_path):
     assert f"cannot listen on fatek udp 127.0.0.1:{port} (fatek.udp)" in r.stderr, r.stderr
 
 
+def test_a_reload_to_a_udp_port_in_use_is_refused_and_the_old_one_serves_on(start_plcemud):
+    # docs/operations.md, "Reload": as for a TCP port in use. It was applied, the old socket
+    # closed and the new one never opened: the PLC left without its UDP listener.
+    old = free_port()
+    d = start_plcemud(config(f"  udp: {{bind: 127.0.0.1, port: {old}}}\n"))
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as taken:
+        taken.bind(("127.0.0.1", 0))
+        port = taken.getsockname()[1]
+        Path(d.config_path).write_text(
+            Path(d.config_path).read_text().replace(f"port: {old}}}", f"port: {port}}}"))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("configuration rejected"), d.log_text()
+    assert f"cannot listen on fatek udp 127.0.0.1:{port} (fatek.udp): Address already in use" \
+        in d.log_text(), d.log_text()
+    with Fatek.udp(old) as client:
+        assert client.exchange(GIST) == RUNNING
+
+
 def test_max_clients_refuses_extra_connections_and_keeps_the_others(start_plcemud):
     port = free_port()
     d = start_plcemud(tcp_config(port, ", max_clients: 2"))
