@@ -471,20 +471,7 @@ void read_persistence(const Reader& r, const Node& n, PersistenceConfig& p) {
         if (n["enabled"]) p.enabled = r.boolean(n["enabled"], "persistence.enabled");
     });
     r.attempt([&] {
-        if (n["file"]) {
-            p.file = r.scalar(n["file"], "persistence.file");
-            // A damaged file is moved aside as NAME.bad-YYYYmmdd-HHMMSS-N: its name must fit
-            // the file system's 255 bytes too.
-            constexpr std::size_t kMaxName = 230;
-            const std::string name = std::filesystem::path(p.file).filename().string();
-            if (name.size() > kMaxName) {
-                std::string why = "persistence.file: the file's name (after the last '/') is ";
-                why += std::to_string(name.size());
-                r.fail(n["file"], why +
-                                      " bytes long; at most 230, as the daemon names the "
-                                      "file's companions after it (NAME.bad-YYYYmmdd-HHMMSS)");
-            }
-        }
+        if (n["file"]) p.file = r.scalar(n["file"], "persistence.file");
     });
     r.attempt([&] {
         if (n["init"]) {
@@ -1086,6 +1073,23 @@ bool per_plc_key(const std::string& key) {
 // and `http:` may stand beside it.
 // `doc` is the file, `root` its tree without the entries, which are made one at a time: 5,000
 // entries as one tree would take more memory than the PLCs they describe.
+// A damaged state file is moved aside as NAME.bad-YYYYmmdd-HHMMSS-N, and NAME.lock and NAME.new
+// lie beside it: the state file's name, given or made from the config's and the entry's, must
+// leave them room in the file system's 255 bytes.
+void check_state_file_name(const Reader& r, const Node& at, const Config& c) {
+    if (!c.persistence.enabled) return;
+    constexpr std::size_t kMaxName = 230;
+    const std::string name = std::filesystem::path(default_state_file(c)).filename().string();
+    if (name.size() <= kMaxName) return;
+    std::string why = "persistence.file: the state file's name (after the last '/') is ";
+    why += std::to_string(name.size());
+    why +=
+        " bytes long; at most 230, as the daemon names files after it "
+        "(NAME.bad-YYYYmmdd-HHMMSS)";
+    if (c.persistence.file.empty()) why += "; it is made from the config's file name: give one";
+    r.fail(at, why);
+}
+
 std::vector<Config> read_plcs(const YamlDocument& doc,
                               const Node& root,
                               const std::string& file,
@@ -1173,6 +1177,7 @@ std::vector<Config> read_plcs(const YamlDocument& doc,
                 check_own_listeners(r, e, c);
             }
             c.fingerprint = fingerprint(c, e, e["http"] ? nullptr : &root["http"]);
+            check_state_file_name(r, where(e, {"persistence", "file"}), c);
             Taken mine(c, e);
             check_shared(r, e, c, mine, out, taken, clashes);
             clashes.add(out.size(), c, mine);
@@ -1220,6 +1225,8 @@ Config read_config(const Node& root, const std::string& name, const Overrides& o
     });
     c.path = name;
     c.fingerprint = fingerprint(c, root, nullptr);
+    const Reader r;
+    check_state_file_name(r, where(root, {"persistence", "file"}), c);
     return c;
 }
 

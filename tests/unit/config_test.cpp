@@ -393,7 +393,19 @@ TEST(Config, RetentiveRangesAndTheStateFilesNameHaveTheirLimits) {
                   .persistence.retentive->size(),
               256u);
     expect_error("profile: fbs\npersistence: {file: /var/lib/" + std::string(231, 'x') + "}\n", 2,
-                 21, "the file's name (after the last '/') is 231 bytes long; at most 230");
+                 21, "the state file's name (after the last '/') is 231 bytes long; at most 230");
+    // A default name is the config's: a long one is refused too (its place: the root).
+    const std::string stem(225, 'c');
+    testing::expect_config_error(
+        testing::config_failure([&] { parse_config("profile: fbs\n", stem + ".yaml"); }),
+        stem + ".yaml", 1, 1, "is 231 bytes long; at most 230");
+    // An entry's: the stem, a dash and its name (here at the entry's line).
+    testing::expect_config_error(testing::config_failure([&] {
+                                     parse_plcs("plcs:\n  - {name: line-a, profile: fbs}\n",
+                                                std::string(220, 'c') + ".yaml");
+                                 }),
+                                 std::string(220, 'c') + ".yaml", 2, 5,
+                                 "plcs[0] (line-a): persistence.file: the state file's name");
     EXPECT_NO_THROW(parse_config(
         "profile: fbs\npersistence: {file: " + std::string(230, 'x') + "}\n", "t.yaml"));
 }
