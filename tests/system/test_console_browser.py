@@ -286,6 +286,14 @@ def test_an_unknown_plcs_page_says_so_as_text(browser, start_plcemud):
     assert "PLC " + name in browser.title
     with pytest.raises(NoAlertPresentException):
         browser.switch_to.alert.text  # noqa: B018 - raises when there is no alert
+    # A page that polls asks no more once it knows: nothing there will change.
+    browser.get(f"{base}/plcs/nope/loops")
+    wait(browser, lambda dr: "no PLC 'nope' here" in message(dr)[0], what="no error shown")
+    asked = "return performance.getEntriesByType('resource')" \
+            ".filter(e => e.name.includes('/api/')).length"
+    before = browser.execute_script(asked)
+    time.sleep(2.5)
+    assert browser.execute_script(asked) == before
 
 
 # ---- Plant -----------------------------------------------------------------------------------

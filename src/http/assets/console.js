@@ -161,6 +161,8 @@
   }
 
   const plc = plcFromPath();
+  // Why this page's PLC is not there (the API's 404), once the heading's request found it out.
+  let plcUnknown = null;
   const plcUrl = (p) => '/plcs/' + encodeURIComponent(p);
   const apiPlc = (p) => '/api/v1/plcs/' + encodeURIComponent(p);
 
@@ -225,6 +227,10 @@
   // A GET, or a write (PUT, DELETE): the token when there is one, and `body` as JSON when given
   // (a DELETE has none).
   async function request(method, path, body) {
+    // An unknown PLC's page asks no more after the first answer said so: nothing will change.
+    if (plcUnknown !== null && (path === apiPlc(plc) || path.startsWith(apiPlc(plc) + '/'))) {
+      throw new ApiError(plcUnknown, 404);
+    }
     const headers = {Accept: 'application/json'};
     const init = {method, headers, cache: 'no-store', credentials: 'same-origin'};
     if (method !== 'GET' && method !== 'HEAD') {
@@ -431,6 +437,7 @@
     try {
       describePlc(await request('GET', apiPlc(plc)));
     } catch (e) {
+      if (e.status === 404) plcUnknown = e.message;
       say(e.message, 'error');
     }
   }
