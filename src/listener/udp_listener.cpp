@@ -63,7 +63,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
                 spdlog::warn("udp {}: ignored a datagram from {}, not in the allow list", name,
                              peer_name(sender));
             } else {
-                arm_summary(kLogWindow);
+                arm_summary();
             }
             return;
         }
@@ -83,16 +83,16 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     }
 
     // What the limiter holds back is summed up by a timer off the request path, armed only
-    // while something is held back: at the window's end, then each second until it is said.
-    void arm_summary(std::chrono::steady_clock::duration after) noexcept {
+    // while something is held back: each second, so within a second of the window's end.
+    void arm_summary() noexcept {
         if (summary_armed || !socket.is_open()) return;
         summary_armed = true;
-        summary.expires_after(after);
+        summary.expires_after(std::chrono::seconds(1));
         summary.async_wait([self = shared_from_this()](const asio::error_code& ec) {
             self->summary_armed = false;
             if (ec || !self->socket.is_open()) return;
             self->limiter.flush_to_log(std::chrono::steady_clock::now(), self->log_prefix);
-            if (self->limiter.holding()) self->arm_summary(std::chrono::seconds(1));
+            if (self->limiter.holding()) self->arm_summary();
         });
     }
 
