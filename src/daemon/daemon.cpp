@@ -169,12 +169,20 @@ public:
         if (sync_id_ != 0) syncs_.remove(sync_id_);
         sync_id_ = 0;
         if (!state_) return true;
+        const bool in_place = state_->in_place();
         if (const int error = state_->close(); error != 0) {
             spdlog::error(
                 "{}state file {}: the last sync failed ({}); left marked open: the next start "
                 "recovers what the disk holds",
                 prefix_, state_->path(), std::strerror(error));
             return false;
+        }
+        if (!in_place) {
+            spdlog::warn(
+                "{}state file {} closed, but not at its path (deleted or moved away while in "
+                "use): the next start begins without its retentive values",
+                prefix_, state_->path());
+            return true;
         }
         spdlog::info("{}state file {} closed", prefix_, state_->path());
         return true;
@@ -193,6 +201,15 @@ public:
         return next.station == file_station_ ? plc_->engine().station() : next.station;
     }
 
+    // Whether `next` keeps the image where it is: persistence on or off as now, and the file in
+    // use, as placed (a one-PLC file made a plcs: entry gets another default name).
+    bool same_state_file(const config::Config& next) const {
+        if (next.persistence.enabled != (state_ != nullptr)) return false;
+        if (!state_) return true;
+        const char* dir = std::getenv("STATE_DIRECTORY");
+        return config::state_file_path(next, dir ? dir : "") == state_->path();
+    }
+
     // Why `next` cannot be applied without a restart, or empty.
     std::string refusal(const config::Config& next) const {
         if (plc_layout(next).size != plc_->image().layout().size || next.profile != cfg_->profile) {
@@ -205,12 +222,16 @@ public:
     // listeners). Returns the previous Plc, for the Runtime to retire once no listener routes to
     // its dispatcher; null when the new one could not be built and the previous one runs on.
     std::unique_ptr<Plc> apply(config::Config next, engine::Program program) {
-        if (next.persistence.enabled != cfg_->persistence.enabled ||
-            next.persistence.file != cfg_->persistence.file) {
+        if (!same_state_file(next)) {
+            const char* dir = std::getenv("STATE_DIRECTORY");
             spdlog::warn(
-                "reload: {}persistence.enabled and persistence.file take effect at the "
-                "next start; the image stays in {}",
-                prefix_, state_ ? state_->path() : std::string("memory"));
+                "reload: {}the state file becomes {} at the next start (persistence.enabled "
+                "or persistence.file, or a one-PLC config made a plcs: list or back); the image "
+                "stays in {}",
+                prefix_,
+                next.persistence.enabled ? config::state_file_path(next, dir ? dir : "")
+                                         : std::string("none"),
+                state_ ? state_->path() : std::string("memory"));
         }
         // A station a master set through R4055 stays, unless the config's station changed (from
         // what the file said the last time, not from the station in force).
@@ -225,8 +246,7 @@ public:
                                                 std::to_string(next.station));
         }
         // The state file stays the one in use until a restart, and later reloads compare with it.
-        if (next.persistence.enabled != cfg_->persistence.enabled ||
-            next.persistence.file != cfg_->persistence.file) {
+        if (!same_state_file(next)) {
             // What runs is then not what the file says: no later reload finds it unchanged, and
             // each says again where the image stays.
             next.fingerprint = {};

@@ -1,6 +1,7 @@
 #include "persistence.hpp"
 
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -125,9 +126,10 @@ void SyncThread::moved(Entry& e, bool in_place) {
     if (limiter_.allow(modbus::LogCause::StateFileGone, Clock::now())) {
         spdlog::warn(
             "persistence: {}: the state file was deleted or moved away while in use; the PLC "
-            "keeps syncing the file it has open, which the next start will not find: restart "
-            "plcemud to make it anew",
-            e.file->path());
+            "runs on, syncing the file it holds open, which the next start will not find: put "
+            "the file back at its path before the stop (a deleted one can be copied from "
+            "/proc/{}/fd/) or the next start begins without its retentive values",
+            e.file->path(), ::getpid());
     }
 }
 

@@ -205,7 +205,9 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
             b.simulator.writable ? text(*b.simulator.writable) : std::string("default"));
     compare(out, "persistence.enabled", a.persistence.enabled, b.persistence.enabled);
     compare(out, "persistence.file", a.persistence.file, b.persistence.file);
-    if (a.persistence.retentive != b.persistence.retentive) {
+    const auto& ra = a.persistence.retentive;
+    const auto& rb = b.persistence.retentive;
+    if (ra.has_value() != rb.has_value() || (ra && !image::same_devices(*ra, *rb))) {
         out.push_back("persistence.retentive: changed");
     }
     compare(out, "persistence.sync_ms", a.persistence.sync_ms, b.persistence.sync_ms);

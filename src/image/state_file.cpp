@@ -10,7 +10,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <tuple>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -144,28 +143,6 @@ StateFileHeader expected_header(const Layout& layout) {
     h.storage_size = Image::storage_size(layout);
     h.layout_checksum = layout_checksum(h.profile, h.area_count, h.area_size, h.storage_size);
     return h;
-}
-
-// The devices a list of ranges covers, as sorted, merged ranges: [R0-R9, D0] and [D0, R5-R9,
-// R0-R4] are one set.
-std::vector<Range> merged(std::vector<Range> v) {
-    std::sort(v.begin(), v.end(), [](const Range& a, const Range& b) {
-        return std::tie(a.area, a.start) < std::tie(b.area, b.start);
-    });
-    std::vector<Range> out;
-    for (const Range& r : v) {
-        if (r.count == 0) continue;
-        if (!out.empty() && out.back().area == r.area && r.start <= out.back().end()) {
-            out.back().count = std::max(out.back().end(), r.end()) - out.back().start;
-        } else {
-            out.push_back(r);
-        }
-    }
-    return out;
-}
-
-bool same_devices(const std::vector<Range>& a, const std::vector<Range>& b) {
-    return a == b || merged(a) == merged(b);
 }
 
 std::string describe_layout_difference(const StateFileHeader& file,
@@ -705,8 +682,9 @@ bool StateFile::in_place() const noexcept {
     struct stat there {};
     if (::fstat(fd_, &held) != 0) return true;
     if (held.st_nlink == 0) return false;
-    // Renamed or replaced: the path names another file, or none.
-    if (::stat(path_.c_str(), &there) != 0) return errno != ENOENT;
+    // Renamed or replaced: the path names another file, or none, or a link (which a start never
+    // follows, even to this file).
+    if (::lstat(path_.c_str(), &there) != 0) return errno != ENOENT;
     return held.st_dev == there.st_dev && held.st_ino == there.st_ino;
 }
 

@@ -14,7 +14,7 @@ import time
 
 import pytest
 
-from conftest import BASE_CONFIG, PLCEMUD, port_open, raw_exchange
+from conftest import BASE_CONFIG, PLCEMUD, free_port, port_open, raw_exchange
 
 READ_R0 = struct.pack(">BHH", 3, 0, 1)
 SIM = 247
@@ -481,3 +481,37 @@ def test_a_refused_state_file_change_is_named_at_every_later_reload(start_plcemu
             time.sleep(0.05)
         assert d.log_text().count(f"the image stays in {first}") == k, d.log_text()
     assert not (tmp_path / "second.state").exists()
+
+
+def test_a_one_plc_file_made_a_plcs_list_says_its_state_file_changes(tmp_path):
+    # The default state file of a plcs: entry is the stem and its place: "no setting changed"
+    # was said, and the next start came up on a new file without the retentive values.
+    port = free_port()
+    one = f"profile: fbs\nmodbus: {{tcp: {{bind: 127.0.0.1, port: {port}}}}}\n"
+    cfg = tmp_path / "shape.yaml"
+    cfg.write_text(one)
+    log = tmp_path / "shape.log"
+    env = dict(os.environ)
+    env.pop("STATE_DIRECTORY", None)
+    with open(log, "wb") as out:
+        proc = subprocess.Popen([PLCEMUD, "-c", str(cfg)], stdout=out, stderr=out, env=env,
+                                cwd=tmp_path)
+    try:
+        deadline = time.monotonic() + 10
+        while not port_open(port):
+            assert time.monotonic() < deadline and proc.poll() is None, log.read_text()
+            time.sleep(0.05)
+        in_use = tmp_path / "shape.state"
+        cfg.write_text("plcs:\n  - " + one.replace("\nmodbus", "\n    modbus"))
+        for k in (1, 2):
+            proc.send_signal(signal.SIGHUP)
+            deadline = time.monotonic() + 10
+            while log.read_text().count("reload: applied") < k:
+                assert time.monotonic() < deadline, log.read_text()
+                time.sleep(0.05)
+            assert log.read_text().count(f"the image stays in {in_use}") == k, log.read_text()
+        assert f"the state file becomes {tmp_path / 'shape-0.state'} at the next start" \
+            in log.read_text(), log.read_text()
+    finally:
+        proc.terminate()
+        assert proc.wait(10) == 0

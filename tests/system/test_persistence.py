@@ -394,9 +394,10 @@ def test_a_reload_to_the_most_retentive_ranges_keeps_the_daemon(start_plcemud, t
     assert read(d.client(), D0 + 2) == [77], d.log_text()
 
 
-@pytest.mark.parametrize("how", ["deleted", "moved"])
+@pytest.mark.parametrize("how", ["deleted", "moved", "linked"])
 def test_a_state_file_taken_away_while_in_use_is_said_once(start_plcemud, tmp_path, how):
-    # docs/operations.md, "Retentive memory": said at the next sync, once; the PLC runs on.
+    # docs/operations.md, "Retentive memory": said at the next sync, once; the PLC runs on, and
+    # the stop says the file is not where the next start looks.
     state = tmp_path / "gone.state"
     d = start_plcemud(config(state))
     c = d.client()
@@ -405,6 +406,8 @@ def test_a_state_file_taken_away_while_in_use_is_said_once(start_plcemud, tmp_pa
         state.unlink()
     else:
         state.rename(tmp_path / "elsewhere.state")
+        if how == "linked":  # a link to it, which a start never follows
+            state.symlink_to(tmp_path / "elsewhere.state")
     assert d.wait_log("the state file was deleted or moved away while in use", 3), d.log_text()
     assert f"{state}: the state file was deleted" in d.log_text()
     time.sleep(0.6)  # three more syncs
@@ -412,3 +415,5 @@ def test_a_state_file_taken_away_while_in_use_is_said_once(start_plcemud, tmp_pa
     assert read(c, D0) == [5]
     assert not c.write_register(D0, 6, slave=1).isError()
     assert read(c, D0) == [6]
+    assert d.stop() == 0
+    assert f"state file {state} closed, but not at its path" in d.log_text(), d.log_text()

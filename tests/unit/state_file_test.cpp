@@ -948,6 +948,16 @@ TEST(Reload, ChangesAreListed) {
     EXPECT_TRUE(daemon::config_changes(a, a).empty());
 }
 
+// Retentive ranges are compared as the devices they cover, as the state file compares them.
+TEST(Reload, RetentiveRangesReorderedAreNoChange) {
+    const auto a = plc_config("persistence: {retentive: [D0-D9, R0-R9]}\n");
+    const auto b = plc_config("persistence: {retentive: [R0-R4, R5-R9, D0-D9]}\n");
+    EXPECT_TRUE(daemon::config_changes(a, b).empty());
+    const auto c = plc_config("persistence: {retentive: [R0-R9, D0-D8]}\n");
+    EXPECT_EQ(daemon::config_changes(a, c),
+              std::vector<std::string>{"persistence.retentive: changed"});
+}
+
 // Every listener's settings are listed, FATEK's too (a FATEK-only change was "no setting
 // changed"), and a line as the log names it elsewhere (9600 8E1).
 TEST(Reload, EveryListenersChangesAreListed) {

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace plcemu::image {
 
@@ -53,6 +54,10 @@ struct Range {
     }
     bool operator==(const Range&) const = default;
 };
+
+/// True when the two lists cover the same devices, whatever their order or split: [R0-R9, D0]
+/// and [D0, R5-R9, R0-R4] are one set.
+bool same_devices(const std::vector<Range>& a, const std::vector<Range>& b);
 
 /// One device operand as written in a config: a bit (M0), a word (R100), or 16 bits read as a
 /// word (WM800).
