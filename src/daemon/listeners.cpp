@@ -533,16 +533,17 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
     for (const auto& g : plan->all) {
         if (g.carrier != Carrier::Udp) continue;
         const config::TcpConfig& net = *listener_in(next[g.members.front()], g.section)->net;
-        const bool ours = std::any_of(reopened_.begin(), reopened_.end(), [&](const auto& r) {
-            return r->udp && r->udp->port() == net.port;
-        });
-        if (net.port == 0 || ours) continue;
         asio::error_code ec;
         const auto address = asio::ip::make_address(net.bind, ec);
         asio::ip::udp::socket probe(io_);
         if (!ec) probe.open(address.is_v6() ? asio::ip::udp::v6() : asio::ip::udp::v4(), ec);
         if (!ec) probe.bind({address, net.port}, ec);
         if (!ec) continue;
+        // In use by one of ours (kept as it is, or closed before the new one opens): fine.
+        const bool ours = std::any_of(reopened_.begin(), reopened_.end(), [&](const auto& r) {
+            return r->udp && r->udp->port() == net.port;
+        });
+        if (ec == asio::error::address_in_use && ours) continue;
         const std::string& label = next[g.members.front()].label;
         spdlog::error("reload: {}cannot listen on {} {}:{} ({}): {}",
                       label.empty() ? "" : label + ": ", kind_words(g.protocol, g.carrier),
@@ -620,14 +621,29 @@ bool Listeners::stage(const std::vector<config::Config>& next, std::shared_ptr<c
     }
     // The ports in use: the running listeners that hold them and that this reload closes (the
     // PLC's own on another address, 127.0.0.1 -> 0.0.0.0, or another PLC's that moves
-    // elsewhere) go first; if the new one still fails, they come back.
+    // elsewhere) go first; if the new one still fails, they come back. A port none of those
+    // holds is in use elsewhere: refused before any is closed.
+    const auto holds = [&](std::size_t t, std::uint16_t port) {
+        // By the port bound: a port-0 listener's is the kernel's.
+        return !kept[t] && tcp_[t]->tcp && tcp_[t]->tcp->port() == port;
+    };
+    for (const auto& [index, prefix, what] : in_use) {
+        bool held = false;
+        for (std::size_t t = 0; t < tcp_.size(); ++t)
+            held = held || holds(t, staged_[index].fresh->options.net.port);
+        if (!held) {
+            spdlog::error("reload: {}{}", prefix, what);
+            unstage();
+            return false;
+        }
+    }
     for (const auto& [index, prefix, what] : in_use) {
         Listener& fresh = *staged_[index].fresh;
         const auto port = fresh.options.net.port;
         bool freed = false;
         for (std::size_t t = 0; t < tcp_.size(); ++t) {
             Listener& held = *tcp_[t];
-            if (kept[t] || !held.tcp || held.options.net.port != port) continue;
+            if (!holds(t, port)) continue;
             spdlog::info("reload: {}closing {} {} to listen on {}:{}", prefix, held.what(),
                          held.where(), fresh.options.net.bind, port);
             held.tcp->stop();

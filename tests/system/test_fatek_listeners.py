@@ -210,6 +210,20 @@ def test_a_reload_to_a_udp_port_in_use_is_refused_and_the_old_one_serves_on(star
         assert client.exchange(GIST) == RUNNING
 
 
+def test_a_reload_to_a_udp_address_not_here_is_refused_and_the_old_one_serves_on(start_plcemud):
+    # The same port on an address no interface has: the probe was skipped for a port the
+    # daemon's own listener holds, and the reload left the PLC without its UDP listener.
+    port = free_port()
+    d = start_plcemud(config(f"  udp: {{bind: 127.0.0.1, port: {port}}}\n"))
+    Path(d.config_path).write_text(
+        Path(d.config_path).read_text().replace("udp: {bind: 127.0.0.1", "udp: {bind: 192.0.2.1"))
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("configuration rejected"), d.log_text()
+    assert f"cannot listen on fatek udp 192.0.2.1:{port} (fatek.udp)" in d.log_text()
+    with Fatek.udp(port) as client:
+        assert client.exchange(GIST) == RUNNING
+
+
 def test_max_clients_refuses_extra_connections_and_keeps_the_others(start_plcemud):
     port = free_port()
     d = start_plcemud(tcp_config(port, ", max_clients: 2"))

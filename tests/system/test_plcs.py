@@ -4,6 +4,7 @@ state file and program, on a listener of its own or shared with others (stations
 line, stations behind one TCP port); one event loop serves them all."""
 
 import contextlib
+import re
 import signal
 import socket
 import time
@@ -608,6 +609,54 @@ def test_a_reload_refused_for_an_address_disturbs_no_client(tmp_path):
         log = d.log_text()
         assert log.count("Cannot assign requested address") == 2, log
         assert "to listen on" not in log and "server stopping" not in log, log
+    finally:
+        assert d.stop() == 0
+
+
+def three_ovens(a_port, b_port, c_port):
+    return two_ovens(a_port, b_port) + f"""\
+  - name: c
+    profile: fbs
+    persistence: {{enabled: false}}
+    init: {{R0: [333]}}
+    modbus: {{tcp: {{bind: 127.0.0.1, port: {c_port}}}}}
+"""
+
+
+def test_a_reload_refused_for_a_port_in_use_elsewhere_closes_nothing_first(tmp_path):
+    """a and b swap ports (each frees the other's), c moves to a port another process holds:
+    refused, and a's and b's listeners were closed before c was looked at, their clients
+    dropped. Whether that happened hung on the order of plcs:."""
+    p1, p2, p3 = free_port(), free_port(), free_port()
+    d = spawn(tmp_path, three_ovens(p1, p2, p3), [p1, p2, p3])
+    try:
+        with socket.create_server(("127.0.0.1", 0)) as other, \
+                socket.create_connection(("127.0.0.1", p1), timeout=3) as a, \
+                socket.create_connection(("127.0.0.1", p2), timeout=3) as b:
+            Path(d.config_path).write_text(three_ovens(p2, p1, other.getsockname()[1]))
+            d.proc.send_signal(signal.SIGHUP)
+            assert d.wait_log("configuration rejected"), d.log_text()
+            for sock, r0 in ((a, 111), (b, 222)):
+                reply = raw_exchange(sock, b"\x03\x00\x00\x00\x01")
+                assert reply is not None and reply[2:4] == r0.to_bytes(2, "big"), d.log_text()
+        assert "to listen on" not in d.log_text(), d.log_text()
+    finally:
+        assert d.stop() == 0
+
+
+def test_the_port_a_port_0_listener_was_given_can_be_written_in(tmp_path):
+    """docs/operations.md, "Reload": a port this reload gives up is not "in use". Pinning
+    the port the kernel gave a port-0 listener was refused as in use."""
+    p2 = free_port()
+    d = spawn_plcs(tmp_path, two_ovens(0, p2), [p2])
+    try:
+        m = re.search(r"plcs\[0\] \(a\): listening on tcp 127\.0\.0\.1:(\d+)", d.log_text())
+        assert m, d.log_text()
+        given = int(m.group(1))
+        Path(d.config_path).write_text(two_ovens(given, p2))
+        d.proc.send_signal(signal.SIGHUP)
+        assert d.wait_log("reload: applied"), d.log_text()
+        assert r0_on(given) == 111
     finally:
         assert d.stop() == 0
 
