@@ -153,27 +153,29 @@ def test_udp_allow_list_ignores_other_peers(start_plcemud):
         assert refused.exchange(GIST, timeout=0.5) is None
 
 
-def test_ignored_datagrams_are_summed_up_when_the_window_ends(start_plcemud):
-    # A few are logged one by one, the rest summed up at the window's end (10 s) even when no
-    # datagram follows: the summary must not wait for the next one.
+def ignored_datagrams(start_plcemud):
+    """A daemon whose UDP listener has ignored 40 datagrams from outside its allow list."""
     port = free_port()
     d = start_plcemud(config(f"  udp: {{bind: 127.0.0.1, port: {port}, allow: [127.0.0.2]}}\n"))
     with Fatek.udp(port, source="127.0.0.3") as refused:
         for _ in range(40):
             refused.send(GIST)
     assert d.wait_log("not in the allow list"), d.log_text()
+    return d
+
+
+def test_ignored_datagrams_are_summed_up_when_the_window_ends(start_plcemud):
+    # A few are logged one by one, the rest summed up at the window's end (10 s) even when no
+    # datagram follows: the summary must not wait for the next one.
+    d = ignored_datagrams(start_plcemud)
     assert d.wait_log("35 more datagrams ignored (not in the allow list) in the last", 16), \
         d.log_text()
     assert d.log_text().count("ignored a datagram from 127.0.0.3") == 5, d.log_text()
 
 
 def test_ignored_datagrams_are_summed_up_at_the_stop(start_plcemud):
-    port = free_port()
-    d = start_plcemud(config(f"  udp: {{bind: 127.0.0.1, port: {port}, allow: [127.0.0.2]}}\n"))
-    with Fatek.udp(port, source="127.0.0.3") as refused:
-        for _ in range(40):
-            refused.send(GIST)
-    assert d.wait_log("not in the allow list"), d.log_text()
+    # Or when the listener closes (the stop, a reload that reopens it) before that.
+    d = ignored_datagrams(start_plcemud)
     time.sleep(0.3)
     assert d.stop() == 0
     assert "35 more datagrams ignored (not in the allow list) in the last 0 s" in d.log_text(), \
