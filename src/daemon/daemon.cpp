@@ -599,7 +599,10 @@ private:
         }
         for (std::size_t i = 0; i < hosts_.size(); ++i) {
             if (p.configs[i].name != hosts_[i]->config().name) {
-                return p.configs[i].label + ": was " + hosts_[i]->config().label +
+                // A one-PLC config has no label: it is the config's only PLC.
+                const std::string& was = hosts_[i]->config().label;
+                return p.configs[i].label + ": was " +
+                       (was.empty() ? "the config's one PLC" : was) +
                        "; restart plcemud to rename or reorder PLCs";
             }
             // A PLC whose config reads as it runs has nothing to refuse.

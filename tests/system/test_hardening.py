@@ -512,6 +512,21 @@ def test_a_one_plc_file_made_a_plcs_list_says_its_state_file_changes(tmp_path):
             assert log.read_text().count(f"the image stays in {in_use}") == k, log.read_text()
         assert f"the state file becomes {tmp_path / 'shape-0.state'} at the next start" \
             in log.read_text(), log.read_text()
+        # Back to one PLC; then a named entry is a rename: refused, saying what it was.
+        cfg.write_text(one)
+        proc.send_signal(signal.SIGHUP)
+        deadline = time.monotonic() + 10
+        while log.read_text().count("reload: done") < 3:
+            assert time.monotonic() < deadline, log.read_text()
+            time.sleep(0.05)
+        cfg.write_text("plcs:\n  - name: a\n    " + one.replace("\nmodbus", "\n    modbus"))
+        proc.send_signal(signal.SIGHUP)
+        deadline = time.monotonic() + 10
+        while "configuration rejected" not in log.read_text():
+            assert time.monotonic() < deadline, log.read_text()
+            time.sleep(0.05)
+        assert "reload: plcs[0] (a): was the config's one PLC; restart plcemud to rename" \
+            in log.read_text(), log.read_text()
     finally:
         proc.terminate()
         assert proc.wait(10) == 0
