@@ -32,6 +32,13 @@ namespace plcemu::daemon {
 
 namespace {
 
+// Where relative state files go when systemd gives the service a state directory
+// (StateDirectory=); "" otherwise.
+std::string state_directory() {
+    const char* dir = std::getenv("STATE_DIRECTORY");
+    return dir != nullptr ? dir : "";
+}
+
 // One PLC of the process: its state file, its Plc, its master port and its scan driver, on the
 // event loop the Runtime owns (which also owns the listeners, shared or not). A reload builds the
 // new Plc beside the running one and swaps it in only when it validated.
@@ -206,8 +213,7 @@ public:
     bool same_state_file(const config::Config& next) const {
         if (next.persistence.enabled != (state_ != nullptr)) return false;
         if (!state_) return true;
-        const char* dir = std::getenv("STATE_DIRECTORY");
-        return config::state_file_path(next, dir ? dir : "") == state_->path();
+        return config::state_file_path(next, state_directory()) == state_->path();
     }
 
     // Why `next` cannot be applied without a restart, or empty.
@@ -223,13 +229,12 @@ public:
     // its dispatcher; null when the new one could not be built and the previous one runs on.
     std::unique_ptr<Plc> apply(config::Config next, engine::Program program) {
         if (!same_state_file(next)) {
-            const char* dir = std::getenv("STATE_DIRECTORY");
             spdlog::warn(
                 "reload: {}the state file becomes {} at the next start (persistence.enabled "
                 "or persistence.file, or a one-PLC config made a plcs: list or back); the image "
                 "stays in {}",
                 prefix_,
-                next.persistence.enabled ? config::state_file_path(next, dir ? dir : "")
+                next.persistence.enabled ? config::state_file_path(next, state_directory())
                                          : std::string("none"),
                 state_ ? state_->path() : std::string("memory"));
         }
@@ -388,9 +393,8 @@ public:
         }
         std::vector<const config::Config*> configs;
         for (const auto& h : hosts_) configs.push_back(&h->config());
-        const char* state_directory = std::getenv("STATE_DIRECTORY");
         // Each PLC is built as soon as its state file is had, while the next files are made.
-        open_state_files(configs, state_directory ? state_directory : "", std::time(nullptr),
+        open_state_files(configs, state_directory(), std::time(nullptr),
                          [this](std::size_t i, OpenedState s) { hosts_[i]->open(std::move(s)); });
         listeners_.open(members());
         // PLCs start their scans spread over the scan period in slots of 1 ms, as PLCs powered

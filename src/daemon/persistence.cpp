@@ -99,12 +99,14 @@ void SyncThread::run() {
             auto it = find(id);
             if (it == entries_.end() || stop_) continue;
             image::StateFile* file = it->file;
+            const bool said_gone = it->gone;
             syncing_ = id;
             lock.unlock();
             const std::uint64_t pages = file->pages_synced();
             const int error = file->sync() ? 0 : errno;
             census_.pages_synced.fetch_add(file->pages_synced() - pages, std::memory_order_relaxed);
-            const bool in_place = file->in_place();
+            // Once said gone, a file is not looked for again (two system calls a sync).
+            const bool in_place = said_gone || file->in_place();
             lock.lock();
             it = find(id);
             if (it != entries_.end()) {
