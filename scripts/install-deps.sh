@@ -29,9 +29,8 @@ for what in "${@:-run}"; do
         # e2fsprogs (mkfs.ext4) and util-linux (losetup): a disk that refuses writes
         # (test_state_write_errors.py).
         test) want+=(libgtest-dev python3-pymodbus python3-serial-asyncio python3-pytest
-                     python3-serial python3-yaml python3-matplotlib mbpoll socat clang-14
-                     python3-venv python3-setuptools python3-wheel
-                     libclang-rt-14-dev systemd
+                     python3-serial python3-yaml python3-matplotlib mbpoll socat
+                     python3-venv python3-setuptools python3-wheel systemd
                      iproute2 util-linux e2fsprogs man-db groff-base ccache
                      chromium chromium-driver python3-selenium
                      podman podman-compose python3-kubernetes) ;;
