@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <charconv>
 
+#include "plcemu/image/excerpt.hpp"
+
 namespace plcemu::http {
 
 Response json(unsigned status, const Json& body) {
@@ -15,7 +17,13 @@ Response json(unsigned status, const Json& body) {
     return r;
 }
 
-Response error(unsigned status, std::string why) { return json(status, Json{{"error", why}}); }
+// A refusal quotes what the client sent (a path, a device, a PLC's name): shown by the console
+// and by whatever a script prints, it gets the log's escapes (image/excerpt.cpp), so a
+// U+202E in an address cannot reorder what the message seems to say, nor a control or a byte
+// that is not UTF-8 reach a terminal. The server's own words have none to escape.
+Response error(unsigned status, std::string_view why) {
+    return json(status, Json{{"error", image::excerpt(why, kMaxErrorChars)}});
+}
 
 std::string hex2(unsigned v) {
     static constexpr char kDigits[] = "0123456789ABCDEF";

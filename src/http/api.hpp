@@ -4,6 +4,7 @@
 // are views of the PLCs' operations (DESIGN principle 16): none keeps state of its own.
 
 #include <nlohmann/json.hpp>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -25,8 +26,11 @@ struct Call {
 
 /// A JSON answer.
 Response json(unsigned status, const Json& body);
-/// `{"error": why}` with a 4xx status.
-Response error(unsigned status, std::string why);
+/// Longest refusal, in characters (a longer one is cut, with "…").
+inline constexpr std::size_t kMaxErrorChars = 1000;
+/// `{"error": why}` with a 4xx status; controls, bidirectional marks and bytes that are not
+/// UTF-8 in `why` escaped as the log escapes them (`\u202E`, `\x01`).
+Response error(unsigned status, std::string_view why);
 
 /// The PLC `id` names: its `name:`, or its position ("0", "1", ...); null when none.
 const listener::Seat* find_plc(listener::UnitTable& units, std::string_view id);

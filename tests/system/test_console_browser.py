@@ -296,6 +296,17 @@ def test_an_unknown_plcs_page_says_so_as_text(browser, start_plcemud):
     assert browser.execute_script(asked) == before
 
 
+def test_a_message_cannot_be_reordered_by_the_address(browser, start_plcemud):
+    # docs/console.md, "The API": a link whose PLC name holds U+202E (which would show
+    # "no PLC 'knil' ..." as a reversed tail) shows the escape, as the log does.
+    _, base = start_console(start_plcemud)
+    browser.get(f"{base}/plcs/%E2%80%AEknil%3Cb%3E/devices")
+    wait(browser, lambda dr: "error" in message(dr)[1], what="no error shown")
+    text = message(browser)[0]
+    assert "no PLC '\\u202Eknil<b>' here" in text and "\u202e" not in text, text
+    assert browser.find_elements(By.CSS_SELECTOR, "#message *") == []
+
+
 # ---- Plant -----------------------------------------------------------------------------------
 
 

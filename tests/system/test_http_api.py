@@ -563,6 +563,23 @@ def test_unknown_plcs_and_devices_are_404(fbs, method, path, needles):
     assert_error(r, 404, *needles)
 
 
+@pytest.mark.parametrize(
+    "path,quoted",
+    [
+        # U+202E (right-to-left override), U+2066 (an isolate), a line separator, controls and
+        # a byte that is not UTF-8: what a link can put in a message a person reads.
+        ("/api/v1/plcs/%E2%80%AEnlik", r"'\u202Enlik'"),
+        ("/api/v1/plcs/0/devices/R1%E2%81%A6", r"'R1\u2066'"),
+        ("/api/v1/nothing%E2%80%A8here%0D%0A%1B[31m", r"nothing\u2028here\r\n\x1B[31m"),
+        ("/api/v1/plcs/%FFx", r"'\xFFx'"),
+    ],
+)
+def test_a_refusal_shows_what_was_sent_escaped(fbs, path, quoted):
+    # docs/console.md, "The API": the message quotes the address with the log's escapes.
+    message = assert_error(get(fbs.http, path), 404, quoted)
+    assert not any(c in message for c in "\u202e\u2066\u2028\r\n\x1b\ufffd"), message
+
+
 @pytest.mark.parametrize("count", ["0", "1001", "abc", "-1", "", "1e3", "99999999999999999999"])
 def test_count_out_of_range_is_400(fbs, count):
     assert_error(devices(fbs.http, "R100", count), 400, "count", "1000")
