@@ -1,6 +1,7 @@
 #include "plcemu/config/listener_key.hpp"
 
 #include <arpa/inet.h>
+#include <netinet/in.h>
 
 #include <array>
 #include <filesystem>
@@ -10,15 +11,22 @@ namespace plcemu::config {
 
 namespace {
 
-// The address in the form inet_ntop writes it, or empty when it does not parse.
+// The address in the form inet_ntop writes it, or empty when it does not parse. An IPv4-mapped
+// IPv6 address (::ffff:127.0.0.1) is the IPv4 address it maps: bound, it takes that address's
+// port (the kernel refuses the second of the two), so they are one listener.
 std::string canonical_address(const std::string& a) {
     std::array<unsigned char, 16> bin{};
     std::array<char, INET6_ADDRSTRLEN> text{};
     for (const int family : {AF_INET, AF_INET6}) {
-        if (::inet_pton(family, a.c_str(), bin.data()) == 1 &&
-            ::inet_ntop(family, bin.data(), text.data(), text.size()) != nullptr) {
-            return text.data();
+        if (::inet_pton(family, a.c_str(), bin.data()) != 1) continue;
+        const unsigned char* address = bin.data();
+        int shown = family;
+        if (family == AF_INET6 &&
+            IN6_IS_ADDR_V4MAPPED(reinterpret_cast<const in6_addr*>(address))) {
+            address += 12;
+            shown = AF_INET;
         }
+        if (::inet_ntop(shown, address, text.data(), text.size()) != nullptr) return text.data();
     }
     return {};
 }

@@ -343,17 +343,25 @@ def test_a_device_and_a_symlink_to_it_are_one_serial_line(tmp_path):
             "line") in r.stderr, r.stderr
 
 
-def test_one_address_written_two_ways_is_one_listener(tmp_path):
+@pytest.mark.parametrize("first,second", [
+    ("::1", "0:0:0:0:0:0:0:1"),
+    # An IPv4-mapped address takes the IPv4 address's port: --check-config said ok, and the
+    # start failed on the second bind.
+    ("127.0.0.1", "::ffff:127.0.0.1"),
+    ("::ffff:127.0.0.1", "127.0.0.1"),
+])
+def test_one_address_written_two_ways_is_one_listener(tmp_path, first, second):
     port = free_port()
+    host = first.removeprefix("::ffff:")
     d = spawn(tmp_path, f"""\
 plcs:
-  - {{profile: fbs, station: 1, simulator: {{unit: 0}}, modbus: {{tcp: {{bind: '::1', port: {port}}}}}}}
+  - {{profile: fbs, station: 1, simulator: {{unit: 0}}, modbus: {{tcp: {{bind: '{first}', port: {port}}}}}}}
   - {{profile: fbs, station: 2, simulator: {{unit: 0}},
-     modbus: {{tcp: {{bind: '0:0:0:0:0:0:0:1', port: {port}}}}}}}
-""", [port], host="::1")
+     modbus: {{tcp: {{bind: '{second}', port: {port}}}}}}}
+""", [port], host=host)
     try:
-        assert d.wait_log(f"listening on tcp ::1:{port} for plcs[0], plcs[1]"), d.log_text()
-        c = ModbusTcpClient("::1", port=port, timeout=3, retries=1)
+        assert d.wait_log(f"listening on tcp {first}:{port} for plcs[0], plcs[1]"), d.log_text()
+        c = ModbusTcpClient(host, port=port, timeout=3, retries=1)
         assert c.connect()
         try:
             assert not c.write_register(D0, 7, slave=2).isError()
