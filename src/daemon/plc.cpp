@@ -14,6 +14,7 @@ const char* version() { return PLCEMU_VERSION; }
 image::Layout plc_layout(const config::Config& config) {
     const profiles::Profile& profile = profiles::of(config);
     image::Layout layout = profile.layout();
+    layout.name_of_family = &profiles::family_name;
     if (config.persistence.retentive) layout.retentive = *config.persistence.retentive;
     // What the family keeps whatever the config makes retentive (a power-up counter).
     for (const auto& always : profile.always_retentive()) {

@@ -147,10 +147,19 @@ StateFileHeader expected_header(const Layout& layout) {
 
 std::string describe_layout_difference(const StateFileHeader& file,
                                        const StateFileHeader& want,
-                                       std::string_view family) {
+                                       const Layout& layout) {
     if (file.profile != want.profile) {
-        return "it holds the image of another PLC family (number " + std::to_string(file.profile) +
-               "), not of " + std::string(family);
+        const std::string_view name =
+            layout.name_of_family != nullptr ? layout.name_of_family(file.profile) : "";
+        std::string s = "it holds the image of another PLC family (";
+        if (name.empty()) {
+            s += "number " + std::to_string(file.profile);
+        } else {
+            s += name;
+        }
+        s += "), not of ";
+        s += layout.family_name;
+        return s;
     }
     if (file.area_count != want.area_count) {
         return "it has " + std::to_string(file.area_count) + " device areas, not " +
@@ -356,7 +365,7 @@ bool StateFile::try_open(const Layout& layout, std::string& why_bad) {
         std::memcmp(h.area_size, want.area_size, sizeof want.area_size) != 0 ||
         h.storage_size != want.storage_size || h.layout_checksum != want.layout_checksum) {
         return reject("does not match the configuration: " +
-                      describe_layout_difference(h, want, layout.family_name));
+                      describe_layout_difference(h, want, layout));
     }
     if (records_checksum(old) != h.retentive_checksum) {
         return reject("corrupted: retentive range checksum mismatch");

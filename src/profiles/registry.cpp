@@ -67,4 +67,11 @@ std::vector<const Profile*> all() {
     return v;
 }
 
+std::string_view family_name(std::uint32_t family) {
+    for (const Profile* p : all()) {
+        if (p->family() == family) return p->name();
+    }
+    return {};
+}
+
 }  // namespace plcemu::profiles

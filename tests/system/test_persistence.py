@@ -297,6 +297,18 @@ def test_mismatched_state_file_is_moved_aside(start_plcemud, tmp_path):
     assert header(state)["area_size"][d_index] == 4000
 
 
+def test_a_state_file_of_another_family_is_named_by_its_family(start_plcemud, tmp_path):
+    """A config whose profile changed from fbs to vb finds the fbs image in its state file:
+    moved aside, the message naming the family it holds (it gave its number: "number 0")."""
+    state = tmp_path / "changed.state"
+    d = start_plcemud(config(state))
+    assert d.stop() == 0
+    d = start_plcemud(config(state).replace("profile: fbs", "profile: vb"))
+    log = d.log_text()
+    assert "it holds the image of another PLC family (fbs), not of vb" in log, log
+    assert len(bad_files(state)) == 1
+
+
 def test_second_daemon_on_the_same_state_file_is_refused(start_plcemud, tmp_path):
     state = tmp_path / "shared.state"
     d = start_plcemud(config(state))

@@ -18,6 +18,9 @@ struct Layout {
     std::uint32_t family = 0;
     /// The family's config name, for messages.
     std::string_view family_name;
+    /// The config name of the family numbered `n` ("" for none), for a state file of another
+    /// family; null: messages give the number only.
+    std::string_view (*name_of_family)(std::uint32_t n) = nullptr;
     std::array<std::uint32_t, kAreaCount> size{};  ///< devices per area (0 = area absent)
     /// Numbers inside an area that no device has (D8000–D8999 between D7999 and D9000): kept in
     /// the image so that device numbers equal indices, refused everywhere else.

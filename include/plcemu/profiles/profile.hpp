@@ -115,6 +115,8 @@ const Profile* find(std::string_view name);
 const Profile& of(const config::Config& config);
 /// Every registered profile, by name.
 std::vector<const Profile*> all();
+/// The name of the profile whose family() is `family`, or "" when none is.
+std::string_view family_name(std::uint32_t family);
 
 /// A family's settings (`S`, what its Family::read returns) of a config: those the loader read,
 /// cast back (the family knows its own type). A Config built without the loader has none; its
