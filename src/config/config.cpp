@@ -234,7 +234,13 @@ void read_modbus(const Reader& r, const Node& n, ModbusConfig& mb) {
     });
 }
 
-void read_init(const Reader& r, const Node& n, std::vector<InitEntry>& init) {
+// Each device must exist on the profile's PLC, every value of a list included: checked here, at
+// its key, so that each is refused on its own (the build refused the first only, and only in a
+// file with no other error).
+void read_init(const Reader& r,
+               const Node& n,
+               std::vector<InitEntry>& init,
+               const image::Layout& layout) {
     r.expect_map(n, "init");
     // Keys naming one device (D7, d7, D07) would preset it twice, the last silently winning.
     std::map<std::tuple<image::Area, std::uint32_t, bool>, std::pair<std::string, int>> first;
@@ -262,6 +268,10 @@ void read_init(const Reader& r, const Node& n, std::vector<InitEntry>& init) {
             } else {
                 one(value);
             }
+            const std::uint32_t per = e.device.word_of_bits ? 16 : 1;
+            const image::Range range{e.device.area, e.device.index,
+                                     static_cast<std::uint32_t>(e.values.size()) * per};
+            if (!layout.contains(range)) r.fail(it->first, "init: " + outside(r, layout, range));
             init.push_back(std::move(e));
         });
     }
@@ -681,7 +691,9 @@ Config read_root(Reader& r, const Node& root, const Overrides& overrides, bool e
         read_fatek(r, f, c.fatek);
     });
     r.attempt([&] { read_http(r, root["http"], c.http, overrides.http_port.has_value()); });
-    section(r, root, "init", read_init, c.init);
+    r.attempt([&] {
+        if (const Node& n = root["init"]) read_init(r, n, c.init, layout);
+    });
     r.attempt([&] {
         if (const Node& n = root["program"]) read_program(r, n, c.program, c.listing);
     });

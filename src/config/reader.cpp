@@ -212,9 +212,10 @@ long long Reader::integer(const Node& n,
                           long long hi) const {
     const std::string s = scalar(n, what);
     long long v = 0;
-    if (!naming_->parse_integer(s, v))
+    bool too_large = false;
+    if (!naming_->parse_integer(s, v, &too_large) && !too_large)
         fail(n, what + ": expected an integer, got '" + excerpt(s) + "'");
-    if (v < lo || v > hi) {
+    if (too_large || v < lo || v > hi) {
         fail(n, what + ": " + excerpt(s) + " is out of range " + std::to_string(lo) + ".." +
                     std::to_string(hi));
     }

@@ -121,7 +121,7 @@ std::string Naming::why_not(std::string_view text) const {
     return hit ? areas + " are numbered in octal: 7 is followed by 10" : "";
 }
 
-bool Naming::parse_integer(std::string_view s, long long& out) const {
+bool Naming::parse_integer(std::string_view s, long long& out, bool* too_large) const {
     if (s.empty()) return false;
     bool neg = false;
     if (s[0] == '-' || s[0] == '+') {
@@ -148,14 +148,21 @@ bool Naming::parse_integer(std::string_view s, long long& out) const {
     }
     if (s.empty()) return false;
     long long v = 0;
+    bool over = false;
     for (char c : s) {
         unsigned d = 16;
         if (c >= '0' && c <= '9') d = static_cast<unsigned>(c - '0');
         if (c >= 'a' && c <= 'f') d = static_cast<unsigned>(c - 'a' + 10);
         if (c >= 'A' && c <= 'F') d = static_cast<unsigned>(c - 'A' + 10);
         if (d >= base) return false;
+        // Past the limit the digits are still read, to tell a number too large from no number.
+        if (over) continue;
         v = v * base + d;
-        if (v > kIntegerLimit) return false;
+        over = v > kIntegerLimit;
+    }
+    if (over) {
+        if (too_large != nullptr) *too_large = true;
+        return false;
     }
     out = neg ? -v : v;
     return true;

@@ -60,7 +60,8 @@ struct Naming {
     /// The one integer grammar of configs, presets and operands: decimal with an optional sign,
     /// 0x1F, the manual's 1Fh / 0A556h, K31 and, for families that write them, H1F. Values
     /// beyond ±2^40 are refused.
-    bool parse_integer(std::string_view text, long long& out) const;
+    /// `too_large`, when given, is set when `text` is a well-formed integer beyond ±2^40.
+    bool parse_integer(std::string_view text, long long& out, bool* too_large = nullptr) const;
 };
 
 }  // namespace plcemu::image
