@@ -40,9 +40,9 @@ constexpr std::size_t kFirstBuffer = 512;
 constexpr std::size_t kMaxQueued = 4 << 20;
 // Frames served per turn before the other connections get theirs (round-robin).
 constexpr std::size_t kFramesPerTurn = 16;
-// At max_clients, a connection stuck this long, or silent this long, gives way to a new one.
+// At max_clients, a connection stuck this long gives way to a new one (as does one silent for
+// TcpOptions::evict_silent).
 constexpr auto kEvictStuck = std::chrono::seconds(1);
-constexpr auto kEvictSilent = std::chrono::seconds(30);
 // Keepalive: a peer that vanished (cable, power) is found after 60 + 3 x 10 s of silence.
 constexpr int kKeepIdleS = 60;
 constexpr int kKeepIntervalS = 10;
@@ -141,6 +141,7 @@ public:
           client_(make_client(peer_, protocol)),
           buf_(std::min(kFirstBuffer, full_buffer(max_frame))),
           last_request_(Clock::now()),
+          last_traffic_(last_request_),
           ticks_(socket_.get_executor()),
           hold_(socket_.get_executor()) {}
 
@@ -154,8 +155,11 @@ public:
             return false;
         }
         to.insert(to.end(), bytes.begin(), bytes.end());
-        // Pushed bytes are traffic: the client is not idle while it takes them.
-        last_request_ = Clock::now();
+        // Pushed bytes are traffic: the client is not idle while it takes them (idle_timeout_s).
+        // They are no request: a stream opened and left to run is silent, and gives its slot to
+        // a new client when every one is taken (64 event streams held every slot of the console
+        // for as long as their client wished).
+        last_traffic_ = Clock::now();
         if (!writing_ && !serving_) write();
         return !closed_;
     }
@@ -209,6 +213,8 @@ public:
     bool peer_done() const { return peer_done_; }
     /// When the last complete request arrived (the connect, before the first one).
     Clock::time_point last_request() const { return last_request_; }
+    /// When the last request arrived or bytes were pushed to the client (a stream's events).
+    Clock::time_point last_traffic() const { return std::max(last_request_, last_traffic_); }
     /// How long a begun request has been waiting for its last bytes (zero when none is).
     Clock::duration partial_for(Clock::time_point now) const {
         // While an answer is held (a delay fault) the client is not read: not its fault either.
@@ -504,6 +510,7 @@ private:
     std::vector<std::uint8_t> out_;      // replies not yet taken by the client
     std::vector<std::uint8_t> pending_;  // sent while out_ is being written
     Clock::time_point last_request_;
+    Clock::time_point last_traffic_;  // bytes pushed outside answers (send)
     Clock::time_point frame_started_{};
     Clock::time_point write_started_{};
     std::unique_ptr<Session> session_;  // the protocol's, when it answers through sessions
@@ -644,19 +651,24 @@ bool TcpListener::State::evict_one(Clock::time_point now) {
             victim = c;
         }
     }
-    const char* why = "evicted for a new client: stuck mid-request";
-    if (!victim) {
-        for (const auto& c : connections) {
-            const auto silent = now - c->last_request();
-            if (silent >= kEvictSilent && silent > worst) {
-                worst = silent;
-                victim = c;
-            }
+    if (victim) {
+        victim->close("evicted for a new client: stuck mid-request");
+        return true;
+    }
+    // An event stream too: what it is sent is no request of its client's.
+    for (const auto& c : connections) {
+        const auto silent = now - c->last_request();
+        if (silent >= options.evict_silent && silent > worst) {
+            worst = silent;
+            victim = c;
         }
-        why = "evicted for a new client: no request for 30 s";
     }
     if (!victim) return false;
-    victim->close(why);
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(options.evict_silent);
+    const std::string why = "evicted for a new client: no request for " +
+                            (ms.count() % 1000 == 0 ? std::to_string(ms.count() / 1000) + " s"
+                                                    : std::to_string(ms.count()) + " ms");
+    victim->close(why.c_str());
     return true;
 }
 
@@ -673,7 +685,7 @@ void TcpListener::State::check_connections() {
             doomed.emplace_back(
                 c, "request not completed within " + options.section + ".frame_timeout_ms");
         } else if (options.net.idle_timeout_s > 0 &&
-                   now - c->last_request() > std::chrono::seconds(options.net.idle_timeout_s)) {
+                   now - c->last_traffic() > std::chrono::seconds(options.net.idle_timeout_s)) {
             doomed.emplace_back(c, "idle timeout");
         }
     }

@@ -31,6 +31,10 @@ struct TcpOptions {
     bool comm_faults = true;
     /// The process's client room, shared by its listeners (null: none); must outlive them.
     ClientRoom* room = nullptr;
+    /// At max_clients, a connection that has sent no request for this long (an event stream
+    /// included, whatever it is sent) gives its slot to a new client (docs/operations.md,
+    /// "Access control"); shorter in tests.
+    std::chrono::milliseconds evict_silent = std::chrono::seconds(30);
 };
 
 /// The TCP listener and its connections.

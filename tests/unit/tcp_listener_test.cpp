@@ -271,5 +271,46 @@ TEST_F(SessionTest, AnswersLargerThanAFramePushesAndACloseTheSessionAskedFor) {
     EXPECT_EQ(listener_->connections(), 0u);
 }
 
+// Streams opened and left running (the console's event streams) held every slot: what a stream
+// is sent counted as its client's activity, so none was ever silent enough to give way.
+TEST(SessionRoom, AStreamThatSendsNoRequestGivesItsSlotToANewClient) {
+    asio::io_context io;
+    Dots dots;
+    TcpOptions o;
+    o.net.bind = "127.0.0.1";
+    o.net.port = 0;
+    o.net.max_clients = 2;
+    o.evict_silent = 300ms;
+    TcpListener listener(io, dots, o);
+    const auto run_for = [&](std::chrono::milliseconds d) {
+        io.restart();
+        io.run_for(d);
+    };
+    const auto connect = [&] {
+        asio::ip::tcp::socket s(io);
+        s.connect({asio::ip::make_address("127.0.0.1"), listener.port()});
+        return s;
+    };
+    std::array<asio::ip::tcp::socket, 2> streams{connect(), connect()};
+    for (auto& s : streams) {
+        asio::write(s, asio::buffer(std::string("tick\n")));
+        EXPECT_EQ(testing::read_bytes(io, s, 4), "*\n*\n");
+    }
+    // Longer than evict_silent, every stream pushed to all along.
+    run_for(400ms);
+    ASSERT_EQ(listener.connections(), 2u);
+    auto fresh = connect();
+    asio::write(fresh, asio::buffer(std::string("ab\n")));
+    EXPECT_EQ(testing::read_bytes(io, fresh, 2001), std::string(2000, '.') + "\n");
+    EXPECT_EQ(listener.connections(), 2u);
+    // The one silent longest (the first) gave way: what it was pushed, then its end (a reset,
+    // as the stream's last pushes were never read), well before read_bytes' 2 s.
+    const auto began = std::chrono::steady_clock::now();
+    const std::string pushed = testing::read_bytes(io, streams[0], std::size_t{1} << 16);
+    EXPECT_LT(pushed.size(), std::size_t{1} << 16);
+    EXPECT_LT(std::chrono::steady_clock::now() - began, 1s);
+    listener.stop();
+}
+
 }  // namespace
 }  // namespace plcemu::listener
