@@ -38,8 +38,12 @@ constexpr std::size_t kFirstBuffer = 512;
 // What a session may have queued for a client that does not take it (live updates): beyond it
 // the client is too far behind and is closed.
 constexpr std::size_t kMaxQueued = 4 << 20;
-// Frames served per turn before the other connections get theirs (round-robin).
+// Frames served per turn before the other connections, and the scans, get theirs (round-robin);
+// a turn also ends once its answers reach kBytesPerTurn: a large answer (a console's ten
+// minutes of loop history, 150-200 kB) costs the loop in proportion, and sixteen of them
+// pipelined held the scans and every other client for a third of a second.
 constexpr std::size_t kFramesPerTurn = 16;
+constexpr std::size_t kBytesPerTurn = std::size_t{64} * 1024;
 // At max_clients, a connection stuck this long gives way to a new one (as does one silent for
 // TcpOptions::evict_silent).
 constexpr auto kEvictStuck = std::chrono::seconds(1);
@@ -313,7 +317,8 @@ private:
             });
     }
 
-    // Serves up to kFramesPerTurn complete frames, then writes their replies.
+    // Serves up to kFramesPerTurn complete frames (fewer once their replies reach
+    // kBytesPerTurn), then writes their replies.
     void serve() {
         auto server = server_.lock();
         if (!server || closed_) return;
@@ -325,7 +330,8 @@ private:
         if (writing_ || holding_) return;
         std::size_t off = 0;
         std::size_t served = 0;
-        while (served < kFramesPerTurn) {
+        const std::size_t queued = out_.size();
+        while (served < kFramesPerTurn && out_.size() - queued < kBytesPerTurn) {
             const std::uint8_t* f = buf_.data() + off;
             const Split frame = session_ ? session_->split({f, used_ - off})
                                          : server->protocol->split({f, used_ - off});

@@ -219,6 +219,7 @@ public:
         }
         bool answer(std::span<const std::uint8_t> frame, std::vector<std::uint8_t>& out) override {
             const std::string line(frame.begin(), frame.end() - 1);
+            protocol_.lines.push_back(line);
             if (line == "tick") {
                 outlet_.tick_every(20ms);
                 return true;
@@ -248,12 +249,44 @@ public:
     UnitTable& units() noexcept override { return units_; }
 
     int open_sessions = 0;
+    std::vector<std::string> lines;  ///< every line answered, in the order answered
 
 private:
     UnitTable units_;
 };
 
 using SessionTest = Seated<Dots>;
+
+// A turn ends once its answers reach 64 kB, not only after 16 frames: sixteen pipelined requests
+// with large answers (the console's loop history) held the loop, and every other client, until
+// all were answered.
+TEST_F(SessionTest, AClientWithLargeAnswersPipelinedTakesTurnsWithTheOthers) {
+    auto big = connect();
+    auto small = connect();
+    run_for(50ms);
+    // Sixteen requests of 31,000-byte answers in one read (the first read takes 512 bytes).
+    std::string pipelined;
+    for (int i = 0; i < 16; ++i)
+        pipelined += std::string(30, 'a') + static_cast<char>('A' + i) + "\n";
+    ASSERT_EQ(pipelined.size(), 512u);
+    asio::write(big, asio::buffer(pipelined));
+    asio::write(small, asio::buffer(std::string("b\n")));
+    std::string got;
+    const auto began = std::chrono::steady_clock::now();
+    while (protocol_.lines.size() < 17 && std::chrono::steady_clock::now() - began < 5s) {
+        run_for(10ms);
+        // Taken as it comes, so that a full socket does not stop the big client's turns.
+        asio::error_code ec;
+        std::array<char, 1 << 16> b{};
+        while (big.available(ec) > 0) big.read_some(asio::buffer(b), ec);
+    }
+    ASSERT_EQ(protocol_.lines.size(), 17u);
+    const auto b = std::find(protocol_.lines.begin(), protocol_.lines.end(), "b");
+    ASSERT_NE(b, protocol_.lines.end());
+    // Two or three big answers make a turn's 64 kB: "b" is served within the first few.
+    EXPECT_LE(b - protocol_.lines.begin(), 4) << "served after the big client's first turns";
+    EXPECT_EQ(read(small, 1001), std::string(1000, '.') + "\n");
+}
 
 TEST_F(SessionTest, AnswersLargerThanAFramePushesAndACloseTheSessionAskedFor) {
     auto s = connect();
