@@ -25,6 +25,17 @@ Response error(unsigned status, std::string_view why) {
     return json(status, Json{{"error", image::excerpt(why, kMaxErrorChars)}});
 }
 
+bool whole_in(const Json& v, long long lo, long long hi) {
+    if (v.is_number_unsigned()) {
+        const auto u = v.get<unsigned long long>();
+        return hi >= 0 && u <= static_cast<unsigned long long>(hi) &&
+               (lo <= 0 || u >= static_cast<unsigned long long>(lo));
+    }
+    if (!v.is_number_integer()) return false;
+    const auto x = v.get<long long>();
+    return x >= lo && x <= hi;
+}
+
 std::string hex2(unsigned v) {
     static constexpr char kDigits[] = "0123456789ABCDEF";
     return {kDigits[(v >> 4) & 0xF], kDigits[v & 0xF]};

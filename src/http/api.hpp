@@ -32,6 +32,11 @@ inline constexpr std::size_t kMaxErrorChars = 1000;
 /// UTF-8 in `why` escaped as the log escapes them (`\u202E`, `\x01`).
 Response error(unsigned status, std::string_view why);
 
+/// True when `v` is a JSON integer from `lo` to `hi`. One above 2^63 is kept by the JSON library
+/// as unsigned, and get<long long>() wraps it (2^64 - 1 is -1): every number of a body is read
+/// through this.
+bool whole_in(const Json& v, long long lo, long long hi);
+
 /// The PLC `id` names: its `name:`, or its position ("0", "1", ...); null when none.
 const listener::Seat* find_plc(listener::UnitTable& units, std::string_view id);
 /// The answer for an unknown PLC: 404 naming the PLCs there are.

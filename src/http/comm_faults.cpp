@@ -71,7 +71,7 @@ std::optional<Response> integer(
     const Json& o, const char* key, long long lo, long long hi, std::uint32_t& out) {
     const auto it = o.find(key);
     if (it == o.end()) return std::nullopt;
-    if (!it->is_number_integer() || it->get<long long>() < lo || it->get<long long>() > hi) {
+    if (!whole_in(*it, lo, hi)) {
         return error(400, std::string(key) + ": expected an integer from " + std::to_string(lo) +
                               " to " + std::to_string(hi));
     }
@@ -101,9 +101,7 @@ std::optional<Response> read(const Json& b, const listener::Seat& plc, CommFault
     constexpr long long kMs = config::kMaxCommDelayMs;
     constexpr long long kN = config::kMaxCommCount;
     if (const auto d = b.find("delay_ms"); d != b.end()) {
-        const auto ms = [&](const Json& x) {
-            return x.is_number_integer() && x.get<long long>() >= 0 && x.get<long long>() <= kMs;
-        };
+        const auto ms = [&](const Json& x) { return whole_in(x, 0, kMs); };
         if (ms(*d)) {
             s.delay_min_ms = s.delay_max_ms = d->get<std::uint32_t>();
         } else if (d->is_array() && d->size() == 2 && ms((*d)[0]) && ms((*d)[1]) &&

@@ -136,18 +136,17 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
         if (refused) return *refused;
         std::vector<std::uint16_t> values;
         values.reserve(s.count);
+        const bool bits = is_bits(s);
         for (const Json& v : *it) {
             long long x = 0;
             if (v.is_boolean()) {
                 x = v.get<bool>() ? 1 : 0;
-            } else if (v.is_number_integer()) {
+            } else if (!v.is_number_integer()) {
+                return error(400, "values: expected whole numbers, got " + v.dump().substr(0, 40));
+            } else if (whole_in(v, bits ? 0 : -32768, bits ? 1 : 65535)) {
                 x = v.get<long long>();
             } else {
-                return error(400, "values: expected whole numbers, got " + v.dump().substr(0, 40));
-            }
-            const bool bits = is_bits(s);
-            if (bits ? (x < 0 || x > 1) : (x < -32768 || x > 65535)) {
-                return error(400, "values: " + std::to_string(x) + " is out of range for " +
+                return error(400, "values: " + v.dump() + " is out of range for " +
                                       std::string(device) +
                                       (bits ? " (a bit: 0 or 1)" : " (a word: -32768 to 65535)"));
             }

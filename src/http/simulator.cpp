@@ -69,8 +69,7 @@ std::optional<Response> channel_changes(const listener::Seat& plc, const Json& l
     for (const Json& ch : list) {
         if (!ch.is_object()) return error(400, "channels: expected a list of channel objects");
         const auto c = ch.find("channel");
-        if (c == ch.end() || !c->is_number_integer() || c->get<long long>() < 0 ||
-            c->get<long long>() >= plant::kChannels) {
+        if (c == ch.end() || !whole_in(*c, 0, plant::kChannels - 1)) {
             return error(
                 400, "channels[].channel: expected 0 to " + std::to_string(plant::kChannels - 1));
         }
@@ -150,8 +149,7 @@ Response simulator(const Call& call, const listener::Seat& plc) {
             return error(400, "frozen: expected true or false");
         }
         const auto step = body.find("step");
-        if (step != body.end() && (!step->is_number_integer() || step->get<long long>() < 0 ||
-                                   step->get<long long>() > static_cast<long long>(kMaxStep))) {
+        if (step != body.end() && !whole_in(*step, 0, static_cast<long long>(kMaxStep))) {
             return error(400,
                          "step: expected a number of scans from 0 to " + std::to_string(kMaxStep));
         }

@@ -601,6 +601,12 @@ def test_count_out_of_range_on_events_is_400(fbs):
         ({"values": [9, "x"]}, ["values", "whole numbers"]),
         ({"values": [65536]}, ["65536", "out of range", "-32768 to 65535"]),
         ({"values": [9, -32769]}, ["-32769", "out of range"]),
+        # Past 2^63 the JSON library keeps a number unsigned: read as signed, 2^64 - 1 became -1
+        # and was written as 65535.
+        ({"values": [2**64 - 1]}, ["18446744073709551615 is out of range"]),
+        ({"values": [2**64 - 5]}, ["18446744073709551611 is out of range"]),
+        ({"values": [2**63]}, ["9223372036854775808 is out of range"]),
+        ({"values": [-2**63]}, ["-9223372036854775808 is out of range"]),
         ({"values": []}, ["values", "list"]),
         ({"values": "5"}, ["values", "list"]),
         ({"values": 5}, ["values", "list"]),
@@ -623,6 +629,8 @@ def test_bad_bit_values_are_400_and_write_nothing(fbs):
     assert_error(put(fbs.http, "/api/v1/plcs/0/devices/Y20", {"values": [1, 2]}), 400,
                  "out of range", "0 or 1")
     assert_error(put(fbs.http, "/api/v1/plcs/0/devices/Y20", {"values": [-1]}), 400, "0 or 1")
+    assert_error(put(fbs.http, "/api/v1/plcs/0/devices/Y20", {"values": [2**64 - 1]}), 400,
+                 "18446744073709551615 is out of range", "0 or 1")
     assert coils(fbs.client(), Y0_COIL + 20, 2) == [0, 0]
     # A span past the end of the area writes nothing either.
     assert_error(put(fbs.http, "/api/v1/plcs/0/devices/Y254", {"values": [1, 1, 1]}), 400,
