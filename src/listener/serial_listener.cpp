@@ -97,7 +97,10 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
             return;
         }
         // A master that floods a line whose answers are held gets no more held.
-        if (held.size() >= kMaxHeld) return;
+        if (held.size() >= kMaxHeld) {
+            if (fate.by != nullptr && fate.delay.count() > 0) fate.by->held_over();
+            return;
+        }
         const auto due = Clock::now() + fate.delay;
         try {
             if (fate.gap_at > 0 && fate.gap_at < a.size()) {

@@ -73,7 +73,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
         const Fate fate = protocol.units().take_fate();
         if (size == 0) return;
         if (fate.delay.count() > 0) {
-            hold(fate.delay, size);
+            hold(fate, size);
             return;
         }
         // A datagram socket's send does not wait for the peer; should the kernel's buffer be
@@ -96,12 +96,16 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
         });
     }
 
-    // Sends an answer of `size` bytes (in out) to the sender after `delay` (a communication
-    // fault), without holding up the datagrams of others. A flood meanwhile is not all held.
-    void hold(std::chrono::milliseconds delay, std::size_t size) noexcept {
-        if (held >= kMaxHeld) return;
+    // Sends an answer of `size` bytes (in out) to the sender after its fate's delay (a
+    // communication fault), without holding up the datagrams of others. A flood meanwhile is
+    // not all held: the bound is the listener's, whichever peers the held answers are for.
+    void hold(const Fate& fate, std::size_t size) noexcept {
+        if (held >= kMaxHeld) {
+            if (fate.by != nullptr) fate.by->held_over();
+            return;
+        }
         try {
-            auto timer = std::make_shared<asio::steady_timer>(socket.get_executor(), delay);
+            auto timer = std::make_shared<asio::steady_timer>(socket.get_executor(), fate.delay);
             auto bytes = std::make_shared<std::vector<std::uint8_t>>(
                 out.begin(), out.begin() + static_cast<long>(size));
             ++held;
@@ -114,6 +118,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
                 });
         } catch (const std::bad_alloc&) {
             // Lost, as a datagram may be.
+            if (fate.by != nullptr) fate.by->held_over();
         }
     }
 

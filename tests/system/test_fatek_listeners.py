@@ -5,10 +5,12 @@ configs that are refused."""
 
 import csv
 import io
+import json
 import re
 import signal
 import socket
 import time
+import urllib.request
 from pathlib import Path
 
 from conftest import free_port, free_ports, run_plcemud
@@ -151,6 +153,27 @@ def test_udp_allow_list_ignores_other_peers(start_plcemud):
             Fatek.udp(port, source="127.0.0.3") as refused:
         assert allowed.exchange(GIST) == RUNNING
         assert refused.exchange(GIST, timeout=0.5) is None
+
+
+def test_answers_a_udp_listener_cannot_hold_are_counted_dropped(start_plcemud):
+    # docs/communication-faults.md: 256 answers held at most; the rest dropped, and the
+    # counters say so (they counted all 300 delayed, 256 of them answered).
+    port, http = free_ports(2)
+    start_plcemud(config(f"  udp: {{bind: 127.0.0.1, port: {port}}}\n",
+                         f"faults: {{delay_ms: 700}}\nhttp: {{port: {http}}}\n"))
+    with Fatek.udp(port) as peer:
+        for i in range(300):
+            peer.send(GIST)
+            if i % 25 == 24:
+                time.sleep(0.03)  # read as they come: a socket's buffer holds fewer than 300
+        answers = 0
+        while peer.receive(timeout=1.5) == RUNNING:
+            answers += 1
+    assert answers == 256
+    figures = json.loads(urllib.request.urlopen(
+        f"http://127.0.0.1:{http}/api/v1/plcs/0/comm-faults", timeout=5).read())["figures"]
+    # 44 dropped, unless the kernel dropped some datagrams before the daemon read them.
+    assert figures["delayed"] == 256 and 0 < figures["dropped"] <= 44, figures
 
 
 def ignored_datagrams(start_plcemud):

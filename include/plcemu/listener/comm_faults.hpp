@@ -27,6 +27,8 @@ namespace plcemu::listener {
 using config::CommFaultSettings;
 using config::Garble;
 
+class CommFaults;
+
 /// What becomes of an answer on its way out. The protocol applies what it alone can (a wrong
 /// checksum, a cut), the listener the rest (a hold, a pause, a close).
 struct Fate {
@@ -38,6 +40,9 @@ struct Fate {
     /// pause of `gap`, then the rest.
     std::size_t gap_at = 0;
     std::chrono::microseconds gap{0};
+    /// The faults that delayed it: a listener that holds too many answers already drops it
+    /// and tells them (CommFaults::held_over), so their figures count it dropped.
+    CommFaults* by = nullptr;
 
     /// True when nothing happens to the answer.
     bool none() const {
@@ -109,6 +114,11 @@ public:
     void on_stop(std::function<void(bool)> f) { on_stop_ = std::move(f); }
     /// What to do with a request for the PLC.
     Verdict judge(const Asked& a) noexcept;
+    /// An answer these faults delayed was dropped instead: its listener held too many already.
+    void held_over() noexcept {
+        --figures_.delayed;
+        ++figures_.dropped;
+    }
     /// A client left: its count of requests towards disconnect_after goes.
     void client_gone(std::uint64_t client) noexcept { served_.erase(client); }
 
