@@ -83,8 +83,8 @@ Json exchange_json(const listener::Seat& plc, const listener::Exchange& e) {
         devices += range(e.address, e.count);
         devices += ", write ";
         devices += range(e.write_address, e.write_count);
-    } else if (e.count > 0) {
-        devices = range(e.address, e.count);
+    } else {
+        devices = range(e.address, e.count);  // "nothing" for a count of 0, as in 17h
     }
     j["devices"] = devices;
     return j;

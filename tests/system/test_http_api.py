@@ -1589,6 +1589,14 @@ def test_traffic_lists_the_requests_decoded(start_http):
             ("01h", "simulator unit", "01h"),
             ("04h", "simulator unit", "01h"),
             ("17h", "read nothing, write R110", "03h")]
+    # So is a count of 0 of any other function (it showed no devices at all).
+    with socket.create_connection(("127.0.0.1", plc.daemon.port), timeout=3) as s:
+        for function in (0x01, 0x03, 0x10):
+            pdu = struct.pack(">BHH", function, 100, 0) + (b"\x00" if function == 0x10 else b"")
+            s.sendall(struct.pack(">HHHB", 2, 0, len(pdu) + 1, 1) + pdu)
+            assert s.recv(64)[7:] == bytes([function | 0x80, 3])
+    assert [(e["function"], e["devices"], e["error"]) for e in traffic(plc.http, 3)["exchanges"]] \
+        == [("01h", "nothing", "03h"), ("03h", "nothing", "03h"), ("10h", "nothing", "03h")]
 
 
 @pytest.mark.parametrize("count", ["0", "257", "abc", "-1", ""])
