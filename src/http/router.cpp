@@ -1,7 +1,11 @@
 #include "http/router.hpp"
 
+#include <arpa/inet.h>
+
 #include <boost/beast/core/string.hpp>
 #include <algorithm>
+#include <array>
+#include <string>
 
 #include "http/comm_faults.hpp"
 #include "http/console.hpp"
@@ -103,12 +107,24 @@ Routed api(const Call& call) {
 // names of `http.hosts` are answered.
 std::string foreign_host(const Request& rq, const listener::UnitTable& units) {
     std::string_view h = rq.host;
-    if (h.empty()) return "";         // HTTP/1.0: no browser sends a request without one
-    if (h.front() == '[') return "";  // an IPv6 address: "[::1]:8020"
-    if (const auto colon = h.rfind(':'); colon != std::string_view::npos) h = h.substr(0, colon);
-    const bool ipv4 = !h.empty() && h.find_first_not_of("0123456789.") == std::string_view::npos;
+    if (h.empty()) return "";  // HTTP/1.0: no browser sends a request without one
+    // An address is one as the system reads it ("[::1]:8020", "127.0.0.1"): "[evil.example]",
+    // "999.999.999.999" or "...." are names, and no name but the ones below is answered.
+    std::array<unsigned char, 16> address{};
+    if (h.front() == '[') {
+        if (const auto close = h.find(']'); close != std::string_view::npos) {
+            h = h.substr(0, close + 1);  // without its port
+            const std::string inside(h.substr(1, close - 1));
+            if (::inet_pton(AF_INET6, inside.c_str(), address.data()) == 1) return "";
+        }
+    } else {
+        if (const auto colon = h.rfind(':'); colon != std::string_view::npos) {
+            h = h.substr(0, colon);
+        }
+        if (::inet_pton(AF_INET, std::string(h).c_str(), address.data()) == 1) return "";
+    }
     const boost::beast::string_view host(h.data(), h.size());
-    if (ipv4 || boost::beast::iequals(host, "localhost")) return "";
+    if (boost::beast::iequals(host, "localhost")) return "";
     for (const auto& name : units.hosts()) {
         if (boost::beast::iequals(host, name)) return "";
     }

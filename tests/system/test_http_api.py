@@ -948,7 +948,10 @@ def test_head_gives_the_headers_of_get_without_a_body(fbs):
 
 
 @pytest.mark.parametrize("host", ["evil.example", "evil.example:{port}", "localhost.evil.example",
-                                  "127.0.0.1.nip.io:{port}", "plc"])
+                                  "127.0.0.1.nip.io:{port}", "plc",
+                                  # Names, not addresses the system reads (they were served).
+                                  "[evil.example]", "[evil.example]:{port}", "999.999.999.999",
+                                  "1.2.3.4.5.6", "....", "[]"])
 def test_a_host_that_is_not_the_consoles_is_421(fbs, host):
     host = host.format(port=fbs.http)
     name = host.rsplit(":", 1)[0] if host.count(":") == 1 else host
@@ -961,7 +964,8 @@ def test_a_host_that_is_not_the_consoles_is_421(fbs, host):
 
 
 @pytest.mark.parametrize("host", ["localhost:{port}", "LocalHost", "[::1]:{port}", "[::1]",
-                                  "127.0.0.1:{port}", "127.0.0.1", "10.1.2.3:{port}"])
+                                  "127.0.0.1:{port}", "127.0.0.1", "10.1.2.3:{port}",
+                                  "[::ffff:127.0.0.1]:{port}", "[fe80::1]"])
 def test_an_ip_literal_or_localhost_host_is_served(fbs, host):
     # Only the header says so: the connection is to 127.0.0.1 all the same.
     r = get(fbs.http, "/api/v1/plcs/0", headers={"Host": host.format(port=fbs.http)})
