@@ -231,7 +231,26 @@ bool RequestCutter::take(Request& out, Refusal& refusal) {
     out.origin = field(m, bhttp::field::origin);
     out.host = field(m, bhttp::field::host);
     out.body = std::move(p.get().body());
-    const std::string_view target = out.target;
+    std::string_view target = out.target;
+    std::string rooted;  // an absolute form's path when it has none ("http://h?x" is "/?x")
+    // RFC 9112 §3.2.2: a server takes a target in absolute form (what a client sends through a
+    // proxy), and the host it names, not the Host header's, is the one the request is for.
+    if (beast::iequals(beast::string_view(target.data(), std::min<std::size_t>(target.size(), 7)),
+                       "http://")) {
+        target.remove_prefix(7);
+        const std::size_t end = std::min(target.find_first_of("/?"), target.size());
+        out.host = std::string(target.substr(0, end));
+        target.remove_prefix(end);
+        if (out.host.empty() || !host_and_port(out.host)) {
+            refusal = {400, "the request target's host is no host[:port]"};
+            return false;
+        }
+        if (target.empty() || target.front() == '?') {
+            rooted = "/";
+            rooted += target;
+            target = rooted;
+        }
+    }
     if (target.empty() || target.front() != '/') {
         refusal = {400, "the request target must be a path starting with '/'"};
         return false;

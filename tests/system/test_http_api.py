@@ -972,6 +972,21 @@ def test_an_ip_literal_or_localhost_host_is_served(fbs, host):
     assert r.status == 200 and r.json()["id"] == "0", r
 
 
+def test_a_target_in_absolute_form_is_served_for_the_host_it_names(fbs):
+    # RFC 9112 §3.2.2: taken (it was 400), its host checked, not the Host header's.
+    def raw(target, host):
+        with connect(fbs.http) as s:
+            s.sendall(f"GET {target} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+                      .encode())
+            return recv_response(s)
+    r = raw(f"http://127.0.0.1:{fbs.http}/api/v1/plcs/0?x=1", "evil.example")
+    assert r.status == 200 and r.json()["id"] == "0", r
+    assert raw(f"HTTP://localhost:{fbs.http}", "evil.example").status == 200  # the overview
+    r = raw("http://evil.example/api/v1/plcs/0", f"127.0.0.1:{fbs.http}")
+    assert_error(r, 421, "'evil.example'")
+    assert_error(raw("http:///api/v1/plcs/0", "127.0.0.1"), 400, "host[:port]")
+
+
 def test_a_request_without_host_is_served(fbs):
     with connect(fbs.http) as s:
         s.sendall(b"GET /healthz HTTP/1.0\r\n\r\n")
