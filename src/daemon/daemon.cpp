@@ -117,7 +117,8 @@ public:
                     spdlog::info("{}{}", prefix_, n.text);
                 }
             }
-            sync_id_ = syncs_.add(*state_, std::chrono::milliseconds(cfg_->persistence.sync_ms));
+            sync_id_ =
+                syncs_.add(*state_, std::chrono::milliseconds(cfg_->persistence.sync_ms), prefix_);
             if (state_->retained()) start = Start::Retained;
         } else {
             spdlog::info("{}persistence disabled: nothing is retained across restarts", prefix_);

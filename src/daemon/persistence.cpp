@@ -27,12 +27,15 @@ SyncThread::~SyncThread() {
     limiter_.flush_to_log(Clock::now(), "persistence: ", true);
 }
 
-SyncThread::Id SyncThread::add(image::StateFile& file, std::chrono::milliseconds period) {
+SyncThread::Id SyncThread::add(image::StateFile& file,
+                               std::chrono::milliseconds period,
+                               std::string prefix) {
     Id id = 0;
     {
         std::lock_guard lock(mutex_);
         id = next_++;
-        entries_.push_back({id, &file, period, Clock::now() + period});
+        entries_.push_back(
+            {id, &file, period, Clock::now() + period, false, false, std::move(prefix)});
         changed_ = true;
     }
     cv_.notify_all();
@@ -127,11 +130,11 @@ void SyncThread::moved(Entry& e, bool in_place) {
     e.gone = true;
     if (limiter_.allow(modbus::LogCause::StateFileGone, Clock::now())) {
         spdlog::warn(
-            "persistence: {}: the state file was deleted or moved away while in use; the PLC "
+            "{}persistence: {}: the state file was deleted or moved away while in use; the PLC "
             "runs on, syncing the file it holds open, which the next start will not find: put "
             "the file back at its path before the stop (a deleted one can be copied from "
             "/proc/{}/fd/) or the next start begins without its retentive values",
-            e.file->path(), ::getpid());
+            e.prefix, e.file->path(), ::getpid());
     }
 }
 
@@ -145,16 +148,16 @@ void SyncThread::synced(Entry& e, int error) {
     if (error == 0) {
         census_.syncs.fetch_add(1, std::memory_order_relaxed);
         if (e.failing && limiter_.allow(modbus::LogCause::SyncResumed, now))
-            spdlog::info("persistence: {}: syncing again", e.file->path());
+            spdlog::info("{}persistence: {}: syncing again", e.prefix, e.file->path());
         e.failing = false;
         return;
     }
     census_.sync_failures.fetch_add(1, std::memory_order_relaxed);
     if (!e.failing && limiter_.allow(modbus::LogCause::SyncFailed, now)) {
         spdlog::error(
-            "persistence: {}: sync failed ({}); the state stays in memory and is "
+            "{}persistence: {}: sync failed ({}); the state stays in memory and is "
             "synced again every period",
-            e.file->path(), std::strerror(error));
+            e.prefix, e.file->path(), std::strerror(error));
     }
     e.failing = true;
 }

@@ -37,8 +37,9 @@ public:
     SyncThread(const SyncThread&) = delete;
     SyncThread& operator=(const SyncThread&) = delete;
 
-    /// Starts syncing `file` every `period`.
-    Id add(image::StateFile& file, std::chrono::milliseconds period);
+    /// Starts syncing `file` every `period`; `prefix` starts its lines ("plcs[1] (kiln): ", or
+    /// empty for a config's one PLC).
+    Id add(image::StateFile& file, std::chrono::milliseconds period, std::string prefix = {});
     /// Changes a file's period (reload).
     void set_period(Id id, std::chrono::milliseconds period);
     /// Stops syncing the file (waiting for a sync of it under way); it may be closed afterwards.
@@ -53,6 +54,7 @@ private:
         Clock::time_point due;
         bool failing = false;  // its last sync failed: the next failure is not logged again
         bool gone = false;     // it was found deleted or moved away (said once)
+        std::string prefix;    // its PLC's, as its other lines start
     };
     void run();
     void synced(Entry& e, int error);

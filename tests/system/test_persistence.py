@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from pymodbus.client import ModbusTcpClient
 
-from conftest import PLCEMUD, free_port, port_open, run_plcemud
+from conftest import PLCEMUD, free_port, free_ports, port_open, run_plcemud, spawn_plcs
 
 D0 = 6000
 M0 = 2000
@@ -429,3 +429,19 @@ def test_a_state_file_taken_away_while_in_use_is_said_once(start_plcemud, tmp_pa
     assert read(c, D0) == [6]
     assert d.stop() == 0
     assert f"state file {state} closed, but not at its path" in d.log_text(), d.log_text()
+
+
+def test_a_state_file_taken_away_is_said_for_its_plc(tmp_path):
+    # Among many PLCs the line names which one, as the PLC's other lines do.
+    ports = free_ports(2)
+    entries = "".join(
+        f"  - {{name: {n}, profile: fbs, modbus: {{tcp: {{bind: 127.0.0.1, port: {p}}}}},\n"
+        f"     persistence: {{file: {n}.state, sync_ms: 200}}}}\n"
+        for n, p in zip("ab", ports))
+    d = spawn_plcs(tmp_path, "plcs:\n" + entries, ports)
+    try:
+        (tmp_path / "b.state").unlink()
+        assert d.wait_log("deleted or moved away while in use", 3), d.log_text()
+        assert "plcs[1] (b): persistence: " in d.log_text(), d.log_text()
+    finally:
+        assert d.stop() == 0
