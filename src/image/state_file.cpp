@@ -153,7 +153,8 @@ std::string describe_layout_difference(const StateFileHeader& file,
             layout.name_of_family != nullptr ? layout.name_of_family(file.profile) : "";
         std::string s = "it holds the image of another PLC family (";
         if (name.empty()) {
-            s += "number " + std::to_string(file.profile);
+            s += "number ";
+            s += std::to_string(file.profile);
         } else {
             s += name;
         }

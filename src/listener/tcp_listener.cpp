@@ -671,9 +671,16 @@ bool TcpListener::State::evict_one(Clock::time_point now) {
     }
     if (!victim) return false;
     const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(options.evict_silent);
-    const std::string why = "evicted for a new client: no request for " +
-                            (ms.count() % 1000 == 0 ? std::to_string(ms.count() / 1000) + " s"
-                                                    : std::to_string(ms.count()) + " ms");
+    // Appended piece by piece: GCC 12 at -O2 takes `"literal" + std::string&&` for an
+    // overlapping copy (-Wrestrict, a false positive that -Werror would make fatal).
+    std::string why = "evicted for a new client: no request for ";
+    if (ms.count() % 1000 == 0) {
+        why += std::to_string(ms.count() / 1000);
+        why += " s";
+    } else {
+        why += std::to_string(ms.count());
+        why += " ms";
+    }
     victim->close(why.c_str());
     return true;
 }
