@@ -576,7 +576,10 @@ std::string speakers(std::string_view protocol) {
     return s + (names.size() == 1 ? " does" : " do");
 }
 
-void check_own_listeners(const Reader& r, const Node& entry, const Config& c);
+void check_own_listeners(const Reader& r,
+                         const Node& entry,
+                         const Config& c,
+                         const Overrides& overrides);
 
 // A PLC's station and its simulator unit are two unit IDs on its listeners: the same one would
 // leave the simulator unreachable (docs/configuration.md, "Configuration").
@@ -723,7 +726,7 @@ Config read_root(Reader& r, const Node& root, const Overrides& overrides, bool e
     apply(overrides, c);
     check_own_units(r, root, c);
     c.settings = profile->read(c, r);
-    check_own_listeners(r, root, c);
+    check_own_listeners(r, root, c, overrides);
     return c;
 }
 
@@ -907,12 +910,14 @@ void check_line_agrees(
 }
 
 // One port or line carries one protocol: `mine` may not take what `other` (of `whose`: "this
-// PLC's", "plcs[0]'s") takes for another.
+// PLC's", "plcs[0]'s") takes for another. `overrides`, when given, are the command line's: a
+// port one of them set is named as set there, the error standing at the file's key.
 void check_one_protocol(const Reader& r,
                         const Node& entry,
                         const Held& mine,
                         const Held& other,
-                        const std::string& whose) {
+                        const std::string& whose,
+                        const Overrides* overrides = nullptr) {
     const bool own = mine.protocol == kOwnPort || other.protocol == kOwnPort;
     if (!own && mine.protocol == other.protocol && mine.section == other.section) return;
     if (mine.carrier == Carrier::Serial) {
@@ -922,18 +927,38 @@ void check_one_protocol(const Reader& r,
                    (own ? " (a master port's serial line is its own)"
                         : " (one serial line carries one protocol)"));
     }
-    r.fail(where_in(entry, mine.section, "port"),
-           std::string(mine.section) + ".port: " + std::to_string(mine.net.port) + " is also " +
-               whose + " " + std::string(other.section) + " port (one port carries one protocol)");
+    const auto set_by = [overrides](std::string_view section) -> std::string_view {
+        if (overrides == nullptr) return "";
+        if (section == "http" && overrides->http_port) return " (--http-port)";
+        if (section == "modbus.tcp" && overrides->port) return " (--port)";
+        return "";
+    };
+    std::string why(mine.section);
+    why += ".port";
+    why += set_by(mine.section);
+    why += ": ";
+    why += std::to_string(mine.net.port);
+    why += " is also ";
+    why += whose;
+    why += ' ';
+    why += other.section;
+    why += " port";
+    why += set_by(other.section);
+    why += " (one port carries one protocol)";
+    r.fail(where_in(entry, mine.section, "port"), why);
 }
 
 // A PLC's own listeners may not take one port or line twice.
-void check_own_listeners(const Reader& r, const Node& entry, const Config& c) {
+void check_own_listeners(const Reader& r,
+                         const Node& entry,
+                         const Config& c,
+                         const Overrides& overrides) {
     const Taken mine(c, entry);
     for (std::size_t i = 0; i < mine.listeners.size(); ++i) {
         for (std::size_t j = 0; j < i; ++j) {
             if (same_listener(mine.listeners[i], mine.listeners[j])) {
-                check_one_protocol(r, entry, mine.listeners[i], mine.listeners[j], "this PLC's");
+                check_one_protocol(r, entry, mine.listeners[i], mine.listeners[j], "this PLC's",
+                                   &overrides);
             }
         }
     }
@@ -1186,7 +1211,7 @@ std::vector<Config> read_plcs(const YamlDocument& doc,
                 Overrides console;
                 console.http_port = overrides.http_port;
                 apply(console, c);
-                check_own_listeners(r, e, c);
+                check_own_listeners(r, e, c, console);
             }
             c.fingerprint = fingerprint(c, e, e["http"] ? nullptr : &root["http"]);
             check_state_file_name(r, where(e, {"persistence", "file"}), c);

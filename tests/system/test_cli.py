@@ -230,7 +230,14 @@ def test_overrides_are_checked_as_if_the_file_said_them(tmp_path, check):
                    f"fatek: {{tcp: {{bind: 127.0.0.1, port: {fatek}}}}}\n")
     r = run_plcemud("-c", one, "--port", fatek, *check, timeout=20)
     assert r.returncode == 2, r
-    assert f"fatek.tcp.port: {fatek} is also this PLC's modbus.tcp port" in r.stderr, r.stderr
+    assert f"fatek.tcp.port: {fatek} is also this PLC's modbus.tcp port (--port)" in r.stderr, \
+        r.stderr
+    # A clash an override makes says so: the error stands at the file's key, which holds another
+    # number.
+    r = run_plcemud("-c", one, "--http-port", fatek, *check, timeout=20)
+    assert r.returncode == 2, r
+    assert f"http.port (--http-port): {fatek} is also this PLC's fatek.tcp port" in r.stderr, \
+        r.stderr
 
 
 def test_http_port_turns_on_the_console_the_file_turned_off_with_its_settings(start_plcemud):
