@@ -160,14 +160,15 @@ def test_answers_a_udp_listener_cannot_hold_are_counted_dropped(start_plcemud):
     # counters say so (they counted all 300 delayed, 256 of them answered).
     port, http = free_ports(2)
     start_plcemud(config(f"  udp: {{bind: 127.0.0.1, port: {port}}}\n",
-                         f"faults: {{delay_ms: 700}}\nhttp: {{port: {http}}}\n"))
+                         f"faults: {{delay_ms: 1500}}\nhttp: {{port: {http}}}\n"))
     with Fatek.udp(port) as peer:
         for i in range(300):
             peer.send(GIST)
             if i % 25 == 24:
                 time.sleep(0.03)  # read as they come: a socket's buffer holds fewer than 300
         answers = 0
-        while peer.receive(timeout=1.5) == RUNNING:
+        # Held 1.5 s from each request: the 300 are sent well within it, slow machine or not.
+        while peer.receive(timeout=2.5) == RUNNING:
             answers += 1
     assert answers == 256
     figures = json.loads(urllib.request.urlopen(
