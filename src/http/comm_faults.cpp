@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "plcemu/config/comm_faults.hpp"
+#include "plcemu/image/excerpt.hpp"
 
 namespace plcemu::http {
 
@@ -91,7 +92,7 @@ std::optional<Response> flag(const Json& o, const char* key, bool& out) {
 std::optional<Response> read(const Json& b, const listener::Seat& plc, CommFaultSettings& s) {
     for (const auto& [k, v] : b.items()) {
         if (std::find(kKeys.begin(), kKeys.end(), k) == kKeys.end()) {
-            return error(400, k.substr(0, 40) +
+            return error(400, image::excerpt(k, 40) +
                                   ": unknown key (expected delay_ms, drop_every, "
                                   "drop_probability, seed, exception, offline, "
                                   "refuse_connections, disconnect_after, reset, garble, stop, "
@@ -154,7 +155,7 @@ std::optional<Response> read(const Json& b, const listener::Seat& plc, CommFault
         s.devices = config::comm_fault_range(*plc.naming, name, count);
         if (!s.devices) {
             return error(400, "from: expected a device of this PLC such as R100, got " +
-                                  from->dump().substr(0, 40));
+                                  image::excerpt(from->dump(), 40));
         }
     }
     if (const std::string why = plc.faults->refusal(s); !why.empty()) return error(400, why);

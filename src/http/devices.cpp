@@ -1,6 +1,7 @@
 #include "http/devices.hpp"
 
 #include "plcemu/listener/access.hpp"
+#include "plcemu/image/excerpt.hpp"
 
 namespace plcemu::http {
 
@@ -121,7 +122,7 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
         if (refused) return *refused;
         for (const auto& [k, v] : body.items()) {
             if (k != "values")
-                return error(400, k.substr(0, 40) + ": unknown key (expected values)");
+                return error(400, image::excerpt(k, 40) + ": unknown key (expected values)");
         }
         const auto it = body.find("values");
         if (it == body.end() || !it->is_array() || it->empty() || it->size() > kMaxCount) {
@@ -142,7 +143,8 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
             if (v.is_boolean()) {
                 x = v.get<bool>() ? 1 : 0;
             } else if (!v.is_number_integer()) {
-                return error(400, "values: expected whole numbers, got " + v.dump().substr(0, 40));
+                return error(400,
+                             "values: expected whole numbers, got " + image::excerpt(v.dump(), 40));
             } else if (whole_in(v, bits ? 0 : -32768, bits ? 1 : 65535)) {
                 x = v.get<long long>();
             } else {

@@ -82,6 +82,11 @@ bool host_and_port(std::string_view h) {
     } else if (const auto colon = h.rfind(':'); colon != std::string_view::npos) {
         end = colon;
     }
+    // A name or an IPv4 address has none of these (RFC 3986 §3.2.2: reg-name); "::1" without
+    // brackets, "user@host" or "127.0.0.1:80:90" is no host[:port].
+    if (h.front() != '[' &&
+        h.substr(0, end).find_first_of(":@#/?[]\\ \t") != std::string_view::npos)
+        return false;
     if (end == h.size()) return true;
     const std::string_view port = h.substr(end);
     // RFC 3986 §3.2.3: the port is *DIGIT, so "host:" is a Host too.

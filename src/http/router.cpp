@@ -1,6 +1,7 @@
 #include "http/router.hpp"
 
 #include <arpa/inet.h>
+#include <netinet/in.h>
 
 #include <boost/beast/core/string.hpp>
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include "http/plcs.hpp"
 #include "http/simulator.hpp"
 #include "http/traffic.hpp"
+#include "plcemu/image/excerpt.hpp"
 
 namespace plcemu::http {
 
@@ -26,7 +28,9 @@ Response not_allowed(const char* allow) {
     return r;
 }
 
-Response not_found(const Request& rq) { return error(404, "nothing at " + rq.path.substr(0, 200)); }
+Response not_found(const Request& rq) {
+    return error(404, "nothing at " + image::excerpt(rq.path, 200));
+}
 
 // An event stream: every PLC's (`plc` empty) or one PLC's. A HEAD gets the stream's head and no
 // subscription, as no events follow it.
@@ -108,8 +112,9 @@ Routed api(const Call& call) {
 std::string foreign_host(const Request& rq, const listener::UnitTable& units) {
     std::string_view h = rq.host;
     if (h.empty()) return "";  // HTTP/1.0: no browser sends a request without one
-    // An address is one as the system reads it ("[::1]:8020", "127.0.0.1"): "[evil.example]",
-    // "999.999.999.999" or "...." are names, and no name but the ones below is answered.
+    // An address is one as the system reads it ("[::1]:8020", "127.0.0.1", "127.1"):
+    // "[evil.example]", "999.999.999.999" or "...." are names, and no name but the ones below
+    // is answered.
     std::array<unsigned char, 16> address{};
     if (h.front() == '[') {
         if (const auto close = h.find(']'); close != std::string_view::npos) {
@@ -121,14 +126,17 @@ std::string foreign_host(const Request& rq, const listener::UnitTable& units) {
         if (const auto colon = h.rfind(':'); colon != std::string_view::npos) {
             h = h.substr(0, colon);
         }
-        if (::inet_pton(AF_INET, std::string(h).c_str(), address.data()) == 1) return "";
+        // As the system reads an IPv4 address, short and octal forms too (127.1, 0177.0.0.1,
+        // as curl sends what it was given): no DNS name is all digits and dots.
+        in_addr v4{};
+        if (::inet_aton(std::string(h).c_str(), &v4) != 0) return "";
     }
     const boost::beast::string_view host(h.data(), h.size());
     if (boost::beast::iequals(host, "localhost")) return "";
     for (const auto& name : units.hosts()) {
         if (boost::beast::iequals(host, name)) return "";
     }
-    return "Host '" + std::string(h.substr(0, 100)) +
+    return "Host '" + image::excerpt(h, 100) +
            "' is not one this console answers to (its IP address, localhost, or a name in "
            "http.hosts)";
 }

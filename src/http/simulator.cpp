@@ -1,4 +1,5 @@
 #include "http/simulator.hpp"
+#include "plcemu/image/excerpt.hpp"
 
 #include <chrono>
 
@@ -77,7 +78,7 @@ std::optional<Response> channel_changes(const listener::Seat& plc, const Json& l
             static const std::vector<std::string> known{
                 "channel", "ambient_c", "k_c", "tau_s", "dead_time_s", "noise_c", "faults"};
             if (std::find(known.begin(), known.end(), k) == known.end()) {
-                return error(400, "channels[]." + k.substr(0, 40) +
+                return error(400, "channels[]." + image::excerpt(k, 40) +
                                       ": unknown key (expected one of channel, ambient_c, k_c, "
                                       "tau_s, dead_time_s, noise_c, faults)");
             }
@@ -97,7 +98,8 @@ std::optional<Response> channel_changes(const listener::Seat& plc, const Json& l
             if (!f->is_object()) return error(400, "faults: expected an object of switches");
             for (const auto& [k, v] : f->items()) {
                 if (!v.is_boolean())
-                    return error(400, "faults." + k.substr(0, 40) + ": expected true or false");
+                    return error(400,
+                                 "faults." + image::excerpt(k, 40) + ": expected true or false");
                 const bool on = v.get<bool>();
                 if (k == "sensor_broken") {
                     x.faults.sensor_broken = on;
@@ -108,7 +110,7 @@ std::optional<Response> channel_changes(const listener::Seat& plc, const Json& l
                 } else if (k == "reading_frozen") {
                     x.faults.reading_frozen = on;
                 } else {
-                    return error(400, "faults." + k.substr(0, 40) +
+                    return error(400, "faults." + image::excerpt(k, 40) +
                                           ": unknown fault (expected sensor_broken, heater_open, "
                                           "heater_shorted or reading_frozen)");
                 }
@@ -137,7 +139,7 @@ Response simulator(const Call& call, const listener::Seat& plc) {
         for (const auto& [k, v] : body.items()) {
             if (k != "time_scale" && k != "frozen" && k != "step" && k != "channels") {
                 return error(400,
-                             k.substr(0, 40) +
+                             image::excerpt(k, 40) +
                                  ": unknown key (expected time_scale, frozen, step or channels)");
             }
         }

@@ -7,6 +7,7 @@
 
 #include "http/message.hpp"
 #include "http/router.hpp"
+#include "plcemu/image/excerpt.hpp"
 
 namespace plcemu::http {
 
@@ -61,8 +62,8 @@ public:
             }
         } catch (const std::exception& e) {
             // Out of memory and the like: this request fails, the daemon does not.
-            spdlog::warn("http: {} {} {}: {}", outlet_.peer(), rq.method, rq.target.substr(0, 100),
-                         e.what());
+            spdlog::warn("http: {} {} {}: {}", outlet_.peer(), rq.method,
+                         image::excerpt(rq.target, 100), e.what());
             bytes = serialize(error(500, "internal error"), false);
             keep = false;
         }

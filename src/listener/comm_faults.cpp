@@ -87,6 +87,7 @@ bool CommFaults::matches(const Asked& a) const noexcept {
 
 Verdict CommFaults::judge(const Asked& a) noexcept {
     Verdict v;
+    v.fate.by = this;
     if (!active_ || !matches(a)) return v;
     if (s_.offline) {
         ++figures_.silenced;
@@ -130,7 +131,6 @@ Verdict CommFaults::judge(const Asked& a) noexcept {
                                      : std::uniform_int_distribution<std::uint32_t>(
                                            s_.delay_min_ms, s_.delay_max_ms)(*random_);
         v.fate.delay = std::chrono::milliseconds(ms);
-        v.fate.by = this;
         ++figures_.delayed;
     }
     if (a.carrier == Carrier::Line && s_.garble != Garble::None) {

@@ -97,8 +97,9 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
             return;
         }
         // A master that floods a line whose answers are held gets no more held.
+        // Every answer lost so is counted dropped by its PLC's faults, delayed or not.
         if (held.size() >= kMaxHeld) {
-            if (fate.by != nullptr && fate.delay.count() > 0) fate.by->held_over();
+            if (fate.by != nullptr) fate.by->held_over(fate.delay.count() > 0);
             return;
         }
         const auto due = Clock::now() + fate.delay;
@@ -111,7 +112,9 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
                 held.push_back({due, {}, {a.begin(), a.end()}});
             }
         } catch (const std::bad_alloc&) {
-            return;  // the answer is lost, as on a line that garbled it
+            // The answer is lost, as on a line that garbled it.
+            if (fate.by != nullptr) fate.by->held_over(fate.delay.count() > 0);
+            return;
         }
         send_held();
     }

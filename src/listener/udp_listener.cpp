@@ -101,7 +101,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     // not all held: the bound is the listener's, whichever peers the held answers are for.
     void hold(const Fate& fate, std::size_t size) noexcept {
         if (held >= kMaxHeld) {
-            if (fate.by != nullptr) fate.by->held_over();
+            if (fate.by != nullptr) fate.by->held_over(true);
             return;
         }
         try {
@@ -118,7 +118,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
                 });
         } catch (const std::bad_alloc&) {
             // Lost, as a datagram may be.
-            if (fate.by != nullptr) fate.by->held_over();
+            if (fate.by != nullptr) fate.by->held_over(true);
         }
     }
 

@@ -19,6 +19,7 @@ import struct
 import subprocess
 import threading
 import time
+import tty
 
 import pytest
 from conftest import BASE_CONFIG, Daemon, free_port, port_open, run_plcemud
@@ -1119,3 +1120,40 @@ def test_fatek_requests_are_scoped_by_the_devices_they_name(start_plcemud):
         assert f.request(0x44, "01M0000")[0] == 0  # another area
         sim.clear()
         assert f.request(0x46, "01R00100")[0] == 0
+
+
+def test_answers_a_line_cannot_hold_are_counted_dropped_faulted_or_not(start_plcemud):
+    # docs/communication-faults.md: 64 answers held on a line, those waiting behind them
+    # included; every one dropped beyond is counted dropped (answers outside the fault's scope,
+    # queued behind the held ones, were lost without a count).
+    console = free_port()
+    master, slave = os.openpty()
+    for fd in (master, slave):
+        tty.setraw(fd)
+    try:
+        d = start_plcemud(
+            f"profile: fbs\nmodbus:\n  tcp: {{bind: 127.0.0.1}}\n"
+            f"  rtu: {{device: {os.ttyname(slave)}, baud: 115200}}\n"
+            f"http: {{port: {console}}}\npersistence: {{enabled: false}}\n"
+            "faults: {delay_ms: 3000, from: R100, count: 1}\n")
+
+        def figures():
+            c = http.client.HTTPConnection("127.0.0.1", console, timeout=5)
+            c.request("GET", "/api/v1/plcs/0/comm-faults")
+            return json.loads(c.getresponse().read())["figures"]
+
+        def send(address, n):
+            for _ in range(n):
+                os.write(master, rtu_frame(1, struct.pack(">BHH", 3, address, 1)))
+                time.sleep(0.01)  # a frame each, the line's silence between them
+
+        send(100, 70)
+        send(0, 10)
+        deadline = time.monotonic() + 5
+        while figures()["dropped"] < 16 and time.monotonic() < deadline:
+            time.sleep(0.1)
+        f = figures()
+        assert (f["delayed"], f["dropped"]) == (64, 16), (f, d.log_text())
+    finally:
+        os.close(master)
+        os.close(slave)

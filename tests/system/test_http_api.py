@@ -580,6 +580,14 @@ def test_a_refusal_shows_what_was_sent_escaped(fbs, path, quoted):
     assert not any(c in message for c in "\u202e\u2066\u2028\r\n\x1b\ufffd"), message
 
 
+def test_a_refusal_cuts_what_was_sent_between_characters(fbs):
+    # A key cut at 40 bytes split the euro sign and showed "\\xE2".
+    r = request(fbs.http, "PUT", "/api/v1/plcs/0/devices/R140",
+                json_body={"a" * 39 + "\u20ac\u20ac": [1]})
+    message = assert_error(r, 400, "unknown key")
+    assert "a" * 39 + "\u20ac\u2026" in message and "\\x" not in message, message
+
+
 @pytest.mark.parametrize("count", ["0", "1001", "abc", "-1", "", "1e3", "99999999999999999999"])
 def test_count_out_of_range_is_400(fbs, count):
     assert_error(devices(fbs.http, "R100", count), 400, "count", "1000")
@@ -965,7 +973,9 @@ def test_a_host_that_is_not_the_consoles_is_421(fbs, host):
 
 @pytest.mark.parametrize("host", ["localhost:{port}", "LocalHost", "[::1]:{port}", "[::1]",
                                   "127.0.0.1:{port}", "127.0.0.1", "10.1.2.3:{port}",
-                                  "[::ffff:127.0.0.1]:{port}", "[fe80::1]"])
+                                  "[::ffff:127.0.0.1]:{port}", "[fe80::1]",
+                                  # IPv4 as the system reads it, as curl sends what it is given.
+                                  "127.1:{port}", "0177.0.0.1"])
 def test_an_ip_literal_or_localhost_host_is_served(fbs, host):
     # Only the header says so: the connection is to 127.0.0.1 all the same.
     r = get(fbs.http, "/api/v1/plcs/0", headers={"Host": host.format(port=fbs.http)})
@@ -985,6 +995,14 @@ def test_a_target_in_absolute_form_is_served_for_the_host_it_names(fbs):
     r = raw("http://evil.example/api/v1/plcs/0", f"127.0.0.1:{fbs.http}")
     assert_error(r, 421, "'evil.example'")
     assert_error(raw("http:///api/v1/plcs/0", "127.0.0.1"), 400, "host[:port]")
+    assert_error(raw("http://user@127.0.0.1/api/v1/plcs/0", "127.0.0.1"), 400, "host[:port]")
+    assert_error(raw("http://127.0.0.1#frag", "127.0.0.1"), 400, "host[:port]")
+
+
+@pytest.mark.parametrize("host", ["::1", "127.0.0.1:80:90", "user@127.0.0.1", "127.0.0.1#x"])
+def test_a_host_that_is_no_host_and_port_is_400(fbs, host):
+    # RFC 9112 §3.2: they were taken for names and answered 421, one quoted cut.
+    assert_error(get(fbs.http, "/api/v1/plcs/0", headers={"Host": host}), 400, "host[:port]")
 
 
 def test_a_request_without_host_is_served(fbs):

@@ -40,8 +40,9 @@ struct Fate {
     /// pause of `gap`, then the rest.
     std::size_t gap_at = 0;
     std::chrono::microseconds gap{0};
-    /// The faults that delayed it: a listener that holds too many answers already drops it
-    /// and tells them (CommFaults::held_over), so their figures count it dropped.
+    /// The faults of the PLC that answered: a listener that holds too many answers already
+    /// (delayed ones, or ones waiting behind them) drops it and tells them
+    /// (CommFaults::held_over), so their figures count it dropped.
     CommFaults* by = nullptr;
 
     /// True when nothing happens to the answer.
@@ -114,9 +115,10 @@ public:
     void on_stop(std::function<void(bool)> f) { on_stop_ = std::move(f); }
     /// What to do with a request for the PLC.
     Verdict judge(const Asked& a) noexcept;
-    /// An answer these faults delayed was dropped instead: its listener held too many already.
-    void held_over() noexcept {
-        --figures_.delayed;
+    /// An answer of this PLC was dropped: its listener held too many already. `delayed`: it
+    /// was counted delayed, and is not.
+    void held_over(bool delayed) noexcept {
+        if (delayed) --figures_.delayed;
         ++figures_.dropped;
     }
     /// A client left: its count of requests towards disconnect_after goes.
