@@ -268,10 +268,9 @@ void read_init(const Reader& r,
             } else {
                 one(value);
             }
-            const std::uint32_t per = e.device.word_of_bits ? 16 : 1;
-            const image::Range range{e.device.area, e.device.index,
-                                     static_cast<std::uint32_t>(e.values.size()) * per};
-            if (!layout.contains(range)) r.fail(it->first, "init: " + outside(r, layout, range));
+            if (!layout.contains(e.range())) {
+                r.fail(it->first, "init: " + outside(r, layout, e.range()));
+            }
             init.push_back(std::move(e));
         });
     }

@@ -234,16 +234,16 @@ void Plc::apply_init() {
         return in(layout.retentive) && (!kept_ || in(*kept_));
     };
     for (const auto& e : config_->init) {
-        const std::uint32_t per = e.device.word_of_bits ? 16 : 1;
-        const image::Range r{e.device.area, e.device.index,
-                             static_cast<std::uint32_t>(e.values.size()) * per};
-        if (!layout.contains(r)) {
+        // The loader refused this at the entry's key; a config made in code meets it here
+        // rather than write past an area.
+        if (!layout.contains(e.range())) {
             throw config::ConfigError(
-                e.pos, "init: " + config::outside(profiles::of(*config_).naming(), layout, r));
+                e.pos,
+                "init: " + config::outside(profiles::of(*config_).naming(), layout, e.range()));
         }
         for (std::size_t i = 0; i < e.values.size(); ++i) {
             image::Device d = e.device;
-            d.index += static_cast<std::uint32_t>(i) * per;
+            d.index += static_cast<std::uint32_t>(i) * e.step();
             std::uint16_t v = e.values[i];
             if (spare_retained) {
                 // Retained values win over presets: keep every retentive bit or word as it is.

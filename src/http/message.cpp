@@ -74,19 +74,18 @@ bool decode(std::string_view in, std::string& out, bool query) {
 // A Host header's value as RFC 9110 §7.2 has it: a name or address and an optional port of
 // digits (an IPv6 address in brackets). Empty (no Host, HTTP/1.0) passes.
 bool host_and_port(std::string_view h) {
+    if (h.empty()) return true;
     std::size_t end = h.size();
-    if (!h.empty() && h.front() == '[') {
+    if (h.front() == '[') {
         end = h.find(']');
         if (end == std::string_view::npos) return false;
         ++end;
-    } else if (const auto colon = h.rfind(':'); colon != std::string_view::npos) {
-        end = colon;
+    } else {
+        if (const auto colon = h.rfind(':'); colon != std::string_view::npos) end = colon;
+        // A name or an IPv4 address has none of these (RFC 3986 §3.2.2: reg-name); "::1"
+        // without brackets, "user@host" or "127.0.0.1:80:90" is no host[:port].
+        if (h.substr(0, end).find_first_of(":@#/?[]\\ \t") != std::string_view::npos) return false;
     }
-    // A name or an IPv4 address has none of these (RFC 3986 §3.2.2: reg-name); "::1" without
-    // brackets, "user@host" or "127.0.0.1:80:90" is no host[:port].
-    if (h.front() != '[' &&
-        h.substr(0, end).find_first_of(":@#/?[]\\ \t") != std::string_view::npos)
-        return false;
     if (end == h.size()) return true;
     const std::string_view port = h.substr(end);
     // RFC 3986 §3.2.3: the port is *DIGIT, so "host:" is a Host too.

@@ -49,6 +49,13 @@ struct InitEntry {
     image::Device device;               ///< first device
     std::vector<std::uint16_t> values;  ///< words (or bits as 0/1 for bit devices)
     Position pos;                       ///< position of the key
+
+    /// Devices per value: 16 for a word of bits (WM800), else 1.
+    std::uint32_t step() const { return device.word_of_bits ? 16 : 1; }
+    /// The devices its values reach.
+    image::Range range() const {
+        return {device.area, device.index, static_cast<std::uint32_t>(values.size()) * step()};
+    }
 };
 
 /// What to do with a TCP request for a unit ID that is neither the station nor 255.
