@@ -136,19 +136,42 @@ Json body_object(const Call& call, std::optional<Response>& refused) {
     // library's dump(), which recurses once a level, and 24 KiB of brackets nest 12,000 deep.
     constexpr int kMaxDepth = 32;
     bool deep = false;
-    Json j = Json::parse(
-        call.request.body,
-        [&deep](int depth, Json::parse_event_t, Json&) {
+    Json j;
+    try {
+        j = Json::parse(call.request.body, [&deep](int depth, Json::parse_event_t, Json&) {
             if (depth > kMaxDepth) deep = true;
             return !deep;
-        },
-        false);
+        });
+    } catch (const Json::exception& e) {
+        if (deep) {
+            refused =
+                error(400, "the body nests deeper than " + std::to_string(kMaxDepth) + " levels");
+            return {};
+        }
+        // The parser's own reason (a syntax error and where, a number past a double's range),
+        // without its "[json.exception.parse_error.101] " prefix.
+        std::string_view why = e.what();
+        if (const auto close = why.find("] "); close != std::string_view::npos)
+            why.remove_prefix(close + 2);
+        std::string message = "the body is not a JSON object (";
+        message += why;
+        message += ')';
+        refused = error(400, message);
+        return {};
+    }
     if (deep) {
         refused = error(400, "the body nests deeper than " + std::to_string(kMaxDepth) + " levels");
         return {};
     }
     if (j.is_discarded() || !j.is_object()) {
-        refused = error(400, "the body is not a JSON object");
+        std::string message = "the body is not a JSON object (it is ";
+        message += j.is_array()     ? "an array"
+                   : j.is_string()  ? "a string"
+                   : j.is_number()  ? "a number"
+                   : j.is_boolean() ? "a boolean"
+                                    : "null";
+        message += ')';
+        refused = error(400, message);
         return {};
     }
     return j;

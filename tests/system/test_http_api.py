@@ -656,6 +656,24 @@ def test_a_body_that_is_not_a_json_object_is_400(fbs, body):
     assert holding(c, 145) == [45]
 
 
+@pytest.mark.parametrize("body, why", [
+    ('{"values": [1e400]}', "number overflow parsing '1e400'"),
+    ("[1, 2]", "(it is an array)"),
+    ('"values"', "(it is a string)"),
+    ("{", "syntax error"),
+    ("", "unexpected end of input"),
+])
+def test_a_refused_body_says_what_is_wrong_with_it(fbs, body, why):
+    """A number past a double's range was "not a JSON object" with no more said, though the
+    body was one: the parser's reason is given, or what the body is instead."""
+    c = fbs.client()
+    assert not c.write_registers(145, [45], slave=1).isError()
+    r = request(fbs.http, "PUT", "/api/v1/plcs/0/devices/R145", body=body,
+                headers={"Content-Type": "application/json"})
+    assert_error(r, 400, "not a JSON object", why)
+    assert holding(c, 145) == [45]
+
+
 def recv_until(sock, marker: bytes) -> bytes:
     """What `sock` receives until `marker` has come (and whatever came with it)."""
     got = b""
