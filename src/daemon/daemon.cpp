@@ -397,6 +397,10 @@ public:
         // Each PLC is built as soon as its state file is had, while the next files are made.
         open_state_files(configs, state_directory(), std::time(nullptr),
                          [this](std::size_t i, OpenedState s) { hosts_[i]->open(std::move(s)); });
+        // A serial line's device gone or back: the status line says so too.
+        listeners_.on_change([this] {
+            if (notify_.listening()) notify_.status(status_line());
+        });
         listeners_.open(members());
         // PLCs start their scans spread over the scan period in slots of 1 ms, as PLCs powered
         // up one by one drift apart: 500 PLCs of 10 ms scans then wake the loop ten times a

@@ -419,6 +419,11 @@ void Listeners::open_reopened(const std::vector<ListenerMember>& plcs,
                 // yet made) is waited for with back-off, as one lost while open.
                 r->line = std::make_unique<listener::SerialListener>(
                     io_, *r->serial, setup.line, r->what(), g.protocol, !at_start);
+                // The console and the status line say while a line waits for its device.
+                r->line->on_device_change([this] {
+                    describe_seats();
+                    if (on_change_) on_change_();
+                });
                 if (!r->line->absent().empty()) {
                     spdlog::error("reload: {}{}; trying it again with back-off{}", prefix,
                                   r->line->absent(),
@@ -821,7 +826,8 @@ std::vector<std::string> Listeners::describe_all(std::size_t plcs) const {
             if (!l->open()) continue;
             // Its members are in `plcs:` order.
             if (l->members.empty() || l->members.front() >= out.size()) continue;
-            const std::string words = ", " + l->what() + " " + l->where();
+            std::string words = ", " + l->what() + " " + l->where();
+            if (l->line && !l->line->has_device()) words += " (waiting for the device)";
             for (const std::size_t i : l->members) {
                 if (i < out.size()) out[i] += words;
             }

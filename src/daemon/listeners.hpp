@@ -7,6 +7,7 @@
 
 #include <asio.hpp>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -79,6 +80,10 @@ public:
     /// The connections of every stream listener open now.
     std::vector<listener::ConnectionFigures> connections() const;
 
+    /// Calls `f` after a serial line's device went away or came back, once the console's
+    /// descriptions say so (the status line for the service manager is the caller's).
+    void on_change(std::function<void()> f) { on_change_ = std::move(f); }
+
     /// Closes every listener.
     void stop();
     /// For each PLC, by index, ", tcp ADDR:PORT, rtu DEVICE, fatek tcp ADDR:PORT ...": its open
@@ -112,6 +117,7 @@ private:
     struct Staged;
     std::vector<Staged> staged_;
     std::vector<std::size_t> stopped_for_stage_;  // running listeners closed to free their port
+    std::function<void()> on_change_;
 };
 
 }  // namespace plcemu::daemon

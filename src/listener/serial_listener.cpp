@@ -11,6 +11,7 @@
 #include <new>
 #include <vector>
 #include <system_error>
+#include <utility>
 
 #include "modbus/serial_line.hpp"
 
@@ -150,6 +151,7 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     // A read error (EIO or hang-up of a device that went away): re-reading the same descriptor
     // would fail forever, so close it and reopen the device by its path.
     void lose(const asio::error_code& ec) {
+        const bool had_device = link != Link::Lost;
         if (link == Link::Up) {
             spdlog::warn("{}: {}: lost ({}); reopening with back-off", name, options.device,
                          ec.message());
@@ -166,6 +168,7 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         asio::error_code ignored;
         line.close(ignored);
         reopen_later();
+        if (had_device && on_device_change) on_device_change();
     }
 
     void reopen_later() {
@@ -203,6 +206,7 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
             if (self->link == Link::Settling) self->back();
         });
         read();
+        if (on_device_change) on_device_change();  // from Lost: the device is back
     }
 
     void back() {
@@ -237,6 +241,8 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     bool stopped = false;
     // The line's master, as its PLCs list their clients: one per line, whoever it is.
     Client client;
+    // Told when the device goes or comes back (the listeners' descriptions say which).
+    std::function<void()> on_device_change;
 };
 
 SerialListener::SerialListener(asio::io_context& io,
@@ -264,9 +270,16 @@ SerialListener::~SerialListener() { stop(); }
 
 std::string SerialListener::description() const { return modbus::describe(state_->options); }
 
+bool SerialListener::has_device() const noexcept { return state_->link != State::Link::Lost; }
+
+void SerialListener::on_device_change(std::function<void()> f) {
+    state_->on_device_change = std::move(f);
+}
+
 void SerialListener::stop() {
     if (state_->stopped) return;
     state_->stopped = true;
+    state_->on_device_change = nullptr;
     spdlog::info("{}: {}: {}", state_->name, state_->options.device, state_->protocol.summary());
     asio::error_code ec;
     state_->frame_end.cancel();

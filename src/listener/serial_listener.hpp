@@ -6,6 +6,7 @@
 
 #include <asio.hpp>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -41,6 +42,11 @@ public:
     const std::string& absent() const noexcept { return absent_; }
     /// Stops reading (and reopening) and closes the device.
     void stop();
+    /// False while the device is gone (lost, or absent since it was made) and is being tried
+    /// again; true once it is open.
+    bool has_device() const noexcept;
+    /// Calls `f` each time has_device() changes (never after stop()).
+    void on_device_change(std::function<void()> f);
 
     struct State;
 

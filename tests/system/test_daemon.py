@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from conftest import PLCEMUD, REPO, free_ports, plcs_lines, port_open, spawn_plcs
+from rtu_pty import PtyPair
 
 D0 = 6000
 R3000 = 3000  # not retentive
@@ -97,6 +98,34 @@ def test_ready_is_sent_once_the_listener_is_open(start_plcemud, notify, tmp_path
     # READY=1 is sent after the listener opened; by now it must accept connections.
     assert port_open(d.port)
     assert "STATUS=station 1, tcp 127.0.0.1:" in ready
+
+
+def test_status_says_while_a_serial_line_waits_for_its_device(start_plcemud, notify, tmp_path):
+    """The status line was made at the start and at reloads only: a line whose device went
+    away was shown as serving. A new STATUS= says it waits, and another that it is back."""
+    pair = PtyPair(tmp_path)
+    try:
+        d = start_plcemud("profile: fbs\n"
+                          "modbus:\n  tcp: {bind: 127.0.0.1}\n"
+                          f"  rtu: {{device: {pair.slave}, parity: N}}\n"  # ptys refuse parity
+                          f"persistence: {{file: '{tmp_path / 'plc.state'}'}}\n")
+        ready = notify.wait_for("READY=1")
+        assert ready is not None and f"rtu {pair.slave}" in ready, (ready, d.log_text())
+        assert "waiting" not in ready, ready
+        pair.stop()
+        waiting = notify.wait_for("(waiting for the device)")
+        assert waiting is not None and waiting.startswith("STATUS="), (notify.messages, d.log_text())
+        assert "READY=1" not in waiting, waiting
+        pair = PtyPair(tmp_path)
+        seen = len(notify.messages)
+        deadline = time.monotonic() + 10  # the back-off is at most 5 s
+        while time.monotonic() < deadline and not any(
+                f"rtu {pair.slave}" in m and "waiting" not in m for m in notify.messages[seen:]):
+            notify.collect(0.2)
+        back = [m for m in notify.messages[seen:] if f"rtu {pair.slave}" in m]
+        assert back and "waiting" not in back[-1], (notify.messages, d.log_text())
+    finally:
+        pair.stop()
 
 
 def test_ready_fits_the_message_systemd_takes_with_many_plcs(notify, tmp_path):

@@ -14,7 +14,10 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import run_plcemud
+import json
+import urllib.request
+
+from conftest import free_port, run_plcemud
 from pymodbus.client import ModbusSerialClient
 from pymodbus.diag_message import ReturnBusMessageCountRequest
 from pymodbus.mei_message import ReadDeviceInformationRequest
@@ -391,6 +394,49 @@ def cpu_seconds(pid: int) -> float:
     with open(f"/proc/{pid}/stat") as f:
         fields = f.read().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def console_listeners(port: int) -> str:
+    """The console's listeners of the one PLC (GET /api/v1/plcs)."""
+    with urllib.request.urlopen(f"http://127.0.0.1:{port}/api/v1/plcs", timeout=5) as r:
+        return json.load(r)["plcs"][0]["listeners"]
+
+
+def wait_listeners(port: int, wanted, timeout: float = 10.0) -> str:
+    deadline = time.monotonic() + timeout
+    while True:
+        text = console_listeners(port)
+        if wanted(text) or time.monotonic() > deadline:
+            return text
+        time.sleep(0.1)
+
+
+def test_console_says_while_a_line_waits_for_its_device(start_plcemud, tmp_path):
+    """The listeners the console lists were described at the start and at reloads only: a
+    serial line whose device was unplugged was listed as if it served. It says it waits for its
+    device while it does, and no longer once the device is back."""
+    pair = PtyPair(tmp_path)
+    http = free_port()
+    try:
+        d = start_plcemud(rtu_config(pair.slave, "parity: N",
+                                     f"http: {{bind: 127.0.0.1, port: {http}}}\n"))
+        assert d.wait_log("listening on rtu"), d.log_text()
+        served = console_listeners(http)
+        assert f"rtu {pair.slave}" in served and "waiting" not in served, served
+
+        pair.stop()
+        assert d.wait_log(f"rtu: {pair.slave}: lost (", timeout=3), d.log_text()
+        waiting = wait_listeners(http, lambda t: "waiting" in t)
+        assert f"rtu {pair.slave}" in waiting, waiting
+        assert "(waiting for the device)" in waiting, waiting
+
+        pair = PtyPair(tmp_path)  # the same link paths
+        line = RawLine(pair.master)
+        back = wait_listeners(http, lambda t: "waiting" not in t)  # the back-off is at most 5 s
+        assert f"rtu {pair.slave}" in back and "waiting" not in back, (back, d.log_text())
+        line.close()
+    finally:
+        pair.stop()
 
 
 def test_device_that_goes_away_is_reopened_with_back_off(start_plcemud, tmp_path):
