@@ -414,8 +414,6 @@ public:
             hosts_[i]->start(now + period * (static_cast<std::int64_t>(i) % slots) / slots);
         }
 
-        // The watchdog hears from the scan loop itself: a stuck scan stops the pings.
-        scan_timer_.on_fired([this](Notifier::Clock::time_point at) { notify_.watchdog(at); });
         arm_signals();
         arm_watchdog_timer();
         notify_.ready(status_line());
@@ -448,18 +446,16 @@ private:
         return v;
     }
 
-    // A frozen simulation runs no scans, but the loop is alive: ping for it.
+    // The watchdog hears from the event loop that runs the scans: a scan that hangs stops the
+    // pings. A timer of its own, not the scans, because a PLC may scan seldom (a 1 s scan at
+    // time scale 0.01 is one scan in 100 s) or not at all (frozen) while the loop is well.
+    // Every quarter of the interval: a timer late by half the interval still pings in time.
     void arm_watchdog_timer() {
         if (!notify_.watchdog_enabled()) return;
-        watchdog_timer_.expires_after(notify_.watchdog_interval() / 2);
+        watchdog_timer_.expires_after(notify_.watchdog_interval() / 4);
         watchdog_timer_.async_wait([this](const asio::error_code& ec) {
             if (ec) return;
-            for (const auto& h : hosts_) {
-                if (h->frozen()) {
-                    notify_.watchdog(Notifier::Clock::now());
-                    break;
-                }
-            }
+            notify_.watchdog();
             arm_watchdog_timer();
         });
     }

@@ -39,9 +39,10 @@ public:
     bool watchdog_enabled() const { return interval_.count() > 0; }
     /// The manager's watchdog interval (0 when disabled).
     std::chrono::microseconds watchdog_interval() const { return interval_; }
-    /// Sends WATCHDOG=1 if half the interval has passed since the last ping (called after every
-    /// scan: a scan loop that stops turning stops the pings, and systemd restarts the service).
-    void watchdog(Clock::time_point now) noexcept;
+    /// Sends WATCHDOG=1 when the manager expects pings (the daemon calls it from a timer on the
+    /// scans' event loop every quarter interval: a loop that stops turning stops the pings, and
+    /// systemd restarts the service).
+    void watchdog() noexcept;
     /// Pings sent so far.
     unsigned long pings() const { return pings_; }
 
@@ -50,7 +51,6 @@ private:
 
     bool listening_ = false;
     std::chrono::microseconds interval_{0};
-    Clock::time_point last_ping_{};
     unsigned long pings_ = 0;
 };
 

@@ -103,7 +103,6 @@ void ScanTimer::fire() {
         if (Scheduled* d = firing_member(i)) now = d->due(now);
     }
     firing_now_ = false;
-    if (on_fired_ && !firing_.empty()) on_fired_(now);
     arm();
 }
 

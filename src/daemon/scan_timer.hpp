@@ -6,7 +6,6 @@
 #include <asio.hpp>
 #include <chrono>
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 namespace plcemu::daemon {
@@ -52,9 +51,6 @@ public:
     void cancel(Slot slot) noexcept;
     /// Stops the timer for good (the loop is ending).
     void stop() noexcept;
-    /// Called after each wake-up that ran drivers, with the last clock read they took (the
-    /// systemd watchdog: once a wake-up, not once a scan).
-    void on_fired(std::function<void(Clock::time_point)> f) { on_fired_ = std::move(f); }
 
 private:
     struct Entry {
@@ -88,7 +84,6 @@ private:
     Clock::time_point armed_ = Clock::time_point::max();
     std::size_t pending_ = 0;
     bool stopped_ = false;
-    std::function<void(Clock::time_point)> on_fired_;
 };
 
 }  // namespace plcemu::daemon

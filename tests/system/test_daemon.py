@@ -150,34 +150,64 @@ def test_ready_fits_the_message_systemd_takes_with_many_plcs(notify, tmp_path):
         d.stop()
 
 
-def test_watchdog_pings_come_from_the_scan_loop_at_half_the_interval(start_plcemud, notify,
-                                                                     monkeypatch, tmp_path):
+def ping_times(notify, seconds):
+    """When each WATCHDOG=1 came within `seconds`, on the monotonic clock."""
+    times = []
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        seen = len(notify.messages)
+        notify.collect(min(0.02, max(0.0, deadline - time.monotonic())))
+        times += [time.monotonic() for m in notify.messages[seen:] if m == "WATCHDOG=1"]
+    return times
+
+
+def assert_pinged_every_quarter(times, interval, seconds):
+    """A ping every quarter of the interval, and never a gap near the interval."""
+    expected = seconds / (interval / 4)
+    assert expected - 3 <= len(times) <= expected + 2, times
+    gaps = [b - a for a, b in zip(times, times[1:])]
+    assert max(gaps) < interval / 2, gaps
+
+
+def test_watchdog_pings_come_from_the_event_loop_every_quarter_interval(start_plcemud, notify,
+                                                                        monkeypatch, tmp_path):
     monkeypatch.setenv("WATCHDOG_USEC", "1000000")  # WatchdogSec=1s
     start_plcemud(config(tmp_path))
     assert notify.wait_for("READY=1")
     notify.messages.clear()
-    msgs = notify.collect(2.0)
-    pings = [m for m in msgs if m == "WATCHDOG=1"]
-    # One ping per 0.5 s (not one per 10 ms scan): about 4 in 2 s.
-    assert 2 <= len(pings) <= 6, msgs
+    # One ping per 0.25 s (not one per 10 ms scan): about 8 in 2 s.
+    assert_pinged_every_quarter(ping_times(notify, 2.0), 1.0, 2.0)
 
 
 def test_watchdog_pings_go_on_while_the_simulation_is_frozen(start_plcemud, notify, monkeypatch,
                                                              tmp_path):
-    """A frozen simulation (simulator unit 247, register 1) runs no scans but is not stuck."""
+    """A frozen simulation (simulator unit 247, register 1) runs no scans but is not stuck.
+    Frozen, pings came from a timer at half the interval that the ping's own spacing could
+    skip: gaps of the whole interval when the two were out of step."""
     monkeypatch.setenv("WATCHDOG_USEC", "1000000")
     d = start_plcemud(config(tmp_path))
     assert notify.wait_for("READY=1")
     c = d.client()
     assert not c.write_register(1, 1, slave=247).isError()
-    # Simulated time (registers 3-4) stands still: no scans, so no pings from the scan loop.
+    # Simulated time (registers 3-4) stands still: no scans.
     t0 = c.read_holding_registers(3, 2, slave=247).registers
     time.sleep(0.3)
     assert c.read_holding_registers(3, 2, slave=247).registers == t0
     notify.messages.clear()
-    pings = [m for m in notify.collect(2.0) if m == "WATCHDOG=1"]
-    assert 2 <= len(pings) <= 6, notify.messages
+    assert_pinged_every_quarter(ping_times(notify, 2.0), 1.0, 2.0)
     assert c.read_holding_registers(1, 1, slave=247).registers == [1]  # still frozen
+
+
+def test_watchdog_pings_go_on_between_scans_far_apart(start_plcemud, notify, monkeypatch,
+                                                      tmp_path):
+    """A 10 ms scan at time scale 0.001 runs once in 10 s of real time: the pings came only
+    after scans, and systemd would have killed a healthy daemon (WatchdogSec=10s)."""
+    monkeypatch.setenv("WATCHDOG_USEC", "1000000")
+    d = start_plcemud(config(tmp_path, extra="time_scale: 0.001\n"))
+    assert notify.wait_for("READY=1")
+    notify.messages.clear()
+    assert_pinged_every_quarter(ping_times(notify, 2.0), 1.0, 2.0)
+    assert d.proc.poll() is None
 
 
 def test_no_watchdog_pings_unless_asked(start_plcemud, notify, monkeypatch, tmp_path):
