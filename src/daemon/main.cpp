@@ -144,6 +144,8 @@ int main(int argc, char** argv) {
                     ? plcemu::config::parse_plcs(
                           "profile: " + std::string(default_profile().name()) + "\n", "<built-in>")
                     : plcemu::config::load_plcs(config_path, overrides);
+            // What the start would refuse is refused here too (exit status 2), not described.
+            plcemu::daemon::probe_all(plcs);
             // Several PLCs: one map after another, each headed by the PLC it is.
             for (std::size_t i = 0; i < plcs.size(); ++i) {
                 if (i > 0) std::cout << '\n';
@@ -159,6 +161,9 @@ int main(int argc, char** argv) {
         }
         if (show_program) {
             const auto plcs = plcemu::config::load_plcs(config_path, overrides);
+            // A program the start would refuse (an operand past its area, MC without MCR) is
+            // refused, not printed as if it read back.
+            plcemu::daemon::probe_all(plcs);
             for (std::size_t i = 0; i < plcs.size(); ++i) {
                 if (plcs.size() > 1) {
                     std::cout << (i > 0 ? "\n" : "") << "# " << plcs[i].label << "\n";

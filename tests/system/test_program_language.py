@@ -81,6 +81,25 @@ def test_examples_as_listings_run_register_for_register(start_plcemud, config_na
         assert listing_run[key] == entries[key], f"{config_name}: {key} differs"
 
 
+@pytest.mark.parametrize("program, error", [
+    ("program:\n  - MOV: {s: D0, d: D99999}\n", "MOV.d: expected 1 word(s)"),
+    ("program: {file: bad.il}\n", "bad.il:3:1: OUT: 1 block opened by LD not joined"),
+])
+@pytest.mark.parametrize("option", [["--print-program"], ["--export-tags", "csv"], ["--print-map"]])
+def test_what_the_start_refuses_is_not_printed(tmp_path, program, error, option):
+    """--print-program printed programs --check-config refuses (an operand past its area, a
+    block never joined) and exited 0, as if they read back, and --print-map described such a
+    config. Each refuses it as the start does (and --export-tags did), with exit status 2."""
+    (tmp_path / "bad.il").write_text("ORG M0\nLD M1\nOUT Y0\n")
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("profile: fbs\npersistence: {enabled: false}\n" + program)
+    r = run_plcemud("-c", str(cfg), "--check-config")
+    assert r.returncode == 2 and error in r.stderr, r.stderr
+    r = run_plcemud("-c", str(cfg), *option)
+    assert r.returncode == 2, (r.stdout, r.stderr)
+    assert error in r.stderr and r.stdout == "", (r.stdout, r.stderr)
+
+
 def test_listing_checks_prints_and_refuses_at_line_and_column(tmp_path):
     """--check-config accepts config/oven-il.yaml; --print-program numbers its statements (and
     reads back as the same program); a broken listing is refused with exit 2 at file:line:col
