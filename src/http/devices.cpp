@@ -7,20 +7,38 @@ namespace plcemu::http {
 
 namespace {
 
-// The devices a span covers, as an image range (a `W` span: 16 bits a word).
-image::Range range_of(const Span& s) {
-    return {s.first.area, s.first.index, s.first.word_of_bits ? s.count * 16 : s.count};
-}
-
 bool is_bits(const Span& s) { return image::is_bit_area(s.first.area) && !s.first.word_of_bits; }
 
-std::uint32_t step_of(const Span& s) { return s.first.word_of_bits ? 16 : 1; }
+// Where the span's k-th device lies in its area and how many of the area's entries it takes: a
+// `W` span's words are 16 bits apart, and a 32-bit counter's value takes two words (low word
+// first), so the counters after one are two words apart.
+struct At {
+    std::uint32_t index;
+    std::uint32_t words;
+};
+
+At device_at(const listener::Seat& plc, const Span& s, std::uint32_t k) {
+    if (s.first.area == image::Area::CV) {
+        const image::Naming& n = *plc.naming;
+        const std::uint32_t c = n.counter_of_word(s.first.index) + k;
+        return {n.counter_word(c), n.counter_words(c)};
+    }
+    return {s.first.index + k * (s.first.word_of_bits ? 16 : 1), 1};
+}
+
+// The devices a span covers, as an image range (a `W` span: 16 bits a word).
+image::Range range_of(const listener::Seat& plc, const Span& s) {
+    if (s.count == 0) return {s.first.area, s.first.index, 0};
+    const At last = device_at(plc, s, s.count - 1);
+    const std::uint32_t end = last.index + (s.first.word_of_bits ? 16 : last.words);
+    return {s.first.area, s.first.index, end - s.first.index};
+}
 
 // Why the span may not be written: the protected range it meets ("R4000-R4167 may not be
 // written: ..."), or "".
 std::string protected_by(const listener::Seat& plc, const Span& s) {
     const auto p =
-        listener::write_refused_by(plc.protected_ranges, plc.engine->holds(), range_of(s));
+        listener::write_refused_by(plc.protected_ranges, plc.engine->holds(), range_of(plc, s));
     if (!p) return "";
     return plc.naming->format_range(*p) +
            " may not be written: the PLC's read-only devices, program data or "
@@ -68,7 +86,7 @@ Span parse_span(const listener::Seat& plc,
         return s;
     }
     s.count = count;
-    const image::Range r = range_of(s);
+    const image::Range r = range_of(plc, s);
     if (r.end() > size) {
         refused = error(400, std::string(name) + " and the " + std::to_string(count - 1) +
                                  " after it go past the last " +
@@ -92,8 +110,14 @@ std::vector<std::uint32_t> read_span(const listener::Seat& plc, const Span& s) {
     std::vector<std::uint32_t> v(s.count);
     for (std::uint32_t k = 0; k < s.count; ++k) {
         image::Device d = s.first;
-        d.index += k * step_of(s);
-        v[k] = is_bits(s) ? (img.bit(d.area, d.index) ? 1U : 0U) : img.read_word(d);
+        const At at = device_at(plc, s, k);
+        d.index = at.index;
+        if (is_bits(s)) {
+            v[k] = img.bit(d.area, d.index) ? 1U : 0U;
+            continue;
+        }
+        v[k] = img.read_word(d);
+        if (at.words == 2) v[k] |= std::uint32_t{img.word(d.area, d.index + 1)} << 16;
     }
     return v;
 }
@@ -101,7 +125,7 @@ std::vector<std::uint32_t> read_span(const listener::Seat& plc, const Span& s) {
 Json span_names(const listener::Seat& plc, const Span& s) {
     Json names = Json::array();
     for (std::uint32_t k = 0; k < s.count; ++k) {
-        const std::uint32_t i = s.first.index + k * step_of(s);
+        const std::uint32_t i = device_at(plc, s, k).index;
         // Appended, not inserted in front: GCC 12 at -O2 takes insert(0, "W") for an
         // overlapping copy (-Wrestrict, a false positive -Werror would make fatal).
         std::string n = s.first.word_of_bits ? "W" : "";
@@ -109,6 +133,12 @@ Json span_names(const listener::Seat& plc, const Span& s) {
         names.push_back(std::move(n));
     }
     return names;
+}
+
+Json span_words(const listener::Seat& plc, const Span& s) {
+    Json words = Json::array();
+    for (std::uint32_t k = 0; k < s.count; ++k) words.push_back(device_at(plc, s, k).words);
+    return words;
 }
 
 Response devices(const Call& call, const listener::Seat& plc, std::string_view device) {
@@ -135,34 +165,46 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
         count = static_cast<std::uint32_t>(std::min<std::size_t>(it->size(), kMaxCount + 1));
         const Span s = parse_span(plc, device, count, refused);
         if (refused) return *refused;
-        std::vector<std::uint16_t> values;
+        std::vector<std::uint32_t> values;
         values.reserve(s.count);
         const bool bits = is_bits(s);
-        for (const Json& v : *it) {
+        for (std::uint32_t k = 0; k < s.count; ++k) {
+            const Json& v = (*it)[k];
+            const bool wide = device_at(plc, s, k).words == 2;
+            const long long lo = bits ? 0 : wide ? -2147483648LL : -32768;
+            const long long hi = bits ? 1 : wide ? 4294967295LL : 65535;
             long long x = 0;
             if (v.is_boolean()) {
                 x = v.get<bool>() ? 1 : 0;
             } else if (!v.is_number_integer()) {
                 return error(400,
                              "values: expected whole numbers, got " + image::excerpt(v.dump(), 40));
-            } else if (whole_in(v, bits ? 0 : -32768, bits ? 1 : 65535)) {
+            } else if (whole_in(v, lo, hi)) {
                 x = v.get<long long>();
             } else {
-                return error(400, "values: " + v.dump() + " is out of range for " +
-                                      std::string(device) +
-                                      (bits ? " (a bit: 0 or 1)" : " (a word: -32768 to 65535)"));
+                std::string why = "values: " + v.dump() + " is out of range for ";
+                why += plc.naming->format_device(s.first.area, device_at(plc, s, k).index);
+                why += bits   ? " (a bit: 0 or 1)"
+                       : wide ? " (a 32-bit counter: -2147483648 to 4294967295)"
+                              : " (a word: -32768 to 65535)";
+                return error(400, why);
             }
-            values.push_back(static_cast<std::uint16_t>(x & 0xFFFF));
+            values.push_back(static_cast<std::uint32_t>(x & 0xFFFFFFFF));
         }
         if (const std::string why = protected_by(plc, s); !why.empty()) return error(403, why);
         image::Image& img = plc.engine->image();
         for (std::uint32_t k = 0; k < s.count; ++k) {
             image::Device d = s.first;
-            d.index += k * step_of(s);
-            if (is_bits(s)) {
+            const At at = device_at(plc, s, k);
+            d.index = at.index;
+            if (bits) {
                 img.set_bit(d.area, d.index, values[k] != 0);
-            } else {
-                img.write_word(d, values[k]);
+                continue;
+            }
+            img.write_word(d, static_cast<std::uint16_t>(values[k] & 0xFFFF));
+            if (at.words == 2) {
+                d.index += 1;
+                img.write_word(d, static_cast<std::uint16_t>(values[k] >> 16));
             }
         }
         return json(200, Json{{"device", std::string(device)},
@@ -174,6 +216,7 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
     return json(200, Json{{"device", std::string(device)},
                           {"names", span_names(plc, s)},
                           {"bits", is_bits(s)},
+                          {"words", span_words(plc, s)},
                           {"values", read_span(plc, s)}});
 }
 

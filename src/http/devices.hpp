@@ -28,11 +28,15 @@ Span parse_span(const listener::Seat& plc,
                 std::uint32_t count,
                 std::optional<Response>& refused);
 
-/// The span's values: 0/1 for bits, 0–65535 for words (16 bits of a `W` span).
+/// The span's values: 0/1 for bits, 0–65535 for words (16 bits of a `W` span), 0–4294967295
+/// for 32-bit counters (both words, low word first).
 std::vector<std::uint32_t> read_span(const listener::Seat& plc, const Span& span);
 
 /// The span's device names ("R100", "R101", ...; "WM800", "WM816" for words of bits).
 Json span_names(const listener::Seat& plc, const Span& span);
+
+/// The words each of the span's devices takes: 2 for a 32-bit counter, else 1.
+Json span_words(const listener::Seat& plc, const Span& span);
 
 /// `GET/PUT /api/v1/plcs/{plc}/devices/{device}`.
 Response devices(const Call& call, const listener::Seat& plc, std::string_view device);

@@ -56,7 +56,10 @@ std::string Subscription::poll(listener::UnitTable& units, bool& ended) {
         std::vector<std::uint32_t> values = read_span(*plc, s);
         if (!sent_values_ || values != last_values_) {
             event(out, "values",
-                  Json{{"device", device_}, {"names", span_names(*plc, s)}, {"values", values}});
+                  Json{{"device", device_},
+                       {"names", span_names(*plc, s)},
+                       {"words", span_words(*plc, s)},
+                       {"values", values}});
             last_values_ = std::move(values);
             sent_values_ = true;
         }

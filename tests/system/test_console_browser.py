@@ -190,6 +190,29 @@ def test_a_modbus_write_shows_in_the_devices_page_within_a_second(browser, start
     assert not_reloaded(browser)
 
 
+def test_a_32_bit_counter_shows_and_takes_one_32_bit_value(browser, start_plcemud):
+    """CTR200-CTR255 (two words each, low word first) showed as their low word, CTR200 twice,
+    and a value typed in was cut to 16 bits."""
+    d, base = start_console(start_plcemud)
+    c = d.client()
+    # C200-C201 current values: holding registers 9700-9703 (docs/profile-fbs.md).
+    assert not c.write_registers(9700, [0xFFFE, 0xFFFF, 70000 & 0xFFFF, 70000 >> 16],
+                                 slave=1).isError()
+    open_devices(browser, base, "CTR199", count=3)
+    names = [th.text for th in browser.find_elements(By.CSS_SELECTOR, "#devices th.device")]
+    assert names == ["CTR199", "CTR200", "CTR201"], names
+    assert row_texts(browser, "CTR200") == [
+        "4294967294", "-2", "0xFFFFFFFE", "1111 1111 1111 1111 1111 1111 1111 1110"]
+    assert row_texts(browser, "CTR201")[:3] == ["70000", "70000", "0x00011170"]
+    assert row_texts(browser, "CTR199")[2] == "0x0000"  # a 16-bit counter beside them
+    type_into(browser, "CTR201", "-100000")
+    wait(browser, lambda _: c.read_holding_registers(9702, 2, slave=1).registers ==
+         [(-100000) & 0xFFFF, ((-100000) >> 16) & 0xFFFF], what="CTR201 was not written")
+    wait(browser, lambda dr: row_texts(dr, "CTR201")[1] == "-100000",
+         what="CTR201 did not show -100000")
+    assert not_reloaded(browser)
+
+
 def test_editing_a_value_writes_the_register(browser, start_plcemud):
     d, base = start_console(start_plcemud)
     open_devices(browser, base, "R100")

@@ -442,7 +442,7 @@ def test_read_words_equal_what_modbus_reads(fbs):
     assert r.status == 200, r
     body = r.json()
     assert body == {"device": "R100", "names": ["R100", "R101", "R102"], "bits": False,
-                    "values": [11, 22, 33]}, body
+                    "words": [1, 1, 1], "values": [11, 22, 33]}, body
     assert body["values"] == holding(c, 100, 3)
     # count defaults to 1; names are case-insensitive on the way in
     assert devices(fbs.http, "r100").json()["values"] == [11]
@@ -455,7 +455,7 @@ def test_read_bits_give_0_and_1(fbs):
     assert not c.write_coils(Y0_COIL, [True, False, True, True], slave=1).isError()
     m = devices(fbs.http, "M10", 3).json()
     assert m == {"device": "M10", "names": ["M10", "M11", "M12"], "bits": True,
-                 "values": [1, 0, 1]}, m
+                 "words": [1, 1, 1], "values": [1, 0, 1]}, m
     y = devices(fbs.http, "Y0", 4).json()
     assert y["bits"] is True and y["values"] == [1, 0, 1, 1] == coils(c, Y0_COIL, 4), y
 
@@ -468,7 +468,7 @@ def test_read_a_word_of_bits(fbs):
     assert not c.write_coils(M0_COIL + 800, bits, slave=1).isError()
     r = devices(fbs.http, "WM800", 2).json()
     assert r == {"device": "WM800", "names": ["WM800", "WM816"], "bits": False,
-                 "values": [0x8001, 0x0002]}, r
+                 "words": [1, 1], "values": [0x8001, 0x0002]}, r
 
 
 def test_read_big_counts_and_the_end_of_an_area(fbs):
@@ -485,7 +485,8 @@ def test_vb_numbers_x_and_y_in_octal(start_http):
     r = devices(plc.http, "X17", 2)
     assert r.status == 200, r
     body = r.json()
-    assert body == {"device": "X17", "names": ["X17", "X20"], "bits": True, "values": [1, 0]}, body
+    assert body == {"device": "X17", "names": ["X17", "X20"], "bits": True, "words": [1, 1],
+                    "values": [1, 0]}, body
     di = c.read_discrete_inputs(VB_X0_INPUT + 0o17, 2, slave=1)
     assert not di.isError(), di
     assert [int(b) for b in di.bits[:2]] == body["values"]
@@ -654,6 +655,46 @@ def test_a_body_that_is_not_a_json_object_is_400(fbs, body):
                 headers={"Content-Type": "application/json"})
     assert_error(r, 400, "not a JSON object")
     assert holding(c, 145) == [45]
+
+
+C200_WIRE = 9700  # C200-C255 current values, two words each, low word first
+
+
+def test_a_32_bit_counter_is_one_device_of_both_words(fbs):
+    """CTR200-CTR255 were read and written a word at a time: CTR200 gave its low word alone,
+    count=2 named CTR200 twice, and a PUT of -1 left the counter at 65535."""
+    c = fbs.client()
+    before = c.read_holding_registers(C200_WIRE - 1, 5, slave=1).registers  # C199-C201
+    try:
+        assert not c.write_registers(C200_WIRE, [70000 & 0xFFFF, 70000 >> 16, 0xFFFE, 0xFFFF],
+                                     slave=1).isError()
+        r = get(fbs.http, "/api/v1/plcs/0/devices/CTR199?count=3")
+        assert r.status == 200, r.body
+        body = r.json()
+        assert body["names"] == ["CTR199", "CTR200", "CTR201"], body
+        assert body["words"] == [1, 2, 2], body
+        assert body["values"] == [before[0], 70000, 0xFFFFFFFE], body
+
+        r = put(fbs.http, "/api/v1/plcs/0/devices/CTR200", json_body={"values": [-1, 100000]})
+        assert r.status == 200, r.body
+        assert r.json()["names"] == ["CTR200", "CTR201"], r.json()
+        assert r.json()["values"] == [0xFFFFFFFF, 100000], r.json()
+        assert c.read_holding_registers(C200_WIRE, 4, slave=1).registers == \
+            [0xFFFF, 0xFFFF, 100000 & 0xFFFF, 100000 >> 16]
+
+        assert_error(put(fbs.http, "/api/v1/plcs/0/devices/CTR201", json_body={"values": [2**32]}),
+                     400, "4294967296 is out of range for CTR201", "32-bit counter")
+        assert_error(put(fbs.http, "/api/v1/plcs/0/devices/CTR199",
+                         json_body={"values": [65536, 0]}),
+                     400, "65536 is out of range for CTR199", "a word")
+        r = put(fbs.http, "/api/v1/plcs/0/devices/CTR199", json_body={"values": [5, 65536]})
+        assert r.status == 200 and r.json()["values"] == [5, 65536], r.body  # C200 takes it
+        assert_error(get(fbs.http, "/api/v1/plcs/0/devices/CTR255?count=2"), 400,
+                     "go past the last", "CTR255")
+        r = get(fbs.http, "/api/v1/plcs/0/devices/CTR255")
+        assert r.status == 200 and r.json()["names"] == ["CTR255"], r.body
+    finally:
+        c.write_registers(C200_WIRE - 1, before, slave=1)
 
 
 @pytest.mark.parametrize("body, why", [
@@ -1524,7 +1565,8 @@ def test_events_carry_values_when_they_change(fbs):
     stream = EventStream(fbs.http, "/api/v1/plcs/0/events?device=R160&count=2")
     try:
         first = stream.next("values")
-        assert first == {"device": "R160", "names": ["R160", "R161"], "values": [5, 6]}, first
+        assert first == {"device": "R160", "names": ["R160", "R161"], "words": [1, 1],
+                         "values": [5, 6]}, first
         state = stream.next("plcs")
         assert [p["id"] for p in state["plcs"]] == ["0"], state
         t0 = time.monotonic()

@@ -393,6 +393,11 @@
   const hex16 = (v) => '0x' + v.toString(16).toUpperCase().padStart(4, '0');
   const hex2 = (v) => v.toString(16).toUpperCase().padStart(2, '0');
   const bits16 = (v) => v.toString(2).padStart(16, '0').replace(/(\d{4})(?=\d)/g, '$1 ');
+  // A device of two words (a 32-bit counter) reads as one 32-bit value.
+  const signedOf = (v, words) => (words === 2 ? (v >= 0x80000000 ? v - 0x100000000 : v) : signed16(v));
+  const hexOf = (v, words) => (words === 2 ? '0x' + v.toString(16).toUpperCase().padStart(8, '0') : hex16(v));
+  const bitsOf = (v, words) =>
+    words === 2 ? v.toString(2).padStart(32, '0').replace(/(\d{4})(?=\d)/g, '$1 ') : bits16(v);
 
   // "1234", "-5", "+7", "0x1F", "-0x10" -> a number; anything else -> null.
   function parseValue(text) {
@@ -582,10 +587,10 @@
     const devicePath = (name) => apiPlc(plc) + '/devices/' + encodeURIComponent(name);
     let bits = false;
     let names = [];
-    const rows = new Map(); // name -> {input, valueCell, signed, hex, bits, current}
+    const rows = new Map(); // name -> {input, valueCell, signed, hex, bits, words, current}
 
-    function header() {
-      const cols = bits ? ['Device', 'Value'] : ['Device', 'Decimal', 'Signed', 'Hex', 'Bits (15 … 0)'];
+    function header(wide) {
+      const cols = bits ? ['Device', 'Value'] : ['Device', 'Decimal', 'Signed', 'Hex', wide ? 'Bits (31 or 15 … 0)' : 'Bits (15 … 0)'];
       thead.replaceChildren(
         ...cols.map((c, i) => el('th', {text: c, className: i === 0 ? '' : i < 4 ? 'num' : '', attrs: {scope: 'col'}}))
       );
@@ -594,16 +599,17 @@
     function render(data) {
       bits = data.bits === true;
       names = data.names.map(String);
+      const words = Array.isArray(data.words) ? data.words : [];
       rows.clear();
-      header();
-      const trs = names.map((name) => {
+      header(words.includes(2));
+      const trs = names.map((name, i) => {
         const input = el('input', {
           className: 'value',
           dataset: {device: name},
           attrs: {type: 'text', inputmode: bits ? 'numeric' : 'text', autocomplete: 'off', spellcheck: 'false', 'aria-label': name + ' value'},
         });
         const valueCell = el('td', {className: 'num', dataset: {device: name}}, input);
-        const r = {input, valueCell, current: null};
+        const r = {input, valueCell, words: words[i] === 2 ? 2 : 1, current: null};
         const tr = el('tr', {}, el('th', {className: 'device', text: name, attrs: {scope: 'row'}}), valueCell);
         if (!bits) {
           r.signed = el('td', {className: 'num mono'});
@@ -627,9 +633,9 @@
         r.input.classList.remove('edited');
       }
       if (!bits) {
-        setText(r.signed, signed16(v));
-        setText(r.hex, hex16(v));
-        setText(r.bits, bits16(v));
+        setText(r.signed, signedOf(v, r.words));
+        setText(r.hex, hexOf(v, r.words));
+        setText(r.bits, bitsOf(v, r.words));
       }
     }
 
@@ -667,7 +673,7 @@
         input.value = String(back);
         input.classList.remove('edited');
         if (r) showOne(r, back);
-        say(name + ' = ' + back + (bits ? '' : ' (' + hex16(back) + ')') + ': written', 'ok');
+        say(name + ' = ' + back + (bits ? '' : ' (' + hexOf(back, r ? r.words : 1) + ')') + ': written', 'ok');
       } catch (e) {
         say(e.message, 'error');
       } finally {
