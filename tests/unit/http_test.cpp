@@ -181,7 +181,7 @@ TEST(HttpApi, DevicesAreReadAndWrittenByTheFamilysNames) {
     EXPECT_EQ(r.status, 200u);
     EXPECT_EQ(r.body,
               "{\"bits\":false,\"device\":\"R100\",\"names\":[\"R100\",\"R101\"],\"values\":"
-              "[1500,65534]}\n");
+              "[1500,65534],\"words\":[1,1]}\n");
     r = rig.call("PUT", "/api/v1/plcs/0/devices/R100", "{\"values\":[-1, 7]}");
     EXPECT_EQ(r.status, 200u) << r.body;
     EXPECT_EQ(rig.r(100), 65535);
