@@ -34,7 +34,7 @@ std::size_t Dispatcher::answer(const Request& r, PduBuffer out) noexcept {
 
     ++stats_.requests;
     const FunctionHandler handler = fc < functions_.size() ? functions_[fc] : nullptr;
-    if (handler == nullptr) return exception(Status::IllegalFunction);
+    if (handler == nullptr || !r.unit.serves(fc)) return exception(Status::IllegalFunction);
     const FunctionRequest request{r.pdu, r.unit, r.slave_id, r.broadcast, identity_};
     const FunctionReply reply = handler(request, out);
     if (reply.status != Status::Ok) return exception(reply.status);

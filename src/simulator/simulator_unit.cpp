@@ -328,6 +328,10 @@ void SimulatorUnit::apply(std::uint16_t addr, std::uint16_t v) noexcept {
     plant_.set_params(c, p);  // clamps to the model's ranges
 }
 
+bool SimulatorUnit::serves(std::uint8_t fc) const noexcept {
+    return fc == 0x03 || fc == 0x06 || fc == 0x10 || fc == 0x16 || fc == 0x17;
+}
+
 void SimulatorUnit::written(Table table, std::uint16_t addr, std::uint16_t qty) noexcept {
     if (table != Table::HoldingRegisters) return;
     // In address order, so one write of [freeze = 1, step = N] freezes and then steps.

@@ -97,6 +97,9 @@ public:
                            std::uint16_t qty,
                            bool write) noexcept override;
     void written(modbus::Table table, std::uint16_t addr, std::uint16_t qty) noexcept override;
+    /// The holding-register functions (03, 06, 16, 22, 23) only: the unit is no PLC, and
+    /// answering the identity requests (08, 11h, 2Bh) would list it as one beside the station.
+    bool serves(std::uint8_t fc) const noexcept override;
 
     /// True for a wire address of the map (read access).
     static bool mapped(std::uint16_t addr);

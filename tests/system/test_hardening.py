@@ -299,6 +299,25 @@ def test_read_only_covers_the_simulator_unit(start_plcemud):
     assert c.read_holding_registers(100, 1, slave=SIM).registers == [0]
 
 
+@pytest.mark.parametrize("pdu", [
+    bytes([0x08, 0x00, 0x00, 0x12, 0x34]),  # diagnostics: return query data
+    bytes([0x11]),                          # report server ID
+    bytes([0x2B, 0x0E, 0x01, 0x00]),        # read device identification, basic
+    bytes([0x01, 0x00, 0x00, 0x00, 0x01]),  # coils
+    bytes([0x04, 0x00, 0x00, 0x00, 0x01]),  # input registers
+    bytes([0x07]),                          # read exception status
+])
+def test_the_simulator_unit_answers_holding_registers_only(start_plcemud, pdu):
+    """Unit 247 answered the identity requests as the PLC ("FATEK FBs-24MC" to 11h), so a unit
+    scanner listed a second PLC there. Every function but the holding registers' is 01."""
+    d = start_plcemud(BASE_CONFIG)
+    with connect(d.port) as s:
+        assert raw_exchange(s, pdu, unit=SIM) == bytes([pdu[0] | 0x80, 0x01])
+        if pdu[0] in (0x08, 0x11, 0x2B):  # the PLC itself still answers who it is
+            assert raw_exchange(s, pdu, unit=1)[0] == pdu[0]
+        assert raw_exchange(s, bytes([0x03, 0x00, 0x00, 0x00, 0x01]), unit=SIM)[0] == 0x03
+
+
 def test_simulator_writable_opens_the_unit_on_a_read_only_gateway(start_plcemud):
     d = start_plcemud(
         "profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1}, read_only: true}\n"

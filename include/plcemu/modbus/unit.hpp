@@ -66,6 +66,9 @@ public:
                            std::uint16_t addr,
                            std::uint16_t qty,
                            bool write) noexcept = 0;
+    /// Whether the unit answers function code `fc` at all (the dispatcher refuses the rest with
+    /// IllegalFunction before any handler runs): a PLC answers every one the dispatcher has.
+    virtual bool serves(std::uint8_t /*fc*/) const noexcept { return true; }
     /// Called after a write landed in a window this unit returned.
     virtual void written(Table /*table*/, std::uint16_t /*addr*/, std::uint16_t /*qty*/) noexcept {}
     /// The devices `qty` elements of `table` from `addr` reach, as far as one range goes (the
