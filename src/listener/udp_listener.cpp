@@ -24,9 +24,8 @@ namespace {
 constexpr int kLogBurst = 5;
 constexpr std::chrono::seconds kLogWindow{10};
 // UDP has no connections: a peer is listed as a client while it keeps asking. The peers heard
-// most recently are kept, and one silent this long is no longer listed.
+// most recently are kept, and one silent for UdpOptions::forget_after is no longer listed.
 constexpr std::size_t kPeers = 16;
-constexpr std::chrono::seconds kPeerSilence{60};
 // Answers held at once by a delay fault; beyond it more are dropped.
 constexpr std::size_t kMaxHeld = 256;
 
@@ -40,6 +39,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     State(asio::io_context& io, StreamProtocol& p, UdpOptions o)
         : socket(io),
           summary(io),
+          forget(io),
           protocol(p),
           options(std::move(o)),
           in(p.max_frame() + 1),
@@ -128,7 +128,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
         const auto now = std::chrono::steady_clock::now();
         Peer* hit = nullptr;
         std::erase_if(peers, [&](const Peer& p) {
-            const bool gone = p.endpoint != ep && now - p.last > kPeerSilence;
+            const bool gone = p.endpoint != ep && now - p.last > options.forget_after;
             if (gone) protocol.units().client_gone(p.client.id);
             return gone;
         });
@@ -148,7 +148,31 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
             hit = &peers.back();
         }
         hit->last = now;
+        if (!forget_armed) arm_forget();
         return hit->client;
+    }
+
+    // A peer that goes silent is no longer listed once its minute is over, whether or not
+    // another datagram comes: the timer waits for the first peer due to go.
+    void arm_forget() {
+        if (peers.empty()) return;
+        const auto first =
+            std::min_element(peers.begin(), peers.end(), [](const Peer& a, const Peer& b) {
+                return a.last < b.last;
+            })->last;
+        forget_armed = true;
+        forget.expires_at(first + options.forget_after + std::chrono::milliseconds(1));
+        forget.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+            self->forget_armed = false;
+            if (ec || !self->socket.is_open()) return;
+            const auto now = std::chrono::steady_clock::now();
+            std::erase_if(self->peers, [&](const Peer& p) {
+                const bool gone = now - p.last > self->options.forget_after;
+                if (gone) self->protocol.units().client_gone(p.client.id);
+                return gone;
+            });
+            self->arm_forget();
+        });
     }
 
     bool allowed(const asio::ip::address& a) const {
@@ -162,6 +186,8 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     udp::socket socket;
     asio::steady_timer summary;  // sums up what the limiter held back
     bool summary_armed = false;
+    asio::steady_timer forget;  // unlists peers silent for options.forget_after
+    bool forget_armed = false;
     StreamProtocol& protocol;
     UdpOptions options;
     std::vector<std::uint8_t> in;
@@ -225,6 +251,7 @@ void UdpListener::stop() {
     }
     state_->socket.close(ec);
     state_->summary.cancel();
+    state_->forget.cancel();
     for (const auto& p : state_->peers) state_->protocol.units().client_gone(p.client.id);
     state_->peers.clear();
 }

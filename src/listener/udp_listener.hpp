@@ -4,6 +4,7 @@
 // as the FATEK Ethernet modules do). No connections: nothing to hold open, nothing to time out.
 
 #include <asio.hpp>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -20,6 +21,9 @@ struct UdpOptions {
     std::uint16_t port = 500;      ///< port (0 = any free port)
     std::vector<Cidr> allow;       ///< peers answered (empty = all); others are ignored
     std::string_view protocol{};   ///< the protocol's name, as its clients are listed
+    /// A peer silent this long is no longer listed as a client (the console's "heard in the
+    /// last minute").
+    std::chrono::milliseconds forget_after{std::chrono::minutes(1)};
 };
 
 /// The UDP listener.

@@ -27,12 +27,14 @@ public:
                        std::span<std::uint8_t> out) noexcept override {
         ++answered;
         if (!frame.empty() && frame[0] == '-') return 0;
+        if (const Client* c = units_.serving()) traffic.record(*c, Exchange{});
         std::transform(frame.begin(), frame.end(), out.begin(),
                        [](std::uint8_t c) { return static_cast<std::uint8_t>(std::toupper(c)); });
         return frame.size();
     }
     UnitTable& units() noexcept override { return units_; }
     int answered = 0;
+    Traffic traffic;  // the peers it lists as clients
 
 private:
     UnitTable units_;
@@ -40,11 +42,16 @@ private:
 
 class UdpListenerTest : public ::testing::Test {
 protected:
-    void open(std::vector<Cidr> allow = {}) {
+    void open(std::vector<Cidr> allow = {},
+              std::chrono::milliseconds forget_after = std::chrono::minutes(1)) {
+        Seat seat;
+        seat.traffic = &shout_.traffic;
+        shout_.units().assign({seat});
         UdpOptions o;
         o.bind = "127.0.0.1";
         o.port = 0;
         o.allow = std::move(allow);
+        o.forget_after = forget_after;
         listener_ = std::make_unique<UdpListener>(io_, shout_, o);
         client_.open(asio::ip::udp::v4());
     }
@@ -87,6 +94,22 @@ TEST_F(UdpListenerTest, EachDatagramIsAnsweredToItsSender) {
     EXPECT_EQ(ask("x1y2"), "X1Y2");
     EXPECT_EQ(shout_.answered, 2);
     EXPECT_NE(listener_->endpoint().find("127.0.0.1:"), std::string::npos);
+}
+
+// The console lists the peers heard in the last minute: one that goes silent leaves the list
+// when its time is up, not only when another datagram comes.
+TEST_F(UdpListenerTest, APeerSilentTooLongIsNoLongerListedWithoutAnotherDatagram) {
+    open({}, 1000ms);
+    EXPECT_EQ(ask("abc"), "ABC");  // ask() runs the loop 300 ms
+    ASSERT_EQ(shout_.traffic.clients().size(), 1u);
+    io_.restart();
+    io_.run_for(200ms);
+    EXPECT_EQ(shout_.traffic.clients().size(), 1u);  // heard about 500 ms ago: not yet
+    io_.restart();
+    io_.run_for(800ms);
+    EXPECT_TRUE(shout_.traffic.clients().empty());  // about 1.3 s
+    EXPECT_EQ(ask("again"), "AGAIN");               // it comes back as a new client
+    EXPECT_EQ(shout_.traffic.clients().size(), 1u);
 }
 
 TEST_F(UdpListenerTest, UnansweredAndOversizedDatagramsGetNothingAndServingGoesOn) {
