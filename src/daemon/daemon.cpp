@@ -214,7 +214,10 @@ public:
     bool same_state_file(const config::Config& next) const {
         if (next.persistence.enabled != (state_ != nullptr)) return false;
         if (!state_) return true;
-        return config::state_file_path(next, state_directory()) == state_->path();
+        // As the start would find it: `dir/./x.state` and `x.state` beside a relative config
+        // are the file it holds.
+        return config::state_file_key(config::state_file_path(next, state_directory())) ==
+               config::state_file_key(state_->path());
     }
 
     // Why `next` cannot be applied without a restart, or empty.

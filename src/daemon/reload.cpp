@@ -204,7 +204,9 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
             a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),
             b.simulator.writable ? text(*b.simulator.writable) : std::string("default"));
     compare(out, "persistence.enabled", a.persistence.enabled, b.persistence.enabled);
-    compare(out, "persistence.file", a.persistence.file, b.persistence.file);
+    compare(out, "persistence.file",
+            a.persistence.file.empty() ? std::string("default") : a.persistence.file,
+            b.persistence.file.empty() ? std::string("default") : b.persistence.file);
     const auto& ra = a.persistence.retentive;
     const auto& rb = b.persistence.retentive;
     if (ra.has_value() != rb.has_value() || (ra && !image::same_devices(*ra, *rb))) {

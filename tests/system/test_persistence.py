@@ -406,6 +406,25 @@ def test_a_reload_to_the_most_retentive_ranges_keeps_the_daemon(start_plcemud, t
     assert read(d.client(), D0 + 2) == [77], d.log_text()
 
 
+def test_a_reload_naming_the_same_state_file_otherwise_says_nothing_moves(start_plcemud,
+                                                                        tmp_path):
+    """`dir/./e.state` for `dir/e.state` is the file the daemon holds: a reload warned that the
+    state file would become it at the next start. A key taken away said `-> ` and nothing."""
+    d = start_plcemud("profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1}}\n"
+                      f"persistence: {{file: '{tmp_path}/e.state'}}\n")
+    config = Path(d.config_path)
+    config.write_text(config.read_text().replace(f"{tmp_path}/e.state", f"{tmp_path}/./e.state"))
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("reload: done"), d.log_text()
+    assert "the state file becomes" not in d.log_text(), d.log_text()
+    config.write_text("profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1, port: %d}}\n" % d.port)
+    d.proc.send_signal(signal.SIGHUP)
+    assert d.wait_log("the state file becomes"), d.log_text()
+    assert "e.state -> default" in d.log_text(), d.log_text()
+    assert f"the state file becomes {tmp_path}/{config.stem}.state at the next start" in \
+        d.log_text(), d.log_text()
+
+
 @pytest.mark.parametrize("how", ["deleted", "moved", "linked"])
 def test_a_state_file_taken_away_while_in_use_is_said_once(start_plcemud, tmp_path, how):
     # docs/operations.md, "Retentive memory": said at the next sync, once; the PLC runs on, and
