@@ -243,8 +243,8 @@ void SimulatorUnit::apply_comm_faults(bool clear) noexcept {
         s.disconnect_after = w[sim::kDisconnectAfter];
         s.reset = w[sim::kDisconnect] >= 2;
     }
-    s.garble =
-        w[sim::kGarble] <= 3 ? static_cast<config::Garble>(w[sim::kGarble]) : config::Garble::None;
+    s.garble = static_cast<config::Garble>(
+        std::min<std::uint16_t>(w[sim::kGarble], static_cast<std::uint16_t>(config::Garble::Gap)));
     s.stop = w[sim::kStop] != 0;
     s.unit = static_cast<std::uint8_t>(std::min<std::uint16_t>(w[sim::kScopeUnit], 255));
     s.function = static_cast<std::uint8_t>(std::min<std::uint16_t>(w[sim::kScopeFunction], 255));
@@ -253,8 +253,12 @@ void SimulatorUnit::apply_comm_faults(bool clear) noexcept {
         const std::uint16_t word = w[sim::kScopeFrom + i / 2];
         const auto c = static_cast<char>(i % 2 == 0 ? word >> 8 : word & 0xFF);
         if (c == '\0') break;
-        if (c != ' ') from += c;
+        from += c;
     }
+    // Padded with spaces or NULs at either end; a space inside ("R 1") is no device name.
+    const auto first = from.find_first_not_of(' ');
+    from = first == std::string::npos ? std::string()
+                                      : from.substr(first, from.find_last_not_of(' ') + 1 - first);
     comm_refused_ = false;
     if (!from.empty()) {
         const std::uint32_t count = std::max<std::uint32_t>(w[sim::kScopeCount], 1);

@@ -908,6 +908,23 @@ def test_scope_by_device_range_from_the_config(start_plcemud):
         assert raw.ask(b"\x08\x00\x00\x12\x34") == b"\x08\x00\x00\x12\x34"
 
 
+def test_the_block_clamps_garble_and_reads_from_as_one_device_name(start_plcemud):
+    """garble 9 was taken as none, where every register of the block is clamped to its range
+    (3, gap); spaces inside `from` were dropped, so "R 1" was R1. Padding is still allowed."""
+    d = start_plcemud(BASE_CONFIG)
+    sim = Sim(d)
+    ok(sim.c.write_registers(BLOCK_FIRST, block(garble=9), slave=SIM))
+    assert ok(sim.c.read_holding_registers(REG["garble"], 1, slave=SIM)).registers == [3]
+    sim.clear()
+    ok(sim.c.write_registers(BLOCK_FIRST, block(**{"from": "R 1"}), slave=SIM))
+    assert sim.status() & 2 == 2, "R 1 was taken for a device"
+    sim.clear()
+    ok(sim.c.write_registers(BLOCK_FIRST, block(**{"from": " R1  "}), slave=SIM))
+    assert sim.status() & 2 == 0, "a padded R1 was refused"
+    assert bytes(b for w in ok(sim.c.read_holding_registers(REG["from_1"], 4, slave=SIM)).registers
+                 for b in w.to_bytes(2, "big")).rstrip(b"\0 ") == b"R1"
+
+
 def test_scope_by_function_and_by_unit(start_plcemud):
     # FC04 reads R200.. through the user map (R3975: count, type, start).
     d = start_plcemud(BASE_CONFIG + "init: {R3975: [0, 200, 8], R200: 42, R0: 1}\n")
