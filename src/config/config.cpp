@@ -293,8 +293,10 @@ void read_listing_file(const Reader& r, const Node& file, std::vector<ListingLin
     } catch (const ConfigError& e) {
         r.fail(file, "program.file: " + e.message());
     }
+    // A UTF-8 byte order mark, as editors on Windows save a text file, is not part of the first
+    // statement (the YAML reader skips it as well).
+    std::size_t start = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
     int line = 1;
-    std::size_t start = 0;
     while (start <= text.size()) {
         std::size_t end = text.find('\n', start);
         if (end == std::string::npos) end = text.size();

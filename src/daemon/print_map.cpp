@@ -123,7 +123,9 @@ std::vector<Row> rows_of(const config::Config& config, const modbus::AddressMap&
         const Sim fixed[] = {
             {0, "simulator: time scale, 1-10000 simulated s per real s", true},
             {1, "simulator: freeze, 1 = scans stopped", true},
-            {2, "simulator: step, write N to run N scans (reads 0)", true},
+            {2,
+             "simulator: step, write N to queue N scans (0 cancels); reads the scans still queued",
+             true},
             {3, "simulator: simulated time, s, low word", false},
             {4, "simulator: simulated time, s, high word", false},
         };

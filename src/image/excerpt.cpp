@@ -11,11 +11,12 @@ namespace {
 
 // What a terminal acts on instead of showing: C0 and C1 controls, DEL, the line and paragraph
 // separators, and the bidirectional marks, embeddings, overrides and isolates (which reorder the
-// rest of the line).
+// rest of the line); and what it shows as nothing (the zero-width space, joiners and word joiner,
+// the byte order mark), which would make a quoted name look like another.
 bool escaped(char32_t c) {
-    return c < 0x20 || (c >= 0x7F && c <= 0x9F) || c == 0x061C || c == 0x200E || c == 0x200F ||
-           c == 0x2028 || c == 0x2029 || (c >= 0x202A && c <= 0x202E) ||
-           (c >= 0x2066 && c <= 0x2069);
+    return c < 0x20 || (c >= 0x7F && c <= 0x9F) || c == 0x061C || (c >= 0x200B && c <= 0x200F) ||
+           c == 0x2028 || c == 0x2029 || (c >= 0x202A && c <= 0x202E) || c == 0x2060 ||
+           (c >= 0x2066 && c <= 0x2069) || c == 0xFEFF;
 }
 
 }  // namespace

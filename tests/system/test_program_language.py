@@ -81,6 +81,22 @@ def test_examples_as_listings_run_register_for_register(start_plcemud, config_na
         assert listing_run[key] == entries[key], f"{config_name}: {key} differs"
 
 
+def test_a_listing_saved_with_a_byte_order_mark_reads_as_without(tmp_path):
+    """An editor's UTF-8 byte order mark was read as part of the first mnemonic, refused as
+    "unknown instruction 'ORG'" with the mark invisible in the quote."""
+    (tmp_path / "bom.il").write_bytes(b"\xef\xbb\xbfORG M0\r\nOUT Y0\r\n")
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("profile: fbs\npersistence: {enabled: false}\nprogram: {file: bom.il}\n")
+    r = run_plcemud("-c", str(cfg), "--print-program")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.splitlines() == ["0001  ORG M0", "0002  OUT Y0"], r.stdout
+    # A mark elsewhere is no statement, and the message shows it.
+    (tmp_path / "bom.il").write_bytes(b"ORG M0\n\xef\xbb\xbfOUT Y0\n")
+    r = run_plcemud("-c", str(cfg), "--check-config")
+    assert r.returncode == 2 and "bom.il:2:1: unknown instruction '\\uFEFFOUT'" in r.stderr, \
+        r.stderr
+
+
 @pytest.mark.parametrize("program, error", [
     ("program:\n  - MOV: {s: D0, d: D99999}\n", "MOV.d: expected 1 word(s)"),
     ("program: {file: bad.il}\n", "bad.il:3:1: OUT: 1 block opened by LD not joined"),

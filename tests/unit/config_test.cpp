@@ -264,6 +264,9 @@ TEST(Config, ExcerptEscapesBidiControlsAndBytesThatAreNotUtf8) {
     EXPECT_EQ(excerpt("\u200E\u200F\u202A\u202B\u202C\u202D\u2066\u2067\u2068\u2069\u061C"),
               "\\u200E\\u200F\\u202A\\u202B\\u202C\\u202D\\u2066\\u2067\\u2068\\u2069\\u061C");
     EXPECT_EQ(excerpt("\u2029\u009B"), "\\u2029\\u009B");  // PARAGRAPH SEPARATOR, CSI
+    // Shown as nothing: a name quoted with one would look like another.
+    EXPECT_EQ(excerpt("\uFEFFORG"), "\\uFEFFORG");  // BYTE ORDER MARK
+    EXPECT_EQ(excerpt("R\u200B1\u200C\u200D\u2060"), "R\\u200B1\\u200C\\u200D\\u2060");
     // Kept: letters of any script, and the characters next to the escaped ones.
     EXPECT_EQ(excerpt("\u00A0é€\u2027\u2030\u2065\u206A😀"), "\u00A0é€\u2027\u2030\u2065\u206A😀");
     // Not UTF-8: a lead byte without its continuation, overlong forms, a surrogate, beyond
