@@ -57,6 +57,9 @@ constexpr auto kLogWindow = std::chrono::seconds(10);
 // Back-off while accept() runs out of descriptors.
 constexpr auto kAcceptBackoffFirst = std::chrono::milliseconds(50);
 constexpr auto kAcceptBackoffMax = std::chrono::seconds(1);
+// An episode of running out of descriptors ends once accepts have worked this long: clients that
+// each get in by evicting another are one episode, not a "pausing"/"accepting again" pair each.
+constexpr auto kAcceptCalm = std::chrono::seconds(10);
 
 std::string peer_name(const tcp::endpoint& ep) {
     return ep.address().to_string() + ":" + std::to_string(ep.port());
@@ -83,7 +86,8 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
           options(std::move(o)),
           acceptor(io_),
           sweep(io_),
-          accept_retry(io_) {}
+          accept_retry(io_),
+          accept_calm(io_) {}
 
     void accept();
     void accept_failed(const asio::error_code& ec);
@@ -113,10 +117,13 @@ struct TcpListener::State : std::enable_shared_from_this<TcpListener::State> {
     tcp::acceptor acceptor;
     asio::steady_timer sweep;
     asio::steady_timer accept_retry;
+    asio::steady_timer accept_calm;  // ends an episode of failed accepts (kAcceptCalm)
     std::unordered_set<std::shared_ptr<Connection>> connections;
     LogLimiter limiter{kLogBurst, kLogWindow};
     std::uint64_t accept_failures = 0;  // in the current episode of running out of descriptors
     Clock::time_point accept_failing_since{};
+    bool accept_calming = false;           // accepts work again; the episode ends at accept_calm
+    Clock::time_point accept_calmed_at{};  // when accepts worked again
     Clock::duration accept_backoff{};
     std::uint64_t accepted = 0;    // connections taken since the listener opened
     std::uint64_t refused = 0;     // connections closed at accept
@@ -548,13 +555,22 @@ void TcpListener::State::accept() {
             return;
         }
         const auto now = Clock::now();
-        if (self->accept_failures > 0) {
-            spdlog::info("tcp: accepting again after {} failed accepts in {} ms",
-                         self->accept_failures,
-                         std::chrono::duration_cast<std::chrono::milliseconds>(
-                             now - self->accept_failing_since)
-                             .count());
-            self->accept_failures = 0;
+        if (self->accept_failures > 0 && !self->accept_calming) {
+            // Said once accepts have worked for a while; a failure before then goes on with
+            // the same episode.
+            self->accept_calming = true;
+            self->accept_calmed_at = now;
+            self->accept_calm.expires_after(kAcceptCalm);
+            self->accept_calm.async_wait([self](const asio::error_code& cec) {
+                if (cec || self->stopped || !self->accept_calming) return;
+                self->accept_calming = false;
+                spdlog::info("{}: accepting again after {} failed accepts in {} ms",
+                             self->options.log_name, self->accept_failures,
+                             std::chrono::duration_cast<std::chrono::milliseconds>(
+                                 self->accept_calmed_at - self->accept_failing_since)
+                                 .count());
+                self->accept_failures = 0;
+            });
         }
         asio::error_code pec;
         const auto ep = s.remote_endpoint(pec);
@@ -612,7 +628,7 @@ void TcpListener::State::accept_failed(const asio::error_code& ec) {
     const int e = ec.value();
     if (e != EMFILE && e != ENFILE && e != ENOBUFS && e != ENOMEM) {
         // A peer that reset before it was accepted, and the like: nothing to wait for.
-        spdlog::debug("tcp: accept: {}", ec.message());
+        spdlog::debug("{}: accept: {}", options.log_name, ec.message());
         accept();
         return;
     }
@@ -620,13 +636,18 @@ void TcpListener::State::accept_failed(const asio::error_code& ec) {
     // spin. A stuck or silent connection gives its descriptor up first; then back off, and log
     // once per episode (the count comes when accepts work again).
     evict_one(Clock::now());
+    if (accept_calming) {
+        // Accepts had worked again, but not for long: the same episode.
+        accept_calming = false;
+        accept_calm.cancel();
+    }
     if (accept_failures++ == 0) {
         accept_failing_since = Clock::now();
         accept_backoff = kAcceptBackoffFirst;
         spdlog::warn(
-            "tcp: accept failed: {}; pausing accepts until a descriptor is free (raise the "
+            "{}: accept failed: {}; pausing accepts until a descriptor is free (raise the "
             "descriptor limit, LimitNOFILE=, or lower {}.max_clients)",
-            ec.message(), options.section);
+            options.log_name, ec.message(), options.section);
     } else {
         accept_backoff = std::min<Clock::duration>(accept_backoff * 2, kAcceptBackoffMax);
     }
@@ -822,6 +843,7 @@ void TcpListener::stop() {
     state_->acceptor.close(ec);
     state_->sweep.cancel();
     state_->accept_retry.cancel();
+    state_->accept_calm.cancel();
     auto conns = state_->connections;
     for (const auto& c : conns) c->close("server stopping");
     // What the limiter holds back is said now: no sweep comes after.

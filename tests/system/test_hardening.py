@@ -179,9 +179,37 @@ def test_running_out_of_descriptors_backs_off_logs_once_and_recovers(start_plcem
     assert cpu_over(d.proc.pid, 2.0) < 0.3
     assert os.path.getsize(d.log_path) - size_before < 2000
     assert d.log_text().count("pausing accepts") == 1
-    close_then_served(d, socks)
-    assert d.wait_log("tcp: accepting again after", 5)
+    # A few descriptors freed one at a time: each lets one waiting client in, and the next
+    # accept fails again. One episode: it was a "pausing"/"accepting again" pair each.
+    for s in socks[:5]:
+        s.close()
+        time.sleep(0.3)
+    assert d.log_text().count("pausing accepts") == 1, d.log_text()
+    assert "accepting again" not in d.log_text(), d.log_text()
+    close_then_served(d, socks[5:])
+    assert d.wait_log("tcp: accepting again after", 15)  # accepts working for 10 s
+    assert d.log_text().count("accepting again") == 1, d.log_text()
+    assert d.log_text().count("pausing accepts") == 1, d.log_text()
     assert d.proc.poll() is None
+
+
+def test_a_fatek_listener_out_of_descriptors_names_itself(start_plcemud):
+    """The lines of running out of descriptors began "tcp:" on every listener, a FATEK one's
+    too: they name the listener as its other lines do."""
+    def limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (48, 48))
+
+    fatek = free_port()
+    d = start_plcemud(BASE_CONFIG + f"fatek: {{tcp: {{bind: 127.0.0.1, port: {fatek}}}}}\n",
+                      preexec_fn=limit)
+    assert d.wait_log("listening on fatek tcp"), d.log_text()
+    socks = [connect(fatek) for _ in range(80)]
+    try:
+        assert d.wait_log("fatek tcp: accept failed:", 5), d.log_text()
+        assert "lower fatek.tcp.max_clients" in d.log_text(), d.log_text()
+    finally:
+        for s in socks:
+            s.close()
 
 
 def test_clients_holding_every_descriptor_cannot_stop_a_reload(start_plcemud):
