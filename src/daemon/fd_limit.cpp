@@ -49,7 +49,7 @@ void raise_soft_fd_limit(int needed_here, const std::string& what) noexcept {
     }
 }
 
-long ensure_fd_limit(int needed_here, const std::string& what) noexcept {
+long ensure_fd_limit(int needed_here, const std::string& what, long clients_open) noexcept {
     raise_soft_fd_limit(needed_here, what);
     rlimit rl{};
     if (::getrlimit(RLIMIT_NOFILE, &rl) != 0) return -1;
@@ -57,8 +57,10 @@ long ensure_fd_limit(int needed_here, const std::string& what) noexcept {
     if (rl.rlim_cur != RLIM_INFINITY && rl.rlim_cur < needed) {
         const auto limit = static_cast<long>(rl.rlim_cur);
         const long in_use = open_descriptors();
-        // What is left once the daemon's own descriptors and its headroom are counted.
-        const long room = in_use < 0 ? limit - kFdReserve : limit - in_use - kFdHeadroom;
+        // What is left once the daemon's own descriptors and its headroom are counted: the
+        // clients connected now (at a reload) are not the daemon's own.
+        const long room =
+            in_use < 0 ? limit - kFdReserve : limit - (in_use - clients_open) - kFdHeadroom;
         const std::string hard = rl.rlim_max == RLIM_INFINITY
                                      ? std::string("unlimited")
                                      : std::to_string(static_cast<long>(rl.rlim_max));

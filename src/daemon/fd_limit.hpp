@@ -21,8 +21,9 @@ long open_descriptors() noexcept;
 /// even the hard limit is too low: ensure_fd_limit says it once the listeners are open.
 void raise_soft_fd_limit(int needed, const std::string& what) noexcept;
 
-/// raise_soft_fd_limit(), then a warning when even the hard limit is too low. Returns the soft
-/// limit in force.
-long ensure_fd_limit(int needed, const std::string& what) noexcept;
+/// raise_soft_fd_limit(), then a warning when even the hard limit is too low, saying how many
+/// clients the rest leaves (`clients_open`, the clients connected now, are not the daemon's own
+/// descriptors). Returns the soft limit in force.
+long ensure_fd_limit(int needed, const std::string& what, long clients_open = 0) noexcept;
 
 }  // namespace plcemu::daemon

@@ -491,7 +491,7 @@ void Listeners::raise_fd_limit(std::size_t plcs) {
     for (const auto& t : tcp_)
         listeners.emplace_back(t->options.section, t->options.net.max_clients);
     const auto [needed, what] = descriptors_for(listeners, plcs);
-    const long limit = ensure_fd_limit(needed, what);
+    const long limit = ensure_fd_limit(needed, what, room_.open);
     // The clients of all listeners together may take what is left once the daemon's own
     // descriptors and a reload's files are counted: beyond it they wait at accept, and a
     // reload can still open its config.

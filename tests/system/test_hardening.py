@@ -228,6 +228,12 @@ def test_clients_holding_every_descriptor_cannot_stop_a_reload(start_plcemud):
     assert d.wait_log("reload: done", 10), d.log_text()[-3000:]
     assert "Too many open files" not in d.log_text().split("SIGHUP")[-1]
     assert "configuration rejected" not in d.log_text()
+    # The reload says the limit again, and as the start did: the connected clients' descriptors
+    # were counted the daemon's own ("leave none for clients").
+    limit_lines = [line for line in d.log_text().splitlines() if "but the limit is 48" in line]
+    assert len(limit_lines) == 2, d.log_text()
+    assert "leave none" not in limit_lines[1], limit_lines
+    assert limit_lines[1].split(": ", 1)[1] == limit_lines[0].split(": ", 1)[1], limit_lines
     close_then_served(d, socks)
     assert d.proc.poll() is None
 
