@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <istream>
+#include <optional>
+#include <string>
 #include <streambuf>
 #include <string_view>
 #include <type_traits>
@@ -292,6 +294,27 @@ struct SecondDocument final : YAML::EventHandler {
 
 }  // namespace
 
+namespace {
+
+// The line and column (from 1) of the first tab in the leading blanks of a line that holds more
+// than blanks, on lines 0 to `last` (from 0); nothing when there is none.
+std::optional<std::pair<int, int>> indenting_tab(const std::string& text, int last) {
+    int line = 0;
+    for (std::size_t start = 0; start < text.size() && line <= last; ++line) {
+        std::size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        const std::size_t first = text.find_first_not_of(" \t", start);
+        if (first < end && text[first] != '\r') {
+            const std::size_t tab = text.find('\t', start);
+            if (tab < first) return std::pair{line + 1, static_cast<int>(tab - start) + 1};
+        }
+        start = end + 1;
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
 YamlDocument::YamlDocument(const std::string& text, const std::string& name)
     : graph_(std::make_unique<Graph>(name)) {
     try {
@@ -311,6 +334,15 @@ YamlDocument::YamlDocument(const std::string& text, const std::string& name)
         SecondDocument second;
         parser.HandleNextDocument(second);
     } catch (const YAML::Exception& e) {
+        // The reader's words for a tab in the indentation ("illegal map value", "end of map not
+        // found") name neither the tab nor its place: the first such tab up to the error's
+        // line is the likely cause, and said so, where it is.
+        if (const auto tab = indenting_tab(text, e.mark.line)) {
+            std::string why = "a tab in the indentation: YAML indents with spaces only (then: ";
+            why += image::excerpt(e.msg, kYamlMsgChars);
+            why += ')';
+            throw ConfigError({name, tab->first, tab->second}, why);
+        }
         throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
                           image::excerpt(e.msg, kYamlMsgChars));
     }

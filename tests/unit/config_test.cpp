@@ -391,6 +391,17 @@ TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
                  "MOV: duplicate operand 's'");
 }
 
+// A tab in the indentation made the YAML reader say "illegal map value" or "end of map not
+// found" somewhere after it; the error names the tab, where it is.
+TEST(Config, ATabInTheIndentationIsNamedWhereItIs) {
+    expect_error("profile: fbs\nmodbus:\n\ttcp:\n\t\tport: 502\n", 3, 1,
+                 "a tab in the indentation: YAML indents with spaces only (then: ");
+    expect_error("profile: fbs\nmodbus:\n  tcp:\n  \tport: 43000\n", 4, 3,
+                 "a tab in the indentation");
+    // A tab after a key or inside a flow list is no indentation.
+    expect_error("profile: fbs\nx: [1,\n\t2]\nname:\tx\n", 2, 1, "unknown key 'x'");
+}
+
 // An RTU frame is binary: a Modbus RTU line has 8 data bits (FATEK's serial line may have 7).
 TEST(Config, ModbusRtuTakesEightDataBits) {
     expect_error("profile: fbs\nmodbus: {rtu: {device: /dev/ttyS1, data_bits: 7}}\n", 2, 47,
