@@ -170,11 +170,33 @@ image::Device Operands::word_device(const char* key,
              layout_.contains({d->area, d->index, n});
     }
     if (!ok) {
-        fail(key, "expected " + std::to_string(span) + " word(s) in " + names(areas) + ", got '" +
-                      image::excerpt(op.text) + "'");
+        std::string msg = "expected " + std::to_string(span) + " word(s) in " + names(areas);
+        msg += ", got '";
+        msg += image::excerpt(op.text);
+        msg += '\'';
+        if (d) msg += past_the_end(*d, d->word_of_bits ? 16 * span : span, areas);
+        fail(key, msg);
     }
     note(key, {d->area, d->index, d->word_of_bits ? 16 * span : span});
     return *d;
+}
+
+// ": R8065-R8074 go past the last R, R8071" when `d` is a device of one of `areas` whose `n`
+// devices run past its area's end; else "".
+std::string Operands::past_the_end(const image::Device& d,
+                                   std::uint32_t n,
+                                   std::initializer_list<image::Area> areas) const {
+    bool in_areas = false;
+    for (auto a : areas) in_areas = in_areas || a == d.area;
+    const std::uint32_t size = layout_.size_of(d.area);
+    if (!in_areas || n < 2 || d.index >= size || d.index + n <= size) return {};
+    std::string out = ": ";
+    out += naming_.format_range({d.area, d.index, n});
+    out += " go past the last ";
+    out += naming_.area_name(d.area);
+    out += ", ";
+    out += naming_.format_device(d.area, size - 1);
+    return out;
 }
 
 image::Device Operands::device(const char* key,
@@ -189,8 +211,13 @@ image::Device Operands::device(const char* key,
         ok = in_areas && layout_.contains({d->area, d->index, span});
     }
     if (!ok) {
-        fail(key, "expected " + std::to_string(span) + " consecutive device(s) in " + names(areas) +
-                      ", got '" + image::excerpt(op.text) + "'");
+        std::string msg =
+            "expected " + std::to_string(span) + " consecutive device(s) in " + names(areas);
+        msg += ", got '";
+        msg += image::excerpt(op.text);
+        msg += '\'';
+        if (d && !d->word_of_bits) msg += past_the_end(*d, span, areas);
+        fail(key, msg);
     }
     note(key, {d->area, d->index, span});
     return *d;
@@ -199,8 +226,14 @@ image::Device Operands::device(const char* key,
 long long Operands::integer(const char* key, long long lo, long long hi) {
     const auto& op = require(key);
     long long v = 0;
-    if (!naming_.parse_integer(op.text, v))
+    bool too_large = false;
+    if (!naming_.parse_integer(op.text, v, &too_large)) {
+        if (too_large) {
+            fail(key, image::excerpt(op.text) + " is out of range " + std::to_string(lo) + ".." +
+                          std::to_string(hi));
+        }
         fail(key, "expected an integer, got '" + image::excerpt(op.text) + "'");
+    }
     if (v < lo || v > hi) {
         fail(key, image::excerpt(op.text) + " is out of range " + std::to_string(lo) + ".." +
                       std::to_string(hi));

@@ -101,6 +101,9 @@ private:
     const Operand* find(const char* key) const;
     /// "D, TN, CN": the family's names of `areas`, leaving out those it does not have.
     std::string names(std::initializer_list<image::Area> areas) const;
+    std::string past_the_end(const image::Device& d,
+                             std::uint32_t n,
+                             std::initializer_list<image::Area> areas) const;
     const Operand& require(const char* key);
 
     const Entry& ic_;

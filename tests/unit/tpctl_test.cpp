@@ -160,7 +160,9 @@ TEST(Tpctl, OperandRangesAreTheManualsAndErrorsNameThePosition) {
                        4, 49, "TPCTL.sv: expected 10 register(s)");
     expect_tpctl_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
                              "ir: R130, dr: R140, or: D3995, wr: R300"),
-                       4, 99, "TPCTL.or: expected 10 word(s) in R, D, got 'D3995'");
+                       4, 99,
+                       "TPCTL.or: expected 10 word(s) in R, D, got 'D3995': D3995-D4004 go past "
+                       "the last D, D3999");
     expect_tpctl_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 10, sv: WM100, os: R110, pr: R120, "
                              "ir: R130, dr: R140, or: R200, wr: R300"),
                        4, 49, "TPCTL.sv: expected 10 word(s) in R, D, got 'WM100'");
@@ -170,7 +172,13 @@ TEST(Tpctl, OperandRangesAreTheManualsAndErrorsNameThePosition) {
                        4, 25, "TPCTL.yn: expected 10 consecutive device(s) in Y, got 'M30'");
     expect_tpctl_error(tpctl("en: M0, yn: Y250, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
                              "ir: R130, dr: R140, or: R200, wr: R300"),
-                       4, 25, "TPCTL.yn: expected 10 consecutive device(s) in Y, got 'Y250'");
+                       4, 25,
+                       "TPCTL.yn: expected 10 consecutive device(s) in Y, got 'Y250': Y250-Y259 go "
+                       "past the last Y, Y255");
+    // A number past what any integer may be is out of range, not "not an integer".
+    expect_tpctl_error(tpctl("en: M0, yn: Y30, sn: 0, zn: 99999999999999999999, sv: R100, "
+                             "os: R110, pr: R120, ir: R130, dr: R140, or: R200, wr: R300"),
+                       4, 41, "TPCTL.zn: 99999999999999999999 is out of range");
     // Md is the constant 0 or 1; unknown operands are typos.
     expect_tpctl_error(tpctl("en: M0, md: 2, yn: Y30, sn: 0, zn: 10, sv: R100, os: R110, pr: R120, "
                              "ir: R130, dr: R140, or: R200, wr: R300"),
