@@ -13,7 +13,6 @@
 #include <system_error>
 #include <utility>
 
-#include "modbus/rtu_framer.hpp"
 #include "modbus/serial_line.hpp"
 
 namespace plcemu::listener {
@@ -47,10 +46,7 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
           frame_end(io),
           reopen_timer(io),
           release(io),
-          client(make_client(options.device, protocol_name, Carrier::Line)),
-          timing(modbus::RtuTiming::for_line(
-              options.baud, options.parity, options.data_bits, options.stop_bits)),
-          echo_timer(io) {}
+          client(make_client(options.device, protocol_name, Carrier::Line)) {}
 
     void read() {
         if (stopped) return;
@@ -66,89 +62,13 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
             return;
         }
         if (link == Link::Settling) back();  // a byte proves the reopened device
-        const auto now = Clock::now();
-        const std::span<const std::uint8_t> bytes = cancel_echo({buf.data(), n}, now);
         // The silence before these bytes may have ended the previous frame even if its timer
         // has not fired yet (the loop was busy): serve that frame first.
-        if (!bytes.empty()) deliver(bytes, now);
+        protocol.units().set_serving(&client);
+        answer(protocol.receive({buf.data(), n}, Clock::now()));
+        protocol.units().set_serving(nullptr);
         arm();
         read();
-    }
-
-    void deliver(std::span<const std::uint8_t> bytes, Clock::time_point at) {
-        protocol.units().set_serving(&client);
-        answer(protocol.receive(bytes, at));
-        protocol.units().set_serving(nullptr);
-    }
-
-    // A line that echoes what is sent (an RS-485 adapter with local echo, a loopback) hands
-    // every answer back as if a master had sent it, and the answer to that is echoed in turn:
-    // a FATEK reply read as a request gets an error, a Modbus exception reply an exception, a
-    // write's reply (which repeats the request) writes again, for ever. A PLC's port does not
-    // hear itself (its receiver is off while it sends): bytes that repeat the answer just
-    // written from its first byte on, begun before it can have left the wire (its time on the
-    // line and a t3.5 silence), are its echo and are dropped. A master cannot send then without
-    // talking over the answer; bytes that stop matching are read as they came, those held
-    // before them first. Returns what is left of `in`.
-    std::span<const std::uint8_t> cancel_echo(std::span<const std::uint8_t> in,
-                                              Clock::time_point now) {
-        std::size_t k = 0;
-        while (k < in.size() && echo_matched < echo.size()) {
-            if (echo_matched == 0 && now > echo_until) break;  // too late to be the echo
-            if (in[k] != echo[echo_matched]) {
-                release_echo();
-                return in.subspan(k);
-            }
-            echo_read_at[echo_matched++] = now;
-            ++k;
-        }
-        if (!echo.empty() && echo_matched == echo.size()) {
-            if (!echo_said) {
-                spdlog::warn(
-                    "{}: {}: the line echoes what is sent (an RS-485 adapter with local "
-                    "echo?): echoed answers are ignored",
-                    name, options.device);
-                echo_said = true;
-            }
-            echo.clear();
-            echo_matched = 0;
-        } else if (echo_matched == 0 || k < in.size()) {
-            echo.clear();  // no echo began in time: no longer looked for
-            echo_matched = 0;
-        } else {
-            // Part of it came: the rest is due within the line's time for it.
-            echo_timer.expires_at(now + timing.t35 +
-                                  timing.char_time * static_cast<long>(echo.size() - echo_matched));
-            echo_timer.async_wait([self = shared_from_this()](const asio::error_code& ec) {
-                if (ec || self->stopped || self->echo_matched == 0) return;
-                self->release_echo();
-                self->arm();
-            });
-        }
-        return in.subspan(k);
-    }
-
-    // What was held as a possible echo was not one: the protocol reads it as it came.
-    void release_echo() {
-        echo_timer.cancel();
-        if (echo_matched == 0) {
-            echo.clear();
-            return;
-        }
-        // Copied: an answer to them replaces `echo`.
-        const std::vector<std::uint8_t> bytes(
-            echo.begin(), echo.begin() + static_cast<std::ptrdiff_t>(echo_matched));
-        const std::vector<Clock::time_point> at(
-            echo_read_at.begin(), echo_read_at.begin() + static_cast<std::ptrdiff_t>(echo_matched));
-        echo.clear();
-        echo_matched = 0;
-        // Each read's bytes at its own time, so the protocol times the silences between them.
-        for (std::size_t i = 0; i < bytes.size();) {
-            std::size_t j = i + 1;
-            while (j < bytes.size() && at[j] == at[i]) ++j;
-            deliver(std::span(bytes).subspan(i, j - i), at[i]);
-            i = j;
-        }
     }
 
     void arm() {
@@ -224,17 +144,8 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     // and the answers that follow, once there is room, are whole.
     void write(std::span<const std::uint8_t> answer) noexcept {
         if (answer.empty()) return;
-        const ssize_t w = ::write(line.native_handle(), answer.data(), answer.size());
-        if (w <= 0 || echo_matched > 0) return;  // a possible echo being read: left to finish
-        // What its echo would be, and until when it may begin (see cancel_echo()).
-        try {
-            echo.assign(answer.begin(), answer.begin() + w);
-            echo_read_at.resize(echo.size());
-        } catch (const std::bad_alloc&) {
-            echo.clear();
-            return;
-        }
-        echo_until = Clock::now() + timing.char_time * w + timing.t35;
+        [[maybe_unused]] const ssize_t w =
+            ::write(line.native_handle(), answer.data(), answer.size());
     }
 
     // A read error (EIO or hang-up of a device that went away): re-reading the same descriptor
@@ -256,9 +167,6 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         frame_end.cancel();
         asio::error_code ignored;
         line.close(ignored);
-        echo.clear();
-        echo_matched = 0;
-        echo_timer.cancel();
         reopen_later();
         if (had_device && on_device_change) on_device_change();
     }
@@ -335,15 +243,6 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     Client client;
     // Told when the device goes or comes back (the listeners' descriptions say which).
     std::function<void()> on_device_change;
-    // The line's echo (cancel_echo()): the last answer written, how much of it has been read
-    // back and when, and until when its echo may begin.
-    modbus::RtuTiming timing;
-    std::vector<std::uint8_t> echo;
-    std::size_t echo_matched = 0;
-    std::vector<Clock::time_point> echo_read_at;  // when each matched byte was read
-    Clock::time_point echo_until{};
-    asio::steady_timer echo_timer;
-    bool echo_said = false;
 };
 
 SerialListener::SerialListener(asio::io_context& io,
@@ -386,7 +285,6 @@ void SerialListener::stop() {
     state_->frame_end.cancel();
     state_->reopen_timer.cancel();  // no reopen after stop
     state_->release.cancel();
-    state_->echo_timer.cancel();
     state_->protocol.units().client_gone(state_->client.id);
     state_->line.cancel(ec);
     state_->line.close(ec);

@@ -23,7 +23,7 @@ from pymodbus.diag_message import ReturnBusMessageCountRequest
 from pymodbus.mei_message import ReadDeviceInformationRequest
 from pymodbus.other_message import ReportSlaveIdRequest
 from pymodbus.pdu import ExceptionResponse
-from rtu_pty import PtyPair, RawLine, crc16, echoing, frame, rtu_config
+from rtu_pty import PtyPair, RawLine, crc16, frame, rtu_config
 
 # FC02 and FC04 need the user maps (FBs manual 13-50/51): DI 0.. -> M100.., IR 0.. -> R200...
 USER_MAPS = "init:\n  R3972: [0, 100, 16]\n  R3975: [0, 200, 8]\n"
@@ -394,40 +394,6 @@ def cpu_seconds(pid: int) -> float:
     with open(f"/proc/{pid}/stat") as f:
         fields = f.read().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-
-@pytest.mark.parametrize("pdu, reply", [
-    (b"\x06\x00\x1e\x03\x09", b"\x06\x00\x1e\x03\x09"),  # a write's reply repeats it
-    (b"\x03\x00\x1e\x00\x01", b"\x03\x02\x03\x09"),        # read back R30
-])
-def test_a_line_that_echoes_gets_one_answer_a_request(start_plcemud, tmp_path, pdu, reply):
-    """An RS-485 adapter with local echo hands the slave its own answer: read as a request, it
-    was answered (a write's reply is the write again, an FC03 reply a malformed FC03 whose
-    exception came back as a function 83h), for ever. The echo is dropped: one answer."""
-    pair = PtyPair(tmp_path)
-    try:
-        # 1200 baud: an answer's echo may begin up to about 100 ms after it is written (its
-        # time on the wire and t3.5), room for this test's echo on a loaded machine.
-        d = start_plcemud(rtu_config(pair.slave, "parity: N, baud: 1200"))
-        assert d.wait_log("listening on rtu"), d.log_text()
-        c = d.client()
-        assert not c.write_register(30, 0, slave=1).isError()
-        if pdu[0] == 0x03:
-            assert not c.write_register(30, 0x0309, slave=1).isError()
-        got = echoing(pair.master, frame(1, pdu), seconds=1.0)
-        assert got == frame(1, reply), got.hex()
-        assert c.read_holding_registers(30, 1, slave=1).registers == [0x0309]
-        assert d.wait_log("the line echoes what is sent"), d.log_text()
-        # A master's own request, sent after the answer has left the wire, is no echo.
-        line = RawLine(pair.master)
-        try:
-            for _ in range(2):
-                time.sleep(0.3)
-                assert line.request(1, pdu, len(frame(1, reply))) == reply
-        finally:
-            line.close()
-    finally:
-        pair.stop()
 
 
 def console_listeners(port: int) -> str:
