@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
+#include <string_view>
 
 namespace plcemu::simulator {
 
@@ -251,14 +253,14 @@ void SimulatorUnit::apply_comm_faults(bool clear) noexcept {
     std::string from;
     for (int i = 0; i < 8; ++i) {
         const std::uint16_t word = w[sim::kScopeFrom + i / 2];
-        const auto c = static_cast<char>(i % 2 == 0 ? word >> 8 : word & 0xFF);
-        if (c == '\0') break;
-        from += c;
+        from += static_cast<char>(i % 2 == 0 ? word >> 8 : word & 0xFF);
     }
-    // Padded with spaces or NULs at either end; a space inside ("R 1") is no device name.
-    const auto first = from.find_first_not_of(' ');
+    // Padded with spaces or NULs at either end; anything between (a space in "R 1", a NUL in
+    // "R1\0R2") makes it no device name, and the write is refused.
+    constexpr std::string_view kPad(" \0", 2);
+    const auto first = from.find_first_not_of(kPad);
     from = first == std::string::npos ? std::string()
-                                      : from.substr(first, from.find_last_not_of(' ') + 1 - first);
+                                      : from.substr(first, from.find_last_not_of(kPad) + 1 - first);
     comm_refused_ = false;
     if (!from.empty()) {
         const std::uint32_t count = std::max<std::uint32_t>(w[sim::kScopeCount], 1);

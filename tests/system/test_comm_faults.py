@@ -919,6 +919,20 @@ def test_the_block_clamps_garble_and_reads_from_as_one_device_name(start_plcemud
     ok(sim.c.write_registers(BLOCK_FIRST, block(**{"from": "R 1"}), slave=SIM))
     assert sim.status() & 2 == 2, "R 1 was taken for a device"
     sim.clear()
+    sim.clear()
+    # NUL padding in front: it was read as an empty name, and the fault scoped to nothing
+    # applied to every request; a NUL inside is no name either.
+    for raw, refused in [(b"\0\0R1\0\0\0\0", False), (b"R1\0R2\0\0\0", True)]:
+        words = list(struct.unpack(">4H", raw))
+        regs = block(exception=4)
+        regs[REG["from_1"] - BLOCK_FIRST:REG["from_1"] - BLOCK_FIRST + 4] = words
+        ok(sim.c.write_registers(BLOCK_FIRST, regs, slave=SIM))
+        assert (sim.status() & 2 == 2) == refused, raw
+        if not refused:
+            c = d.client()
+            assert not c.read_holding_registers(0, 1, slave=1).isError()  # R0: out of scope
+            assert exception_code(c.read_holding_registers(1, 1, slave=1)) == 4
+        sim.clear()
     ok(sim.c.write_registers(BLOCK_FIRST, block(**{"from": " R1  "}), slave=SIM))
     assert sim.status() & 2 == 0, "a padded R1 was refused"
     assert bytes(b for w in ok(sim.c.read_holding_registers(REG["from_1"], 4, slave=SIM)).registers
