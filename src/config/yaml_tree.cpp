@@ -297,14 +297,14 @@ struct SecondDocument final : YAML::EventHandler {
 namespace {
 
 // The line and column (from 1) of the first tab in the leading blanks of a line that holds more
-// than blanks, on lines 0 to `last` (from 0); nothing when there is none.
-std::optional<std::pair<int, int>> indenting_tab(const std::string& text, int last) {
+// than blanks, on lines `from` to `last` (from 0); nothing when there is none.
+std::optional<std::pair<int, int>> indenting_tab(const std::string& text, int from, int last) {
     int line = 0;
     for (std::size_t start = 0; start < text.size() && line <= last; ++line) {
         std::size_t end = text.find('\n', start);
         if (end == std::string::npos) end = text.size();
         const std::size_t first = text.find_first_not_of(" \t", start);
-        if (first < end && text[first] != '\r') {
+        if (line >= from && first < end && text[first] != '\r') {
             const std::size_t tab = text.find('\t', start);
             if (tab < first) return std::pair{line + 1, static_cast<int>(tab - start) + 1};
         }
@@ -335,16 +335,16 @@ YamlDocument::YamlDocument(const std::string& text, const std::string& name)
         parser.HandleNextDocument(second);
     } catch (const YAML::Exception& e) {
         // The reader's words for a tab in the indentation ("illegal map value", "end of map not
-        // found") name neither the tab nor its place: the first such tab up to the error's
-        // line is the likely cause, and said so, where it is.
-        if (const auto tab = indenting_tab(text, e.mark.line)) {
-            std::string why = "a tab in the indentation: YAML indents with spaces only (then: ";
-            why += image::excerpt(e.msg, kYamlMsgChars);
-            why += ')';
-            throw ConfigError({name, tab->first, tab->second}, why);
+        // found") name neither the tab nor its place. A tab that indents the error's line or
+        // the one before is the likely cause, and said beside them (a tab may be legal there,
+        // inside a block scalar or a flow collection: the reader's own words stay first).
+        std::string why = image::excerpt(e.msg, kYamlMsgChars);
+        if (const auto tab = indenting_tab(text, e.mark.line - 1, e.mark.line)) {
+            why += " (line " + std::to_string(tab->first) + " is indented with a tab at column ";
+            why += std::to_string(tab->second);
+            why += ": YAML indents with spaces only)";
         }
-        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1},
-                          image::excerpt(e.msg, kYamlMsgChars));
+        throw ConfigError({name, e.mark.line + 1, e.mark.column + 1}, why);
     }
     std::size_t nodes = 0;
     graph_->measure(graph_->root, 0, nodes);

@@ -392,14 +392,20 @@ TEST(Config, YamlSyntaxErrorsNameTheirPosition) {
 }
 
 // A tab in the indentation made the YAML reader say "illegal map value" or "end of map not
-// found" somewhere after it; the error names the tab, where it is.
-TEST(Config, ATabInTheIndentationIsNamedWhereItIs) {
-    expect_error("profile: fbs\nmodbus:\n\ttcp:\n\t\tport: 502\n", 3, 1,
-                 "a tab in the indentation: YAML indents with spaces only (then: ");
-    expect_error("profile: fbs\nmodbus:\n  tcp:\n  \tport: 43000\n", 4, 3,
-                 "a tab in the indentation");
+// found" without naming the tab: a tab that indents the error's line or the one before is said.
+TEST(Config, ATabInTheIndentationIsNamedBesideTheReadersWords) {
+    expect_error("profile: fbs\nmodbus:\n\ttcp:\n\t\tport: 502\n", 3, 5,
+                 "illegal map value (line 3 is indented with a tab at column 1: YAML indents "
+                 "with spaces only)");
+    expect_error("profile: fbs\nmodbus:\n  tcp:\n  \tport: 43000\n", 4, 8,
+                 "(line 4 is indented with a tab at column 3");
     // A tab after a key or inside a flow list is no indentation.
     expect_error("profile: fbs\nx: [1,\n\t2]\nname:\tx\n", 2, 1, "unknown key 'x'");
+    // A legal tab (a block scalar's line) well before the error is not blamed.
+    const ConfigFailure f =
+        parse_error("profile: fbs\nx: |\n  \tcontent\n\nmodbus: {tcp: {port: 1}\n");
+    ASSERT_TRUE(f.thrown);
+    EXPECT_EQ(f.what.find("tab"), std::string::npos) << f.what;
 }
 
 // An RTU frame is binary: a Modbus RTU line has 8 data bits (FATEK's serial line may have 7).
