@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <utility>
 
 #include "plcemu/image/utf8.hpp"
 
@@ -11,12 +12,23 @@ namespace {
 
 // What a terminal acts on instead of showing: C0 and C1 controls, DEL, the line and paragraph
 // separators, and the bidirectional marks, embeddings, overrides and isolates (which reorder the
-// rest of the line); and what it shows as nothing (the zero-width space, joiners and word joiner,
-// the byte order mark), which would make a quoted name look like another.
+// rest of the line); and what it shows as nothing, which would make a quoted name look like
+// another: Unicode's default-ignorable code points (DerivedCoreProperties.txt,
+// Default_Ignorable_Code_Point: soft hyphen, zero-width space and joiners, invisible operators,
+// variation selectors, fillers, the byte order mark, tag characters).
 bool escaped(char32_t c) {
-    return c < 0x20 || (c >= 0x7F && c <= 0x9F) || c == 0x061C || (c >= 0x200B && c <= 0x200F) ||
-           c == 0x2028 || c == 0x2029 || (c >= 0x202A && c <= 0x202E) || c == 0x2060 ||
-           (c >= 0x2066 && c <= 0x2069) || c == 0xFEFF;
+    if (c < 0x20 || (c >= 0x7F && c <= 0x9F) || c == 0x2028 || c == 0x2029) return true;
+    static constexpr std::pair<char32_t, char32_t> kIgnorable[] = {
+        {0x00AD, 0x00AD},   {0x034F, 0x034F}, {0x061C, 0x061C},   {0x115F, 0x1160},
+        {0x17B4, 0x17B5},   {0x180B, 0x180F}, {0x200B, 0x200F},   {0x202A, 0x202E},
+        {0x2060, 0x206F},   {0x3164, 0x3164}, {0xFE00, 0xFE0F},   {0xFEFF, 0xFEFF},
+        {0xFFA0, 0xFFA0},   {0xFFF0, 0xFFF8}, {0x1BCA0, 0x1BCA3}, {0x1D173, 0x1D17A},
+        {0xE0000, 0xE0FFF},
+    };
+    for (const auto& [lo, hi] : kIgnorable) {
+        if (c >= lo && c <= hi) return true;
+    }
+    return false;
 }
 
 }  // namespace
@@ -49,7 +61,8 @@ std::string excerpt(std::string_view s, std::size_t max_chars) {
             std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned>(u.code));
             out += hex;
         } else if (escaped(u.code)) {
-            std::snprintf(hex, sizeof hex, "\\u%04X", static_cast<unsigned>(u.code));
+            std::snprintf(hex, sizeof hex, u.code > 0xFFFF ? "\\U%08X" : "\\u%04X",
+                          static_cast<unsigned>(u.code));
             out += hex;
         } else {
             out.append(s, i, u.length);

@@ -267,8 +267,12 @@ TEST(Config, ExcerptEscapesBidiControlsAndBytesThatAreNotUtf8) {
     // Shown as nothing: a name quoted with one would look like another.
     EXPECT_EQ(excerpt("\uFEFFORG"), "\\uFEFFORG");  // BYTE ORDER MARK
     EXPECT_EQ(excerpt("R\u200B1\u200C\u200D\u2060"), "R\\u200B1\\u200C\\u200D\\u2060");
+    // Every default-ignorable code point: soft hyphen, a variation selector, a Hangul filler,
+    // an invisible operator, a tag character (beyond U+FFFF, as \U and eight digits).
+    EXPECT_EQ(excerpt("X\u00AD\uFE0F\u3164\u2061\U000E00410"),
+              "X\\u00AD\\uFE0F\\u3164\\u2061\\U000E00410");
     // Kept: letters of any script, and the characters next to the escaped ones.
-    EXPECT_EQ(excerpt("\u00A0é€\u2027\u2030\u2065\u206A😀"), "\u00A0é€\u2027\u2030\u2065\u206A😀");
+    EXPECT_EQ(excerpt("\u00A0é€\u2027\u2030\u2070😀"), "\u00A0é€\u2027\u2030\u2070😀");
     // Not UTF-8: a lead byte without its continuation, overlong forms, a surrogate, beyond
     // U+10FFFF, and a sequence cut short by the end.
     EXPECT_EQ(excerpt("\xc3x"), "\\xC3x");
