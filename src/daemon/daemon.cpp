@@ -149,7 +149,6 @@ public:
         master_.reset();
     }
 
-    bool frozen() const { return driver_ && driver_->frozen(); }
     // The first scan, at `first`, once every PLC and listener of the process is open.
     void start(ScanDriver::Clock::time_point first) { driver_->start_at(first); }
     // One scan period in real time.
