@@ -48,8 +48,8 @@ std::string again(const std::string& kind,
 
 }  // namespace
 
-void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what) {
-    read_line(r, n, rtu, what, false);
+void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what, bool slave) {
+    read_line(r, n, rtu, what, false, slave);
     // An RTU frame is binary: every byte 8 bits (Modbus over Serial Line, 2.5.1). Seven are
     // FATEK's (and Modbus ASCII's), which a master on this line would not speak.
     r.attempt([&] {
@@ -59,11 +59,19 @@ void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string&
     });
 }
 
-void read_line(
-    const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what, bool with_read_only) {
+void read_line(const Reader& r,
+               const Node& n,
+               RtuConfig& rtu,
+               const std::string& what,
+               bool with_read_only,
+               bool slave) {
     std::vector<std::string> keys{"device", "baud", "parity", "data_bits", "stop_bits"};
     if (with_read_only) keys.emplace_back("read_only");
+    if (slave) keys.emplace_back("echo");
     r.check_keys(n, what, keys);
+    r.attempt([&] {
+        if (slave && n["echo"]) rtu.echo = r.boolean(n["echo"], what + ".echo");
+    });
     r.attempt([&] {
         if (with_read_only && n["read_only"])
             rtu.read_only = r.boolean(n["read_only"], what + ".read_only");
@@ -215,7 +223,7 @@ void read_modbus(const Reader& r, const Node& n, ModbusConfig& mb) {
     r.attempt([&] {
         if (n["rtu"] && !n["rtu"].is_null()) {
             RtuConfig rtu;
-            read_rtu(r, n["rtu"], rtu, "modbus.rtu");
+            read_rtu(r, n["rtu"], rtu, "modbus.rtu", true);
             mb.rtu = rtu;
         }
     });
@@ -902,6 +910,7 @@ void check_line_agrees(
                       : a.data_bits != b.data_bits ? "data_bits"
                       : a.stop_bits != b.stop_bits ? "stop_bits"
                       : a.read_only != b.read_only ? "read_only"
+                      : a.echo != b.echo           ? "echo"
                                                    : nullptr;
     if (key == nullptr) return;
     const std::string what = std::string(mine.section) + "." + key;

@@ -163,7 +163,7 @@ void read_fatek(const Reader& r, const Node& n, FatekConfig& fatek) {
         RtuConfig line;
         line.data_bits = 7;
         line.parity = 'E';
-        read_line(r, s, line, "fatek.serial", true);
+        read_line(r, s, line, "fatek.serial", true, true);
         fatek.serial = line;
     });
 }

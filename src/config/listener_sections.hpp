@@ -14,9 +14,14 @@ namespace plcemu::config {
 /// one has its own `read_only` and no unit-ID policy.
 void read_tcp(const Reader& r, const Node& n, TcpConfig& tcp, const std::string& what);
 
-/// Reads a serial line's settings, with `read_only` among its keys when `with_read_only`.
-void read_line(
-    const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what, bool with_read_only);
+/// Reads a serial line's settings, with `read_only` among its keys when `with_read_only` and
+/// `echo` when it is a PLC's (`slave`) line.
+void read_line(const Reader& r,
+               const Node& n,
+               RtuConfig& rtu,
+               const std::string& what,
+               bool with_read_only,
+               bool slave);
 
 /// Reads `http:` (the console and REST API; docs/console.md); `on_anyway` (the command line's
 /// --http-port) keeps a console the section turns off.

@@ -343,7 +343,7 @@ bool serves_as_is(const Listeners::Listener& r, const Group& g, const config::Li
     // The path as written, too: a line lost is reopened by it, so a new link to the same
     // device (/dev/serial/by-id/... for /dev/ttyUSB0) must be the one it goes by.
     return was.device == now.device && was.baud == now.baud && was.parity == now.parity &&
-           was.data_bits == now.data_bits && was.stop_bits == now.stop_bits;
+           was.data_bits == now.data_bits && was.stop_bits == now.stop_bits && was.echo == now.echo;
 }
 
 // A UDP listener or serial line kept across a reload takes the new access settings and seats.
@@ -412,7 +412,7 @@ void Listeners::open_reopened(const std::vector<ListenerMember>& plcs,
             } else {
                 const config::RtuConfig& s = *l.line;
                 r->line_config = s;
-                setup.line = {s.device, s.baud, s.parity, s.data_bits, s.stop_bits};
+                setup.line = {s.device, s.baud, s.parity, s.data_bits, s.stop_bits, s.echo};
                 setup.read_only = s.read_only;
                 r->serial = protocol(g.protocol).serial(setup);
                 // At a reload a device that is not there (a USB adapter unplugged, a link not

@@ -89,6 +89,7 @@ void line_changes(Out& out,
                 a->data_bits == b->data_bits && a->stop_bits == b->stop_bits));
     if (!same) out.push_back(name + ": " + text(a) + " -> " + text(b));
     if (a && b) compare(out, name + ".read_only", a->read_only, b->read_only);
+    if (a && b) compare(out, name + ".echo", a->echo, b->echo);
 }
 
 const config::TcpConfig* net(const std::optional<config::TcpConfig>& c) {

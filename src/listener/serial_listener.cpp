@@ -13,6 +13,7 @@
 #include <system_error>
 #include <utility>
 
+#include "modbus/rtu_framer.hpp"
 #include "modbus/serial_line.hpp"
 
 namespace plcemu::listener {
@@ -30,6 +31,9 @@ constexpr auto kMaxReopen = std::chrono::seconds(5);
 constexpr auto kSettle = std::chrono::seconds(1);
 // Answers held at once by communication faults (a delay) before further ones are dropped.
 constexpr std::size_t kMaxHeld = 64;
+// With `echo: true`, how long after an answer has left the wire its echo may still begin: a USB
+// adapter hands bytes over in batches (an FTDI chip every 16 ms by default).
+constexpr auto kEchoWait = std::chrono::milliseconds(100);
 
 }  // namespace
 
@@ -46,7 +50,10 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
           frame_end(io),
           reopen_timer(io),
           release(io),
-          client(make_client(options.device, protocol_name, Carrier::Line)) {}
+          client(make_client(options.device, protocol_name, Carrier::Line)),
+          timing(modbus::RtuTiming::for_line(
+              options.baud, options.parity, options.data_bits, options.stop_bits)),
+          echo_timer(io) {}
 
     void read() {
         if (stopped) return;
@@ -62,13 +69,79 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
             return;
         }
         if (link == Link::Settling) back();  // a byte proves the reopened device
+        const auto now = Clock::now();
+        const std::span<const std::uint8_t> bytes = cancel_echo({buf.data(), n}, now);
         // The silence before these bytes may have ended the previous frame even if its timer
         // has not fired yet (the loop was busy): serve that frame first.
-        protocol.units().set_serving(&client);
-        answer(protocol.receive({buf.data(), n}, Clock::now()));
-        protocol.units().set_serving(nullptr);
+        if (!bytes.empty()) deliver(bytes, now);
         arm();
         read();
+    }
+
+    void deliver(std::span<const std::uint8_t> bytes, Clock::time_point at) {
+        protocol.units().set_serving(&client);
+        answer(protocol.receive(bytes, at));
+        protocol.units().set_serving(nullptr);
+    }
+
+    // A line that echoes what is sent (an RS-485 adapter with local echo) hands every answer
+    // back as if a master had sent it, and the answer to that is echoed in turn, for ever (a
+    // write's reply is the write again). Neither the bytes nor their timing tell an echo from a
+    // master on a pty or a USB adapter, so the line says it echoes (`echo: true`): after each
+    // answer, bytes repeating it from its first byte on are its echo and are dropped. Bytes that
+    // stop matching are read as they came, those held before them first; an echo that does not
+    // begin within kEchoWait of the answer is no longer waited for. Returns what is left of `in`.
+    std::span<const std::uint8_t> cancel_echo(std::span<const std::uint8_t> in,
+                                              Clock::time_point now) {
+        std::size_t k = 0;
+        while (k < in.size() && echo_matched < echo.size()) {
+            if (echo_matched == 0 && now > echo_until) break;  // too late to be the echo
+            if (in[k] != echo[echo_matched]) {
+                release_echo();
+                return in.subspan(k);
+            }
+            echo_read_at[echo_matched++] = now;
+            ++k;
+        }
+        // The whole echo came (dropped), or none began in time (no longer looked for); else
+        // part of it came.
+        if (echo_matched == echo.size() || echo_matched == 0 || k < in.size()) {
+            echo.clear();
+            echo_matched = 0;
+        } else {
+            // Part of it came: the rest is due within the line's time for it.
+            echo_timer.expires_at(now + timing.t35 +
+                                  timing.char_time * static_cast<long>(echo.size() - echo_matched));
+            echo_timer.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+                if (ec || self->stopped || self->echo_matched == 0) return;
+                self->release_echo();
+                self->arm();
+            });
+        }
+        return in.subspan(k);
+    }
+
+    // What was held as a possible echo was not one: the protocol reads it as it came.
+    void release_echo() {
+        echo_timer.cancel();
+        if (echo_matched == 0) {
+            echo.clear();
+            return;
+        }
+        // Copied: an answer to them replaces `echo`.
+        const std::vector<std::uint8_t> bytes(
+            echo.begin(), echo.begin() + static_cast<std::ptrdiff_t>(echo_matched));
+        const std::vector<Clock::time_point> at(
+            echo_read_at.begin(), echo_read_at.begin() + static_cast<std::ptrdiff_t>(echo_matched));
+        echo.clear();
+        echo_matched = 0;
+        // Each read's bytes at its own time, so the protocol times the silences between them.
+        for (std::size_t i = 0; i < bytes.size();) {
+            std::size_t j = i + 1;
+            while (j < bytes.size() && at[j] == at[i]) ++j;
+            deliver(std::span(bytes).subspan(i, j - i), at[i]);
+            i = j;
+        }
     }
 
     void arm() {
@@ -144,8 +217,17 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     // and the answers that follow, once there is room, are whole.
     void write(std::span<const std::uint8_t> answer) noexcept {
         if (answer.empty()) return;
-        [[maybe_unused]] const ssize_t w =
-            ::write(line.native_handle(), answer.data(), answer.size());
+        const ssize_t w = ::write(line.native_handle(), answer.data(), answer.size());
+        if (!options.echo || w <= 0 || echo_matched > 0) return;
+        // What its echo will be, and until when it may begin (see cancel_echo()).
+        try {
+            echo.assign(answer.begin(), answer.begin() + w);
+            echo_read_at.resize(echo.size());
+        } catch (const std::bad_alloc&) {
+            echo.clear();
+            return;
+        }
+        echo_until = Clock::now() + timing.char_time * w + kEchoWait;
     }
 
     // A read error (EIO or hang-up of a device that went away): re-reading the same descriptor
@@ -167,6 +249,9 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
         frame_end.cancel();
         asio::error_code ignored;
         line.close(ignored);
+        echo.clear();
+        echo_matched = 0;
+        echo_timer.cancel();
         reopen_later();
         if (had_device && on_device_change) on_device_change();
     }
@@ -243,6 +328,14 @@ struct SerialListener::State : std::enable_shared_from_this<SerialListener::Stat
     Client client;
     // Told when the device goes or comes back (the listeners' descriptions say which).
     std::function<void()> on_device_change;
+    // The line's echo (cancel_echo(), with `echo: true`): the last answer written, how much of
+    // it has been read back and when, and until when its echo may begin.
+    modbus::RtuTiming timing;
+    std::vector<std::uint8_t> echo;
+    std::size_t echo_matched = 0;
+    std::vector<Clock::time_point> echo_read_at;
+    Clock::time_point echo_until{};
+    asio::steady_timer echo_timer;
 };
 
 SerialListener::SerialListener(asio::io_context& io,
@@ -285,6 +378,7 @@ void SerialListener::stop() {
     state_->frame_end.cancel();
     state_->reopen_timer.cancel();  // no reopen after stop
     state_->release.cancel();
+    state_->echo_timer.cancel();
     state_->protocol.units().client_gone(state_->client.id);
     state_->line.cancel(ec);
     state_->line.close(ec);

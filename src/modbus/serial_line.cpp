@@ -55,8 +55,11 @@ speed_t speed_of(int baud) {
 }  // namespace
 
 std::string describe(const RtuOptions& o) {
-    return o.device + " " + std::to_string(o.baud) + " " + std::to_string(o.data_bits) + o.parity +
-           std::to_string(o.stop_bits);
+    std::string s = o.device + " " + std::to_string(o.baud) + " " + std::to_string(o.data_bits);
+    s += o.parity;
+    s += std::to_string(o.stop_bits);
+    if (o.echo) s += " (echo dropped)";
+    return s;
 }
 
 int open_serial_line(const RtuOptions& o, const std::string& name) {

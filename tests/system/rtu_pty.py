@@ -118,3 +118,23 @@ class RawLine:
         assert r[0] == unit, f"reply from unit {r[0]}"
         assert crc16(r[:-2]) == r[-2] | r[-1] << 8, f"reply CRC wrong: {r.hex()}"
         return r[1:-2]
+
+
+def echoing(path: str, request: bytes, seconds: float = 1.0) -> bytes:
+    """Acts as a line that echoes: sends `request` on the master end at `path`, then for
+    `seconds` writes back at once whatever comes (as an RS-485 adapter with local echo hands
+    the slave its own answer); returns every byte that came."""
+    line = RawLine(path)
+    try:
+        line.send(request)
+        got = b""
+        deadline = time.monotonic() + seconds
+        while (left := deadline - time.monotonic()) > 0:
+            ready, _, _ = select.select([line.fd], [], [], left)
+            if ready:
+                chunk = os.read(line.fd, 1024)
+                got += chunk
+                line.send(chunk)
+        return got
+    finally:
+        line.close()

@@ -112,6 +112,21 @@ def test_serial_line_abandons_a_partial_frame_after_1_s(start_plcemud, pty):
         assert line.receive() == RUNNING
 
 
+def test_a_serial_line_that_echoes_gets_one_answer_a_request(start_plcemud, pty):
+    """A reply echoed back to the PLC reads as command 40 with data, answered with error 4,
+    whose echo is answered again, for ever. With `echo: true` the echo is dropped."""
+    from rtu_pty import echoing
+
+    d = start_plcemud(config(f"  serial: {{device: {pty.slave}, echo: true}}\n"))
+    with Fatek.serial(pty.master) as line:
+        deadline = time.monotonic() + 5  # the line opens at start
+        while line.exchange(GIST, timeout=0.2) != RUNNING:
+            assert time.monotonic() < deadline, d.log_text()
+    time.sleep(0.3)
+    got = echoing(pty.master, GIST, seconds=1.0)
+    assert got == RUNNING, got
+
+
 def test_plcs_on_one_serial_line_answer_their_own_station(plcemud, pty):
     line = {"serial": {"device": pty.slave}}
     plcs = plcemud({"plcs": [

@@ -23,7 +23,7 @@ from pymodbus.diag_message import ReturnBusMessageCountRequest
 from pymodbus.mei_message import ReadDeviceInformationRequest
 from pymodbus.other_message import ReportSlaveIdRequest
 from pymodbus.pdu import ExceptionResponse
-from rtu_pty import PtyPair, RawLine, crc16, frame, rtu_config
+from rtu_pty import PtyPair, RawLine, crc16, echoing, frame, rtu_config
 
 # FC02 and FC04 need the user maps (FBs manual 13-50/51): DI 0.. -> M100.., IR 0.. -> R200...
 USER_MAPS = "init:\n  R3972: [0, 100, 16]\n  R3975: [0, 200, 8]\n"
@@ -394,6 +394,55 @@ def cpu_seconds(pid: int) -> float:
     with open(f"/proc/{pid}/stat") as f:
         fields = f.read().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+@pytest.mark.parametrize("pdu, reply", [
+    (b"\x06\x00\x1e\x03\x09", b"\x06\x00\x1e\x03\x09"),  # a write's reply repeats it
+    (b"\x03\x00\x1e\x00\x01", b"\x03\x02\x03\x09"),        # read back R30
+])
+def test_a_line_that_echoes_gets_one_answer_a_request(start_plcemud, tmp_path, pdu, reply):
+    """An RS-485 adapter with local echo hands the slave its own answer: read as a request, it
+    is answered (a write's reply is the write again, an FC03 reply a malformed FC03 whose
+    exception comes back as a function 83h), for ever. With `echo: true` the echo is dropped:
+    one answer, and the master's own requests are served as before."""
+    pair = PtyPair(tmp_path)
+    try:
+        d = start_plcemud(rtu_config(pair.slave, "parity: N, echo: true"))
+        assert d.wait_log("listening on rtu"), d.log_text()
+        assert "(echo dropped)" in d.log_text(), d.log_text()
+        c = d.client()
+        assert not c.write_register(30, 0x0309, slave=1).isError()
+        got = echoing(pair.master, frame(1, pdu), seconds=1.0)
+        assert got == frame(1, reply), got.hex()
+        assert c.read_holding_registers(30, 1, slave=1).registers == [0x0309]
+        # A master on a line that (for once) gave no echo is served: its request is no echo.
+        line = RawLine(pair.master)
+        try:
+            for _ in range(2):
+                time.sleep(0.3)
+                assert line.request(1, pdu, len(frame(1, reply))) == reply
+        finally:
+            line.close()
+    finally:
+        pair.stop()
+
+
+def test_a_master_repeating_a_write_at_once_is_answered_every_time(start_plcemud, tmp_path):
+    """Without `echo`, nothing is taken for an echo: a write repeated as soon as its reply came
+    (the reply is the request, byte for byte) is answered each time."""
+    pair = PtyPair(tmp_path)
+    try:
+        d = start_plcemud(rtu_config(pair.slave, "parity: N"))
+        assert d.wait_log("listening on rtu"), d.log_text()
+        line = RawLine(pair.master)
+        try:
+            pdu = b"\x06\x00\x1e\x03\x09"
+            for _ in range(20):
+                assert line.request(1, pdu, 8) == pdu
+        finally:
+            line.close()
+    finally:
+        pair.stop()
 
 
 def console_listeners(port: int) -> str:

@@ -422,6 +422,17 @@ TEST(Config, ModbusRtuTakesEightDataBits) {
         8);
 }
 
+// A PLC's serial line may say it echoes what is sent (docs/configuration.md); off by default.
+TEST(Config, APlcsSerialLineMaySayItEchoes) {
+    EXPECT_FALSE(parse_config("profile: fbs\nmodbus: {rtu: {device: /dev/ttyS1}}\n", "t.yaml")
+                     .modbus.rtu->echo);
+    EXPECT_TRUE(
+        parse_config("profile: fbs\nmodbus: {rtu: {device: /dev/ttyS1, echo: true}}\n", "t.yaml")
+            .modbus.rtu->echo);
+    expect_error("profile: fbs\nmodbus: {rtu: {device: /dev/ttyS1, echo: 2}}\n", 2, 42,
+                 "modbus.rtu.echo");
+}
+
 // A config is one YAML document: a second one is refused where it begins, not dropped unread.
 TEST(Config, ASecondDocumentIsRefusedWhereItBegins) {
     expect_error("profile: fbs\nstation: 1\n---\nprofile: vb\nbogus_key: 1\n", 3, 1,

@@ -91,6 +91,9 @@ struct RtuConfig {
     int stop_bits = 1;   ///< 1 or 2
     /// Nothing may be changed through this line (FATEK lines; Modbus has modbus.read_only).
     bool read_only = false;
+    /// The line hands back what the PLC sends (an RS-485 adapter with local echo): each
+    /// answer's echo is read and dropped (a PLC's lines only, not the MBUS master's).
+    bool echo = false;
 };
 
 /// The Modbus table of a `modbus.map` row.
@@ -239,8 +242,9 @@ struct Overrides {
 void apply(const Overrides& overrides, Config& config);
 
 /// Reads a serial line's settings (`modbus.rtu`, or a profile's own port) into `rtu`; `what`
-/// names the key in errors. Throws ConfigError.
-void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what);
+/// names the key in errors; `slave`: a line the PLC answers on, which may say `echo`. Throws
+/// ConfigError.
+void read_rtu(const Reader& r, const Node& n, RtuConfig& rtu, const std::string& what, bool slave);
 
 /// Why a device range is refused on a PLC: "D8000 does not exist on this PLC (…)" or "R9000 is
 /// outside this PLC's R area (8072 devices)".

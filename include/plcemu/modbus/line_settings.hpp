@@ -12,6 +12,7 @@ struct LineSettings {
     char parity = 'E';   ///< 'N', 'E' or 'O'
     int data_bits = 8;   ///< 7 or 8
     int stop_bits = 1;   ///< 1 or 2
+    bool echo = false;   ///< the line hands back what is sent (a slave drops its answers' echo)
 };
 
 /// The settings of the Modbus RTU slave and master.

@@ -138,7 +138,7 @@ std::optional<config::MasterConfig> read_mbus(const config::Config& c, const Rea
     r.attempt([&] {
         if (!n["rtu"]) return;
         config::RtuConfig rtu;
-        config::read_rtu(r, n["rtu"], rtu, "mbus.rtu");
+        config::read_rtu(r, n["rtu"], rtu, "mbus.rtu", false);
         // The CP2 is a port of its own: the loader refuses its line to every listener and
         // every other port, this PLC's and the others' (Settings::own_lines).
         m.rtu = rtu;
