@@ -120,10 +120,10 @@ class RawLine:
         return r[1:-2]
 
 
-def echoing(path: str, request: bytes, seconds: float = 1.0) -> bytes:
+def echoing(path: str, request: bytes, seconds: float = 1.0, delay: float = 0.0) -> bytes:
     """Acts as a line that echoes: sends `request` on the master end at `path`, then for
-    `seconds` writes back at once whatever comes (as an RS-485 adapter with local echo hands
-    the slave its own answer); returns every byte that came."""
+    `seconds` writes back whatever comes, `delay` seconds later (as an RS-485 adapter with local
+    echo hands the slave its own answer, a USB one in batches); returns every byte that came."""
     line = RawLine(path)
     try:
         line.send(request)
@@ -134,6 +134,7 @@ def echoing(path: str, request: bytes, seconds: float = 1.0) -> bytes:
             if ready:
                 chunk = os.read(line.fd, 1024)
                 got += chunk
+                time.sleep(delay)
                 line.send(chunk)
         return got
     finally:
