@@ -1,10 +1,19 @@
 #include "operands.hpp"
 
+#include <algorithm>
 #include <string_view>
 
 #include "plcemu/image/excerpt.hpp"
 
 namespace plcemu::instructions {
+
+namespace {
+
+bool among(image::Area a, std::initializer_list<image::Area> areas) {
+    return std::find(areas.begin(), areas.end(), a) != areas.end();
+}
+
+}  // namespace
 
 Operands::Operands(const Entry& ic, const BindContext& ctx)
     : ic_(ic),
@@ -163,10 +172,8 @@ image::Device Operands::word_device(const char* key,
     auto d = naming_.parse_device(op.text);
     bool ok = d.has_value();
     if (ok) {
-        bool in_areas = false;
-        for (auto a : areas) in_areas = in_areas || a == d->area;
         const std::uint32_t n = d->word_of_bits ? 16 * span : span;
-        ok = in_areas && (d->word_of_bits || !image::is_bit_area(d->area)) &&
+        ok = among(d->area, areas) && (d->word_of_bits || !image::is_bit_area(d->area)) &&
              layout_.contains({d->area, d->index, n});
     }
     if (!ok) {
@@ -186,10 +193,8 @@ image::Device Operands::word_device(const char* key,
 std::string Operands::past_the_end(const image::Device& d,
                                    std::uint32_t n,
                                    std::initializer_list<image::Area> areas) const {
-    bool in_areas = false;
-    for (auto a : areas) in_areas = in_areas || a == d.area;
     const std::uint32_t size = layout_.size_of(d.area);
-    if (!in_areas || n < 2 || d.index >= size || d.index + n <= size) return {};
+    if (!among(d.area, areas) || n < 2 || d.index >= size || d.index + n <= size) return {};
     std::string out = ": ";
     out += naming_.format_range({d.area, d.index, n});
     out += " go past the last ";
@@ -206,9 +211,7 @@ image::Device Operands::device(const char* key,
     auto d = naming_.parse_device(op.text);
     bool ok = d.has_value() && !d->word_of_bits;
     if (ok) {
-        bool in_areas = false;
-        for (auto a : areas) in_areas = in_areas || a == d->area;
-        ok = in_areas && layout_.contains({d->area, d->index, span});
+        ok = among(d->area, areas) && layout_.contains({d->area, d->index, span});
     }
     if (!ok) {
         std::string msg =
