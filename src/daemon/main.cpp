@@ -63,6 +63,16 @@ int usage_error(const std::string& msg) {
     return kExitBadConfig;
 }
 
+// The configs as the start would take them: read, and every PLC built off-line (its program
+// bound, operands and presets checked), so what the start refuses (exit status 2) is refused
+// by --check-config, --print-map and --print-program too, not described.
+std::vector<plcemu::config::Config> load_checked(const std::string& path,
+                                                 const plcemu::config::Overrides& overrides) {
+    std::vector<plcemu::config::Config> plcs = plcemu::config::load_plcs(path, overrides);
+    plcemu::daemon::probe_all(plcs);
+    return plcs;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -143,9 +153,7 @@ int main(int argc, char** argv) {
                 config_path.empty()
                     ? plcemu::config::parse_plcs(
                           "profile: " + std::string(default_profile().name()) + "\n", "<built-in>")
-                    : plcemu::config::load_plcs(config_path, overrides);
-            // What the start would refuse is refused here too (exit status 2), not described.
-            plcemu::daemon::probe_all(plcs);
+                    : load_checked(config_path, overrides);
             // Several PLCs: one map after another, each headed by the PLC it is.
             for (std::size_t i = 0; i < plcs.size(); ++i) {
                 if (i > 0) std::cout << '\n';
@@ -160,10 +168,7 @@ int main(int argc, char** argv) {
                                    : "no configuration file (-c FILE)");
         }
         if (show_program) {
-            const auto plcs = plcemu::config::load_plcs(config_path, overrides);
-            // A program the start would refuse (an operand past its area, MC without MCR) is
-            // refused, not printed as if it read back.
-            plcemu::daemon::probe_all(plcs);
+            const auto plcs = load_checked(config_path, overrides);
             for (std::size_t i = 0; i < plcs.size(); ++i) {
                 if (plcs.size() > 1) {
                     std::cout << (i > 0 ? "\n" : "") << "# " << plcs[i].label << "\n";
@@ -186,9 +191,7 @@ int main(int argc, char** argv) {
         }
         if (check) {
             // The start's own reading: what it would refuse, this refuses.
-            const std::vector<plcemu::config::Config> plcs =
-                plcemu::config::load_plcs(config_path, overrides);
-            plcemu::daemon::probe_all(plcs);  // binds the programs: operand errors too
+            const std::vector<plcemu::config::Config> plcs = load_checked(config_path, overrides);
             for (const auto& cfg : plcs) {
                 if (!cfg.label.empty()) {
                     std::cout << config_path << ": " << cfg.label << ": ok, profile " << cfg.profile
