@@ -1,5 +1,8 @@
 #include "http/devices.hpp"
 
+#include <utility>
+#include <vector>
+
 #include "plcemu/listener/access.hpp"
 #include "plcemu/image/excerpt.hpp"
 
@@ -165,12 +168,14 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
         count = static_cast<std::uint32_t>(std::min<std::size_t>(it->size(), kMaxCount + 1));
         const Span s = parse_span(plc, device, count, refused);
         if (refused) return *refused;
-        std::vector<std::uint32_t> values;
+        // Each value with the device it goes to, checked before any is written.
+        std::vector<std::pair<At, std::uint32_t>> values;
         values.reserve(s.count);
         const bool bits = is_bits(s);
         for (std::uint32_t k = 0; k < s.count; ++k) {
             const Json& v = (*it)[k];
-            const bool wide = device_at(plc, s, k).words == 2;
+            const At at = device_at(plc, s, k);
+            const bool wide = at.words == 2;
             const long long lo = bits ? 0 : wide ? -2147483648LL : -32768;
             const long long hi = bits ? 1 : wide ? 4294967295LL : 65535;
             long long x = 0;
@@ -183,28 +188,27 @@ Response devices(const Call& call, const listener::Seat& plc, std::string_view d
                 x = v.get<long long>();
             } else {
                 std::string why = "values: " + v.dump() + " is out of range for ";
-                why += plc.naming->format_device(s.first.area, device_at(plc, s, k).index);
+                why += plc.naming->format_device(s.first.area, at.index);
                 why += bits   ? " (a bit: 0 or 1)"
                        : wide ? " (a 32-bit counter: -2147483648 to 4294967295)"
                               : " (a word: -32768 to 65535)";
                 return error(400, why);
             }
-            values.push_back(static_cast<std::uint32_t>(x & 0xFFFFFFFF));
+            values.emplace_back(at, static_cast<std::uint32_t>(x & 0xFFFFFFFF));
         }
         if (const std::string why = protected_by(plc, s); !why.empty()) return error(403, why);
         image::Image& img = plc.engine->image();
-        for (std::uint32_t k = 0; k < s.count; ++k) {
+        for (const auto& [at, value] : values) {
             image::Device d = s.first;
-            const At at = device_at(plc, s, k);
             d.index = at.index;
             if (bits) {
-                img.set_bit(d.area, d.index, values[k] != 0);
+                img.set_bit(d.area, d.index, value != 0);
                 continue;
             }
-            img.write_word(d, static_cast<std::uint16_t>(values[k] & 0xFFFF));
+            img.write_word(d, static_cast<std::uint16_t>(value & 0xFFFF));
             if (at.words == 2) {
                 d.index += 1;
-                img.write_word(d, static_cast<std::uint16_t>(values[k] >> 16));
+                img.write_word(d, static_cast<std::uint16_t>(value >> 16));
             }
         }
         return json(200, Json{{"device", std::string(device)},
