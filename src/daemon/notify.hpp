@@ -11,7 +11,6 @@ namespace plcemu::daemon {
 /// Talks to the service manager that started the daemon, if any (NOTIFY_SOCKET).
 class Notifier {
 public:
-
     /// Reads the watchdog interval the manager asked for (WatchdogSec=, WATCHDOG_USEC).
     Notifier();
 
