@@ -91,10 +91,13 @@ Span parse_span(const listener::Seat& plc,
     s.count = count;
     const image::Range r = range_of(plc, s);
     if (r.end() > size) {
-        refused = error(400, std::string(name) + " and the " + std::to_string(count - 1) +
-                                 " after it go past the last " +
-                                 std::string(plc.naming->area_name(r.area)) + ", " +
-                                 plc.naming->format_device(r.area, size - 1));
+        // One device can run past too: WM1990's 16 bits are M1990-M2005.
+        std::string what(name);
+        if (count > 1) what += " and the " + std::to_string(count - 1) + " after it";
+        what += " (";
+        what += plc.naming->format_range(r);
+        what += count > 1 ? ") go past " : ") goes past ";
+        refused = error(400, what + plc.naming->last_of(r.area, size));
         return s;
     }
     // A span that runs into such numbers is not read or written either.

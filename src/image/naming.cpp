@@ -95,6 +95,14 @@ std::string Naming::format_device(Area a, std::uint32_t index) const {
     return s + std::to_string(index);
 }
 
+std::string Naming::last_of(Area a, std::uint32_t size) const {
+    std::string s = "the last ";
+    s += area_name(a);
+    s += ", ";
+    s += format_device(a, size - 1);
+    return s;
+}
+
 std::string Naming::format_range(const Range& r) const {
     const std::uint32_t last = r.start + (r.count > 0 ? r.count - 1 : 0);
     std::string s = format_device(r.area, r.start);

@@ -197,10 +197,8 @@ std::string Operands::past_the_end(const image::Device& d,
     if (!among(d.area, areas) || n < 2 || d.index >= size || d.index + n <= size) return {};
     std::string out = ": ";
     out += naming_.format_range({d.area, d.index, n});
-    out += " go past the last ";
-    out += naming_.area_name(d.area);
-    out += ", ";
-    out += naming_.format_device(d.area, size - 1);
+    out += " go past ";
+    out += naming_.last_of(d.area, size);
     return out;
 }
 

@@ -223,7 +223,14 @@ TEST(HttpApi, AWriteThePlcWouldRefuseIsRefusedWithTheReasonAndWritesNothing) {
     EXPECT_EQ(rig.call("GET", "/api/v1/plcs/0/devices/R1?count=1001").status, 400u);
     r = rig.call("GET", "/api/v1/plcs/0/devices/R8000?count=1000");
     EXPECT_EQ(r.status, 400u);
-    EXPECT_NE(r.body.find("go past the last"), std::string::npos) << r.body;
+    EXPECT_NE(r.body.find("R8000 and the 999 after it (R8000-R8999) go past the last R, R8071"),
+              std::string::npos)
+        << r.body;
+    // One device of 16 bits runs past as well (it was "WM1990 and the 0 after it go past").
+    r = rig.call("GET", "/api/v1/plcs/0/devices/WM1990");
+    EXPECT_EQ(r.status, 400u);
+    EXPECT_NE(r.body.find("WM1990 (M1990-M2005) goes past the last M, M2001"), std::string::npos)
+        << r.body;
     r = rig.call("DELETE", "/api/v1/plcs/0/devices/R1");
     EXPECT_EQ(r.status, 405u);
     ASSERT_FALSE(r.headers.empty());

@@ -50,6 +50,9 @@ struct Naming {
     std::string format_range(const Range& r) const;
     /// One device's name, e.g. "Y17".
     std::string format_device(Area a, std::uint32_t index) const;
+    /// "the last R, R8071": the end a span of an area of `size` devices ran past, as the
+    /// operands and the devices endpoint refuse it.
+    std::string last_of(Area a, std::uint32_t size) const;
     /// The name of an area ("" when the family has none).
     std::string_view area_name(Area a) const { return names[static_cast<std::size_t>(a)]; }
     /// Why `text`, refused as a device, may have been meant as one: "X and Y are numbered in
