@@ -41,8 +41,9 @@ std::optional<image::Range> comm_fault_range(const image::Naming& naming,
     if (count == 0 || count > kMaxCommCount) return std::nullopt;
     const auto d = naming.parse_device(from);
     if (!d) return std::nullopt;
-    // WM800 with count 2: the 32 bits M800-M831, as the devices API reads it.
-    return image::Range{d->area, d->index, d->word_of_bits ? count * 16 : count};
+    // WM800 with count 2: the 32 bits M800-M831; CTR200 with count 2 two 32-bit counters, four
+    // words: devices as the devices API counts them.
+    return naming.devices_from(*d, count);
 }
 
 std::string_view garble_name(Garble g) {

@@ -56,7 +56,7 @@ Json describe(const listener::Seat& plc) {
     j["function"] = s.function;
     j["from"] = s.devices ? Json(plc.naming->format_device(s.devices->area, s.devices->start))
                           : Json(nullptr);
-    j["count"] = s.devices ? s.devices->count : 0;
+    j["count"] = s.devices ? plc.naming->devices_in(*s.devices) : 0;
     Json lines = Json::array();
     for (const auto& l : config::comm_fault_lines(s)) lines.push_back(l);
     j["summary"] = Json{{"faults", lines}, {"scope", config::comm_fault_scope(s, *plc.naming)}};

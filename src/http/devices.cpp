@@ -31,10 +31,7 @@ At device_at(const listener::Seat& plc, const Span& s, std::uint32_t k) {
 
 // The devices a span covers, as an image range (a `W` span: 16 bits a word).
 image::Range range_of(const listener::Seat& plc, const Span& s) {
-    if (s.count == 0) return {s.first.area, s.first.index, 0};
-    const At last = device_at(plc, s, s.count - 1);
-    const std::uint32_t end = last.index + (s.first.word_of_bits ? 16 : last.words);
-    return {s.first.area, s.first.index, end - s.first.index};
+    return plc.naming->devices_from(s.first, s.count);
 }
 
 // Why the span may not be written: the protected range it meets ("R4000-R4167 may not be

@@ -46,6 +46,21 @@ std::uint32_t Naming::counter_words(std::uint32_t n) const {
     return n < first_32bit_counter ? 1 : 2;
 }
 
+Range Naming::devices_from(const Device& d, std::uint32_t n) const {
+    if (n == 0) return {d.area, d.index, 0};
+    if (d.word_of_bits) return {d.area, d.index, n * 16};
+    if (d.area == Area::CV) {
+        const std::uint32_t last = counter_of_word(d.index) + n - 1;
+        return {d.area, d.index, counter_word(last) + counter_words(last) - d.index};
+    }
+    return {d.area, d.index, n};
+}
+
+std::uint32_t Naming::devices_in(const Range& r) const {
+    if (r.area != Area::CV || r.count == 0) return r.count;
+    return counter_of_word(r.end() - 1) - counter_of_word(r.start) + 1;
+}
+
 std::optional<Device> Naming::parse_device(std::string_view text) const {
     Device d;
     if (text.size() > 1 && upper(text[0]) == 'W' && !(text[1] >= '0' && text[1] <= '9')) {

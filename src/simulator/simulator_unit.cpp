@@ -213,8 +213,8 @@ void SimulatorUnit::refresh_comm_faults() noexcept {
             std::uint16_t& word = w[sim::kScopeFrom + i / 2];
             word = static_cast<std::uint16_t>(word | (i % 2 == 0 ? c << 8 : c));
         }
-        w[sim::kScopeCount] =
-            static_cast<std::uint16_t>(std::min<std::uint32_t>(f.devices->count, 0xFFFF));
+        w[sim::kScopeCount] = static_cast<std::uint16_t>(
+            std::min<std::uint32_t>(naming_->devices_in(*f.devices), 0xFFFF));
     }
     if (faults_->active())
         w[sim::kCommStatus] = static_cast<std::uint16_t>(w[sim::kCommStatus] | 1u);

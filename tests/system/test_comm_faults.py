@@ -908,6 +908,28 @@ def test_scope_by_device_range_from_the_config(start_plcemud):
         assert raw.ask(b"\x08\x00\x00\x12\x34") == b"\x08\x00\x00\x12\x34"
 
 
+def test_a_scope_of_32_bit_counters_counts_counters(start_plcemud):
+    """CTR200-CTR255 hold two words each (holding registers 9700-9811): a scope's `count` from
+    CTR200 was taken as words, so 56 covered CTR200-CTR227, 57 was taken, and the config's
+    `count: 2` was CTR200 alone. Counted as the devices API counts them: counters."""
+    d, hp = start_with_http(start_plcemud, "faults: {exception: 6, from: CTR200, count: 2}\n")
+    assert d.wait_log("(CTR200-CTR201)"), d.log_text()
+    c = d.client(timeout=2, retries=0)
+    assert exception_code(c.read_holding_registers(9702, 2, slave=1)) == 6  # CTR201
+    assert ok(c.read_holding_registers(9704, 2, slave=1))  # CTR202
+    j = put_faults(hp, exception=4, **{"from": "CTR200", "count": 56})
+    assert (j["from"], j["count"]) == ("CTR200", 56), j
+    assert "CTR200-CTR255" in j["summary"]["scope"], j
+    for addr in (9700, 9754, 9756, 9810):  # CTR200, CTR227, CTR228, CTR255
+        assert exception_code(c.read_holding_registers(addr, 2, slave=1)) == 4, addr
+    assert ok(c.read_holding_registers(9698, 2, slave=1))  # CTR198-CTR199, one word each
+    # The block of the simulator unit reads the count back as counters too.
+    assert ok(Sim(d).c.read_holding_registers(REG["count"], 1, slave=SIM)).registers == [56]
+    status, j = api(hp, "PUT", "/api/v1/plcs/0/comm-faults",
+                    {"exception": 4, "from": "CTR200", "count": 57})
+    assert status == 400 and "CTR200-CTR256" in j["error"], (status, j)
+
+
 def test_the_block_clamps_garble_and_reads_from_as_one_device_name(start_plcemud):
     """garble 9 was taken as none, where every register of the block is clamped to its range
     (3, gap); spaces inside `from` were dropped, so "R 1" was R1. Padding is still allowed."""

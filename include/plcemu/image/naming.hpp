@@ -38,6 +38,12 @@ struct Naming {
     std::uint32_t counter_of_word(std::uint32_t w) const;
     /// Words of counter `n`'s value: 1 or 2.
     std::uint32_t counter_words(std::uint32_t n) const;
+    /// The `n` devices from `d` as a range of its area: WM800 and 2 are the 32 bits M800-M831,
+    /// CTR200 and 2 the four words of two 32-bit counters. As the devices API and the
+    /// communication faults count devices.
+    Range devices_from(const Device& d, std::uint32_t n) const;
+    /// How many devices `r` holds: its entries, or the counters whose words it holds.
+    std::uint32_t devices_in(const Range& r) const;
 
     /// Parses "R100", "d0", "WM800" (16 bits as a word), "X17" (octal where the area is).
     /// Returns nothing for text that is not a device of this family. Index limits are the
