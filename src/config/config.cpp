@@ -306,8 +306,11 @@ void read_listing_file(const Reader& r, const Node& file, std::vector<ListingLin
     std::size_t start = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
     int line = 1;
     while (start <= text.size()) {
-        std::size_t end = text.find('\n', start);
+        // A line ends in LF, CR LF or a lone CR (as classic Mac OS editors save one): read as
+        // one line, a file of the last kind was a single statement, or a comment.
+        std::size_t end = text.find_first_of("\r\n", start);
         if (end == std::string::npos) end = text.size();
+        const std::size_t next = text.compare(end, 2, "\r\n") == 0 ? end + 2 : end + 1;
         if (end > start || end < text.size()) {
             // Room for the most statements a program holds, with comments and operand lines.
             // Refused at the line that crosses the limit, as a statement past 100,000 is.
@@ -319,7 +322,7 @@ void read_listing_file(const Reader& r, const Node& file, std::vector<ListingLin
             listing.push_back({text.substr(start, end - start), {path, line, 1}});
         }
         if (end == text.size()) break;
-        start = end + 1;
+        start = next;
         ++line;
     }
 }

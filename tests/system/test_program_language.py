@@ -97,6 +97,24 @@ def test_a_listing_saved_with_a_byte_order_mark_reads_as_without(tmp_path):
         r.stderr
 
 
+@pytest.mark.parametrize("ending", [b"\n", b"\r\n", b"\r"], ids=["lf", "crlf", "cr"])
+def test_a_listing_ends_its_lines_as_any_editor_saves_them(tmp_path, ending):
+    """A listing whose lines end in a lone CR (classic Mac OS editors) was read as one line, a
+    comment when the file began with one: the start took an empty program without a word. LF,
+    CR LF and CR each end a line, and an error names the line it is on."""
+    lines = [b"; the oven", b"ORG M0", b"OUT Y0", b"ORG M1", b"OUT Y1"]
+    (tmp_path / "p.il").write_bytes(ending.join(lines) + ending)
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("profile: fbs\npersistence: {enabled: false}\nprogram: {file: p.il}\n")
+    r = run_plcemud("-c", str(cfg), "--print-program")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.splitlines() == ["0001  ORG M0", "0002  OUT Y0", "0003  ORG M1",
+                                     "0004  OUT Y1"], r.stdout
+    (tmp_path / "p.il").write_bytes(ending.join(lines[:3] + [b"ORG Q1"]) + ending)
+    r = run_plcemud("-c", str(cfg), "--check-config")
+    assert r.returncode == 2 and "p.il:4:" in r.stderr, r.stderr
+
+
 @pytest.mark.parametrize("program, error", [
     ("program:\n  - MOV: {s: D0, d: D99999}\n", "MOV.d: expected 1 word(s)"),
     ("program: {file: bad.il}\n", "bad.il:3:1: OUT: 1 block opened by LD not joined"),
