@@ -68,8 +68,9 @@ void words_of(const ListingLine& line, std::vector<Word>& out) {
             continue;
         }
         const std::size_t start = i;
+        // A comment ends the word it touches too ("OUT Y1;x", "OUT Y1//x").
         while (i < t.size() && t[i] != ' ' && t[i] != '\t' && t[i] != ',' && t[i] != ';' &&
-               t[i] != '\r' && t[i] != ':') {
+               t[i] != '\r' && t[i] != ':' && !t.substr(i).starts_with("//")) {
             ++i;
         }
         if (i < t.size() && t[i] == ':') ++i;
@@ -84,13 +85,22 @@ void read_operands(std::vector<Word>::const_iterator it,
                    std::vector<Word>::const_iterator end,
                    Statement& s) {
     while (it != end) {
+        // Each named operand is checked against those before it: without a bound, 100,000 on a
+        // line took minutes to refuse.
+        if (s.operands.size() + s.named.size() >= kMaxOperands) {
+            throw BindError(it->where(), s.mnemonic + ": more than " +
+                                             std::to_string(kMaxOperands) +
+                                             " operands; no instruction takes so many");
+        }
         if (is_key(*it)) {
             const std::string key = lower(it->text.substr(0, it->text.size() - 1));
             const Where kw = it->where();
             ++it;
             if (it == end || is_key(*it)) {
-                throw BindError(
-                    kw, s.mnemonic + ": operand '" + image::excerpt(key) + "' has no value");
+                // Quoted as written: "OUT Y0:" is more likely a stray colon than a name.
+                throw BindError(kw, s.mnemonic + ": operand '" + image::excerpt((it - 1)->text) +
+                                        "' has no value after it (a word ending in ':' names "
+                                        "the operand that follows)");
             }
             for (const auto& [k, v] : s.named) {
                 if (k == key)

@@ -312,8 +312,11 @@ private:
             const auto d = base_.naming.parse_device(s.operands.front().text);
             const bool timer_or_counter = d && (d->area == Area::T || d->area == Area::C);
             if (timer_or_counter && s.operands.size() == 1) {
-                fail(s, s.operands.front().text + " needs its preset (OUT " +
-                            s.operands.front().text + " K10)");
+                // In the dialect's own words: TMR T0 K10 where it has TMR, else OUT T0 K10.
+                const char* word = d->area == Area::T ? "TMR" : "CTR";
+                const bool own = dialect_.words.contains(word);
+                fail(s, s.operands.front().text + " needs its preset (" + (own ? word : "OUT") +
+                            " " + s.operands.front().text + " K10)");
             }
             if (timer_or_counter && s.operands.size() == 2) {
                 output(s);

@@ -121,6 +121,12 @@ WordSource Operands::word_source(const char* key) {
     }
     auto d = naming_.parse_device(op.text);
     if (!d) {
+        // A number too large for any integer is a constant out of range as well.
+        long long v = 0;
+        bool too_large = false;
+        if (!naming_.parse_integer(op.text, v, &too_large) && too_large) {
+            fail(key, "constant out of 16-bit range");
+        }
         // The family's own register names: a VB has no R, and spells timer values TN.
         fail(key, "expected a register (" +
                       names({image::Area::R, image::Area::D, image::Area::TV, image::Area::CV}) +

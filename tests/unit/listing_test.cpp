@@ -341,6 +341,18 @@ TEST(FatekListing, RefusalsNameLineColumnAndMnemonic) {
     expect_listing_error("fbs", {"ORG X0", "FOO Y0"}, 2, 8,
                          "unknown instruction 'FOO' (not in WinProladder's mnemonic view)");
     expect_listing_error("fbs", {"ORG X0", "FUN 99"}, 2, 8, "FUN 99: no such function");
+    // A timer or counter without its preset is told the form this dialect writes (it was told
+    // the VB's OUT T0 K10).
+    expect_listing_error("fbs", {"ORG X0", "OUT T0"}, 2, 8,
+                         "OUT: T0 needs its preset (TMR T0 K10)");
+    expect_listing_error("fbs", {"ORG X0", "OUT C3"}, 2, 8,
+                         "OUT: C3 needs its preset (CTR C3 K10)");
+    // A stray colon: the word is quoted as written (it was "operand 'y0' has no value").
+    expect_listing_error("fbs", {"ORG X0", "OUT Y0:"}, 2, 12,
+                         "OUT: operand 'Y0:' has no value after it (a word ending in ':' names");
+    // A number no integer holds is a constant out of range, not "expected a register".
+    expect_listing_error("fbs", {"ORG X0", "TMR T0 99999999999999999999999"}, 2, 15,
+                         "constant out of 16-bit range");
     expect_listing_error("fbs", {"ORG X0", "FUN8 MOV S:R0 D:R1 EN:M0"}, 2, 30,
                          "MOV: EN is the rung's result; leave `en` out");
     expect_listing_error("fbs", {"ORG X0", "MOV S:R0 D:Q1"}, 2, 19, "MOV.d");
@@ -586,6 +598,57 @@ TEST(VbListing, RefusalsNameLineColumnAndMnemonic) {
     // The profile's checks of the program see a listing's instructions too.
     expect_listing_error("vb", {"LD M0", "MBUS D1000 D100"}, 2, 8,
                          "MBUS: the program polls slaves, but the config has no mbus: section");
+}
+
+// docs/program-language.md: `;` or `//` starts a comment; `//` touching an operand was read as
+// part of it ("expected a Y, M or S output, got 'Y1//x'").
+TEST(Listing, ACommentEndsTheWordItTouches) {
+    const Dialect& fbs = *testing::profile("fbs").listing();
+    for (const char* text : {"OUT Y1//x", "OUT Y1;x", "OUT Y1 // x", "OUT Y1,//x"}) {
+        const auto st = read_listing({ListingLine{text, {"c.il", 1, 1}}}, fbs);
+        ASSERT_EQ(st.size(), 1u) << text;
+        ASSERT_EQ(st[0].operands.size(), 1u) << text;
+        EXPECT_EQ(st[0].operands[0].text, "Y1") << text;
+    }
+    // One slash is no comment: the operand keeps it, and its refusal quotes it.
+    expect_listing_error("fbs", {"ORG X0", "OUT Y1/x"}, 2, 12, "got 'Y1/x'");
+}
+
+// Each named operand was compared with every one before it: 50,000 on operand lines took 20 s
+// to refuse and 100,000 on one line 94 s. A statement is refused at the operand past the most
+// any instruction takes.
+TEST(Listing, AStatementOfMoreOperandsThanAnyInstructionTakesIsRefusedThere) {
+    const Dialect& fbs = *testing::profile("fbs").listing();
+    std::string line = "FUN86 TPCTL";
+    for (int i = 0; i < 100'000; ++i) line += " k" + std::to_string(i) + ":" + std::to_string(i);
+    try {
+        read_listing({ListingLine{line, {"one.il", 2, 1}}}, fbs);
+        ADD_FAILURE() << "no refusal";
+    } catch (const BindError& e) {
+        EXPECT_EQ(e.where().line, 2);
+        // k32:32 stands after "FUN86 TPCTL" and 32 operands of 5 or 6 characters and a blank.
+        EXPECT_EQ(e.where().column, static_cast<int>(line.find(" k32:") + 2));
+        EXPECT_NE(std::string(e.what()).find("TPCTL: more than 32 operands"), std::string::npos)
+            << e.what();
+    }
+    // On operand lines below the function, the line that crosses the bound.
+    std::vector<ListingLine> lines{{"ORG X0", {"lines.il", 1, 1}},
+                                   {"FUN8 MOV", {"lines.il", 2, 1}}};
+    for (int i = 0; i < 50'000; ++i) {
+        lines.push_back(
+            {"k" + std::to_string(i) + ": " + std::to_string(i), {"lines.il", i + 3, 1}});
+    }
+    try {
+        read_listing(lines, fbs);
+        ADD_FAILURE() << "no refusal";
+    } catch (const BindError& e) {
+        EXPECT_EQ(e.where().line, 35);  // k32
+        EXPECT_EQ(e.where().column, 1);
+    }
+    // At the bound, the statement reads (its operands are the instruction's to check).
+    line = "FUN86 TPCTL";
+    for (int i = 0; i < 32; ++i) line += " k" + std::to_string(i) + ":1";
+    EXPECT_EQ(read_listing({ListingLine{line, {"one.il", 1, 1}}}, fbs).at(0).named.size(), 32u);
 }
 
 TEST(Listing, SizesAreBoundedAndWarningsCounted) {

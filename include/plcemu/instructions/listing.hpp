@@ -106,6 +106,10 @@ struct Statement {
 /// The most statements a listing may hold (docs/program-language.md, "Writing a listing").
 inline constexpr std::size_t kMaxStatements = 100'000;
 
+/// The most operands a statement may have, bare and named (TPCTL, the most, takes 14): a
+/// statement past it is refused at the operand that crosses it.
+inline constexpr std::size_t kMaxOperands = 32;
+
 /// The most double-coil warnings a program gets one by one; the rest are counted in one more.
 inline constexpr std::size_t kMaxListingWarnings = 10;
 
