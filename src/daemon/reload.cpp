@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "plcemu/config/listener_key.hpp"
 #include "plcemu/profiles/profile.hpp"
 
 namespace plcemu::daemon {
@@ -205,9 +206,14 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
             a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),
             b.simulator.writable ? text(*b.simulator.writable) : std::string("default"));
     compare(out, "persistence.enabled", a.persistence.enabled, b.persistence.enabled);
-    compare(out, "persistence.file",
-            a.persistence.file.empty() ? std::string("default") : a.persistence.file,
-            b.persistence.file.empty() ? std::string("default") : b.persistence.file);
+    // The same file written otherwise ("sub/x.state", "./sub/x.state") is no change. Both are
+    // placed as the config's directory places them: a state directory would place both alike.
+    if (config::state_file_key(config::state_file_path(a, "")) !=
+        config::state_file_key(config::state_file_path(b, ""))) {
+        compare(out, "persistence.file",
+                a.persistence.file.empty() ? std::string("default") : a.persistence.file,
+                b.persistence.file.empty() ? std::string("default") : b.persistence.file);
+    }
     const auto& ra = a.persistence.retentive;
     const auto& rb = b.persistence.retentive;
     if (ra.has_value() != rb.has_value() || (ra && !image::same_devices(*ra, *rb))) {

@@ -948,6 +948,21 @@ TEST(Reload, ChangesAreListed) {
     EXPECT_TRUE(daemon::config_changes(a, a).empty());
 }
 
+// A state file named otherwise but the same file ("sub/x.state", "./sub/x.state") was logged as
+// "persistence.file: sub/x.state -> ./sub/x.state".
+TEST(Reload, TheSameStateFileWrittenOtherwiseIsNoChange) {
+    const auto a = plc_config("persistence: {file: sub/x.state}\n");
+    const auto b = plc_config("persistence: {file: ./sub//x.state}\n");
+    EXPECT_TRUE(daemon::config_changes(a, b).empty());
+    const auto c = plc_config("persistence: {file: sub/y.state}\n");
+    EXPECT_EQ(daemon::config_changes(a, c),
+              std::vector<std::string>{"persistence.file: sub/x.state -> sub/y.state"});
+    // The default is test.yaml's name made into a state file's: written out, it is the same.
+    EXPECT_TRUE(
+        daemon::config_changes(plc_config(), plc_config("persistence: {file: test.state}\n"))
+            .empty());
+}
+
 // Retentive ranges are compared as the devices they cover, as the state file compares them.
 TEST(Reload, RetentiveRangesReorderedAreNoChange) {
     const auto a = plc_config("persistence: {retentive: [D0-D9, R0-R9]}\n");
