@@ -1205,6 +1205,13 @@ std::vector<Config> read_plcs(const YamlDocument& doc,
                     r.fail(e["name"], "name: expected 1 to 32 letters, digits, '_' or '-', got '" +
                                           excerpt(name) + "'");
                 }
+                // The console's and the API's paths name a PLC by its name or its position:
+                // a name "1" would hide the second entry, or be hidden by it.
+                if (name.find_first_not_of("0123456789") == std::string::npos) {
+                    r.fail(e["name"], "name: '" + name +
+                                          "' is digits alone, which the console reads as an "
+                                          "entry's position in plcs:; give it a letter");
+                }
                 label += " (" + name + ")";
                 errors.set_prefix(label + ": ");
             }

@@ -208,6 +208,10 @@ def tcp_disagrees(setting):
          ":2:12:", "plcs[0]: name: expected 1 to 32 letters, digits, '_' or '-', got 'a b'"),
         ("plcs:\n  - {name: " + "n" * 33 + ", profile: fbs}\n",
          ":2:12:", "plcs[0]: name: expected 1 to 32 letters, digits, '_' or '-'"),
+        # Digits alone: /api/v1/plcs/0 reached the entry named "0", not the first.
+        ("plcs:\n  - {name: \"0\", profile: fbs}\n",
+         ":2:12:", "plcs[0]: name: '0' is digits alone, which the console reads as an entry's "
+         "position in plcs:; give it a letter"),
         # Every setting of a shared line, and of a shared TCP listener, must agree.
         rtu_disagrees("parity: O"),
         rtu_disagrees("baud: 19200"),
