@@ -232,6 +232,10 @@ public:
         if (holding_) return Clock::duration{0};
         return frame_started_ == Clock::time_point{} ? Clock::duration{0} : now - frame_started_;
     }
+    /// How long the client has sent nothing since it connected (zero once it has sent a byte).
+    Clock::duration mute_for(Clock::time_point now) const {
+        return heard_ ? Clock::duration{0} : now - last_request_;
+    }
     /// How long replies have been waiting for the client to take them (zero when none are).
     Clock::duration unsent_for(Clock::time_point now) const {
         return write_started_ == Clock::time_point{} ? Clock::duration{0} : now - write_started_;
@@ -278,6 +282,7 @@ private:
                     return;
                 }
                 self->used_ += n;
+                self->heard_ = true;
                 // Filled: the client has more to say than the buffer holds.
                 if (self->used_ == self->buf_.size()) {
                     self->buf_.resize(std::max(self->buf_.size(), full_buffer(self->max_frame_)));
@@ -533,6 +538,7 @@ private:
     std::vector<std::uint8_t> held_;  // that answer
     bool holding_ = false;            // one is held: nothing else is served meanwhile
     bool peer_done_ = false;          // the client's end was read while one was held
+    bool heard_ = false;              // the client has sent a byte (mute_for)
     std::vector<std::uint8_t> side_;  // what is read while one is held (read_behind_hold)
     bool reset_ = false;              // closed with RST (a disconnect fault's `reset`)
     bool closed_ = false;
@@ -669,17 +675,24 @@ bool TcpListener::State::evict_one(Clock::time_point now) {
             return true;
         }
     }
+    // A client that connected and never sent a byte is as stuck as one that stopped mid-request:
+    // 64 bare connects held every slot until they were silent for evict_silent (30 s), and
+    // a client connecting again as each was closed kept them.
     std::shared_ptr<Connection> victim;
     Clock::duration worst{0};
+    bool mute = false;
     for (const auto& c : connections) {
         const auto stuck = std::max(c->partial_for(now), c->unsent_for(now));
-        if (stuck >= kEvictStuck && stuck > worst) {
-            worst = stuck;
+        const auto silent = c->mute_for(now);
+        if (std::max(stuck, silent) >= kEvictStuck && std::max(stuck, silent) > worst) {
+            worst = std::max(stuck, silent);
             victim = c;
+            mute = silent > stuck;
         }
     }
     if (victim) {
-        victim->close("evicted for a new client: stuck mid-request");
+        victim->close(mute ? "evicted for a new client: nothing sent since it connected"
+                           : "evicted for a new client: stuck mid-request");
         return true;
     }
     // An event stream too: what it is sent is no request of its client's.

@@ -284,6 +284,41 @@ def test_half_sent_frames_cannot_lock_out_a_new_client_with_the_defaults(start_p
             t.join(5)
 
 
+def http_get_ok(port: int, timeout: float = 2.0) -> bool:
+    """True when a new connection to the console gets an answer to GET /healthz."""
+    try:
+        with connect(port, timeout) as s:
+            s.sendall(b"GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n")
+            return s.recv(12).startswith(b"HTTP/1.1 ")
+    except OSError:
+        return False
+
+
+def test_bare_connects_cannot_lock_out_a_new_client(start_plcemud):
+    """64 connections (max_clients) that connect and send nothing held every slot of the Modbus
+    listener and of the console until they had been silent for 30 s, and an attacker connecting
+    again as each was closed kept them: one that has sent nothing for a second now gives way."""
+    hp = free_port()
+    d = start_plcemud(BASE_CONFIG + f"http: {{bind: 127.0.0.1, port: {hp}}}\n")
+    deadline = time.monotonic() + 5
+    while not port_open(hp):
+        assert time.monotonic() < deadline, d.log_text()
+        time.sleep(0.02)
+    for port, ok in ((d.port, served), (hp, http_get_ok)):
+        held = [connect(port) for _ in range(64)]
+        try:
+            time.sleep(1.5)
+            t0 = time.monotonic()
+            while not ok(port) and time.monotonic() - t0 < 10:
+                time.sleep(0.1)
+            # Well before the 30 s of silence that let them go until now.
+            assert time.monotonic() - t0 < 5, d.log_text()[-2000:]
+        finally:
+            for s in held:
+                s.close()
+    assert "evicted for a new client: nothing sent since it connected" in d.log_text()
+
+
 def test_a_partial_frame_older_than_the_frame_timeout_closes_its_connection(start_plcemud):
     d = start_plcemud("profile: fbs\nmodbus: {tcp: {bind: 127.0.0.1, frame_timeout_ms: 500}}\n")
     s = connect(d.port)
