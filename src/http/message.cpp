@@ -113,6 +113,7 @@ struct RequestCutter::State {
     beast::error_code error;       // the parser's error: it takes nothing more
     bool too_large = false;        // kMaxRequest bytes came and the request is not whole
     bool continued = false;        // its 100 Continue was sent
+    bool bare_lf = false;          // its first line ended in LF alone (the parser's error's cause)
 };
 
 RequestCutter::RequestCutter() = default;
@@ -125,6 +126,16 @@ listener::Split RequestCutter::split(std::span<const std::uint8_t> buffered) noe
         // Fewer bytes than were taken: not the bytes of the last call (a caller's mistake that
         // costs a parse from the start, not a wrong cut).
         if (s.parser && buffered.size() < s.taken) next();
+        // Empty lines before a request line are ignored (RFC 9112 §2.2: a client may send a
+        // CRLF after a request's body); they were a 400 "bad method".
+        if (!s.parser || s.taken == 0) {
+            std::size_t blank = 0;
+            while (blank < buffered.size() &&
+                   (buffered[blank] == '\r' || buffered[blank] == '\n')) {
+                ++blank;
+            }
+            if (blank > 0) return {listener::Cut::Skip, blank, ""};
+        }
         if (!s.parser) {
             configure(s.parser.emplace());
             s.taken = 0;
@@ -137,6 +148,9 @@ listener::Split RequestCutter::split(std::span<const std::uint8_t> buffered) noe
         const bool more = ec == bhttp::error::need_more;
         if (ec && !more) {
             s.error = ec;
+            // Beast names what it met next ("bad version"); the cause is the line's end.
+            const auto lf = std::find(buffered.begin(), buffered.end(), std::uint8_t{'\n'});
+            s.bare_lf = lf != buffered.end() && (lf == buffered.begin() || *(lf - 1) != '\r');
             return {listener::Cut::Frame, buffered.size(), ""};
         }
         // Chunks' sizes, extensions and trailers are bytes too, which the body limit does not
@@ -172,6 +186,7 @@ void RequestCutter::next() noexcept {
     state_->error = {};
     state_->too_large = false;
     state_->continued = false;
+    state_->bare_lf = false;
 }
 
 bool RequestCutter::take(Request& out, Refusal& refusal) {
@@ -191,6 +206,12 @@ bool RequestCutter::take(Request& out, Refusal& refusal) {
     }
     if (s.error == bhttp::error::body_limit) {
         refusal = {413, "the request's body is larger than " + std::to_string(kMaxBody) + " bytes"};
+        return false;
+    }
+    if (s.error && s.bare_lf) {
+        refusal = {400,
+                   "not an HTTP/1.1 request: its lines end in LF alone, where HTTP ends them "
+                   "in CR LF"};
         return false;
     }
     if (s.error || !s.parser->is_done()) {

@@ -880,6 +880,29 @@ def test_a_token_guards_writes_with_401(start_http):
 # --- Framing refusals -------------------------------------------------------------------------
 
 
+def test_empty_lines_before_a_request_line_are_ignored(fbs):
+    """RFC 9112 §2.2: a server SHOULD ignore at least one empty line before a request line (a
+    client may send a CRLF after a PUT's body). They were a 400 "bad method"."""
+    with connect(fbs.http) as s:
+        s.sendall(b"\r\n\r\n" + raw_request("GET", "/healthz"))
+        assert recv_response(s).status == 200
+        body = json.dumps({"values": [152]}).encode()
+        s.sendall(raw_request("PUT", "/api/v1/plcs/0/devices/R152", body,
+                              ["Content-Type: application/json"]) + b"\r\n")
+        assert recv_response(s).status == 200
+        # Sent in pieces, the blank line alone first.
+        s.sendall(b"\r\n")
+        time.sleep(0.05)
+        s.sendall(raw_request("GET", "/api/v1/plcs/0/devices/R152"))
+        r = recv_response(s)
+        assert r.status == 200 and r.json()["values"] == [152], r
+    assert holding(fbs.client(), 152) == [152]
+    # Lines ended in LF alone are refused for what they are (it was "bad version").
+    with connect(fbs.http) as s:
+        s.sendall(b"GET /healthz HTTP/1.1\nHost: 127.0.0.1\n\n")
+        assert_error(recv_response(s), 400, "its lines end in LF alone")
+
+
 def test_a_body_over_24_kib_is_413_and_closes(fbs):
     path = "/api/v1/plcs/0/devices/R150"
     # Exactly 24 KiB is taken.
