@@ -247,7 +247,7 @@ public:
         const std::uint8_t live = plc_->engine().station();
         const std::uint8_t station = station_under(next);
         next.station = cfg_->station;  // the station's change is said below, from the live one
-        auto changes = config_changes(*cfg_, next);
+        auto changes = config_changes(*cfg_, next, state_directory());
         next.station = station;
         if (station != live) {
             changes.insert(changes.begin(), "station: " + std::to_string(live) + " -> " +

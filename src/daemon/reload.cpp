@@ -164,7 +164,9 @@ bool same_map(const std::optional<std::vector<config::MapRowConfig>>& a,
 
 }  // namespace
 
-std::vector<std::string> config_changes(const config::Config& a, const config::Config& b) {
+std::vector<std::string> config_changes(const config::Config& a,
+                                        const config::Config& b,
+                                        const std::string& state_directory) {
     std::vector<std::string> out;
     compare(out, "model", a.model, b.model);
     compare(out, "station", int(a.station), int(b.station));
@@ -206,10 +208,9 @@ std::vector<std::string> config_changes(const config::Config& a, const config::C
             a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),
             b.simulator.writable ? text(*b.simulator.writable) : std::string("default"));
     compare(out, "persistence.enabled", a.persistence.enabled, b.persistence.enabled);
-    // The same file written otherwise ("sub/x.state", "./sub/x.state") is no change. Both are
-    // placed as the config's directory places them: a state directory would place both alike.
-    if (config::state_file_key(config::state_file_path(a, "")) !=
-        config::state_file_key(config::state_file_path(b, ""))) {
+    // The same file written otherwise ("sub/x.state", "./sub/x.state") is no change.
+    if (config::state_file_key(config::state_file_path(a, state_directory)) !=
+        config::state_file_key(config::state_file_path(b, state_directory))) {
         compare(out, "persistence.file",
                 a.persistence.file.empty() ? std::string("default") : a.persistence.file,
                 b.persistence.file.empty() ? std::string("default") : b.persistence.file);

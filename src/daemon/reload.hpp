@@ -10,6 +10,10 @@ namespace plcemu::daemon {
 
 /// One line per setting that differs ("station: 1 -> 5"), in config order. Sections compared as a
 /// whole say only that they changed ("program: changed (3 instructions)").
-std::vector<std::string> config_changes(const config::Config& before, const config::Config& after);
+/// State files are placed in `state_directory` ($STATE_DIRECTORY; "": beside the config), as the
+/// daemon places them.
+std::vector<std::string> config_changes(const config::Config& before,
+                                        const config::Config& after,
+                                        const std::string& state_directory = "");
 
 }  // namespace plcemu::daemon

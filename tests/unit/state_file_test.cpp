@@ -961,6 +961,16 @@ TEST(Reload, TheSameStateFileWrittenOtherwiseIsNoChange) {
     EXPECT_TRUE(
         daemon::config_changes(plc_config(), plc_config("persistence: {file: test.state}\n"))
             .empty());
+    // Under a state directory ($STATE_DIRECTORY, as systemd sets it) relative names are placed
+    // there, as the daemon places them: its path written out is no change, while the config's
+    // directory is another file.
+    const auto in_dir = plc_config("persistence: {file: /srv/st/x.state}\n");
+    const auto x = plc_config("persistence: {file: x.state}\n");
+    EXPECT_TRUE(daemon::config_changes(x, in_dir, "/srv/st").empty());
+    EXPECT_TRUE(daemon::config_changes(x, plc_config("persistence: {file: ./x.state}\n"), "/srv/st")
+                    .empty());
+    EXPECT_EQ(daemon::config_changes(x, in_dir, ""),
+              std::vector<std::string>{"persistence.file: x.state -> /srv/st/x.state"});
 }
 
 // Retentive ranges are compared as the devices they cover, as the state file compares them.
