@@ -232,7 +232,9 @@ public:
         if (holding_) return Clock::duration{0};
         return frame_started_ == Clock::time_point{} ? Clock::duration{0} : now - frame_started_;
     }
-    /// How long the client has sent nothing since it connected (zero once it has sent a byte).
+    /// How long the client has sent no request since it connected (zero once it has). Bytes
+    /// the protocol drops before a frame (noise, HTTP's blank lines) are none: a byte of them
+    /// kept a connection from giving way; a frame begun is `partial_for`'s.
     Clock::duration mute_for(Clock::time_point now) const {
         return heard_ ? Clock::duration{0} : now - last_request_;
     }
@@ -282,7 +284,6 @@ private:
                     return;
                 }
                 self->used_ += n;
-                self->heard_ = true;
                 // Filled: the client has more to say than the buffer holds.
                 if (self->used_ == self->buf_.size()) {
                     self->buf_.resize(std::max(self->buf_.size(), full_buffer(self->max_frame_)));
@@ -402,7 +403,10 @@ private:
             used_ -= off;
         }
         const auto now = Clock::now();
-        if (served > 0) last_request_ = now;
+        if (served > 0) {
+            last_request_ = now;
+            heard_ = true;
+        }
         // The frame deadline runs from the first byte of a request that is not whole yet.
         if (used_ == 0) {
             frame_started_ = {};
@@ -538,7 +542,7 @@ private:
     std::vector<std::uint8_t> held_;  // that answer
     bool holding_ = false;            // one is held: nothing else is served meanwhile
     bool peer_done_ = false;          // the client's end was read while one was held
-    bool heard_ = false;              // the client has sent a byte (mute_for)
+    bool heard_ = false;              // a request of the client's was served (mute_for)
     std::vector<std::uint8_t> side_;  // what is read while one is held (read_behind_hold)
     bool reset_ = false;              // closed with RST (a disconnect fault's `reset`)
     bool closed_ = false;
@@ -640,8 +644,10 @@ void TcpListener::State::accept_failed(const asio::error_code& ec) {
     }
     // Out of descriptors or memory: the listener stays readable, so retrying at once would
     // spin. A stuck or silent connection gives its descriptor up first; then back off, and log
-    // once per episode (the count comes when accepts work again).
-    evict_one(Clock::now());
+    // once per episode (the count comes when accepts work again). One that gave way frees a
+    // descriptor now: the next accept comes at the first back-off, not a doubled one (clients
+    // behind a queue of mute ones got in one a second).
+    const bool freed = evict_one(Clock::now());
     if (accept_calming) {
         // Accepts had worked again, but not for long: the same episode.
         accept_calming = false;
@@ -654,6 +660,8 @@ void TcpListener::State::accept_failed(const asio::error_code& ec) {
             "{}: accept failed: {}; pausing accepts until a descriptor is free (raise the "
             "descriptor limit, LimitNOFILE=, or lower {}.max_clients)",
             options.log_name, ec.message(), options.section);
+    } else if (freed) {
+        accept_backoff = kAcceptBackoffFirst;
     } else {
         accept_backoff = std::min<Clock::duration>(accept_backoff * 2, kAcceptBackoffMax);
     }
@@ -675,9 +683,8 @@ bool TcpListener::State::evict_one(Clock::time_point now) {
             return true;
         }
     }
-    // A client that connected and never sent a byte is as stuck as one that stopped mid-request:
-    // 64 bare connects held every slot until they were silent for evict_silent (30 s), and
-    // a client connecting again as each was closed kept them.
+    // A client that has sent no request since it connected is as stuck as one that stopped
+    // mid-request: 64 bare connects held every slot until silent for evict_silent (30 s).
     std::shared_ptr<Connection> victim;
     Clock::duration worst{0};
     bool mute = false;

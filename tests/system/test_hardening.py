@@ -170,9 +170,12 @@ def test_running_out_of_descriptors_backs_off_logs_once_and_recovers(start_plcem
     d = start_plcemud(BASE_CONFIG, preexec_fn=limit)
     # Logged once the listeners are open, which is when the port starts answering: waited for.
     assert d.wait_log("modbus.tcp.max_clients 64 needs about 128 descriptors but the limit is 48")
+    # Clients that each asked for R0: those accepted are answered and stay (one that has sent
+    # no request gives way to waiting ones, the test below), the others wait in the backlog.
     socks = []
-    for _ in range(80):
+    for i in range(80):
         socks.append(connect(d.port))
+        socks[-1].sendall(mbap(i, 1, READ_R0))
     time.sleep(0.5)
     size_before = os.path.getsize(d.log_path)
     # Pending connections wait in the backlog: no spin, no log flood.
@@ -191,6 +194,30 @@ def test_running_out_of_descriptors_backs_off_logs_once_and_recovers(start_plcem
     assert d.log_text().count("accepting again") == 1, d.log_text()
     assert d.log_text().count("pausing accepts") == 1, d.log_text()
     assert d.proc.poll() is None
+
+
+def test_out_of_descriptors_connections_that_say_nothing_give_way(start_plcemud):
+    """Out of descriptors, connections that have sent no request give way to clients waiting
+    at accept, one a back-off step (50 ms) once they have said nothing for a second: the
+    back-off doubled to a second after each, so a client behind 16 of them waited 16 s."""
+    def limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (48, 48))
+
+    d = start_plcemud(BASE_CONFIG, preexec_fn=limit)
+    assert d.wait_log("needs about 128 descriptors but the limit is 48")
+    mute = [connect(d.port) for _ in range(40)]
+    try:
+        assert d.wait_log("pausing accepts"), d.log_text()
+        time.sleep(1.2)
+        t0 = time.monotonic()
+        while not served(d.port, 1.0) and time.monotonic() - t0 < 15:
+            pass
+        assert time.monotonic() - t0 < 6, d.log_text()[-3000:]
+        assert "nothing sent since it connected" in d.log_text()
+        assert cpu_over(d.proc.pid, 1.0) < 0.3
+    finally:
+        for s in mute:
+            s.close()
 
 
 def test_a_fatek_listener_out_of_descriptors_names_itself(start_plcemud):
@@ -295,17 +322,20 @@ def http_get_ok(port: int, timeout: float = 2.0) -> bool:
 
 
 def test_bare_connects_cannot_lock_out_a_new_client(start_plcemud):
-    """64 connections (max_clients) that connect and send nothing held every slot of the Modbus
-    listener and of the console until they had been silent for 30 s, and an attacker connecting
-    again as each was closed kept them: one that has sent nothing for a second now gives way."""
+    """64 connections (max_clients) that connect and send nothing, or only bytes the protocol
+    drops before a request (HTTP's blank lines), held every slot of the Modbus listener and of
+    the console until they had been silent for 30 s: one that has sent no request for a second
+    now gives way."""
     hp = free_port()
     d = start_plcemud(BASE_CONFIG + f"http: {{bind: 127.0.0.1, port: {hp}}}\n")
     deadline = time.monotonic() + 5
     while not port_open(hp):
         assert time.monotonic() < deadline, d.log_text()
         time.sleep(0.02)
-    for port, ok in ((d.port, served), (hp, http_get_ok)):
+    for port, ok, noise in ((d.port, served, b""), (hp, http_get_ok, b"\r\n")):
         held = [connect(port) for _ in range(64)]
+        for s in held:
+            s.sendall(noise)
         try:
             time.sleep(1.5)
             t0 = time.monotonic()
