@@ -98,6 +98,22 @@ std::string field(const bhttp::request<bhttp::string_body>& m, bhttp::field f) {
     return it == m.end() ? std::string() : std::string(it->value());
 }
 
+// True when a head of text has a line that ends in LF alone, which Beast refuses as what it
+// met next ("bad version", "bad value"). Bytes that are no text (a TLS hello sent to the
+// console's port) are not a head: Beast's words stay.
+bool bare_lf_in_head(std::span<const std::uint8_t> b) {
+    for (std::size_t i = 0; i < b.size(); ++i) {
+        const std::uint8_t c = b[i];
+        if (c == '\n') {
+            if (i == 0 || b[i - 1] != '\r') return true;
+            if (i >= 3 && b[i - 2] == '\n' && b[i - 3] == '\r') return false;  // the head's end
+            continue;
+        }
+        if (c != '\r' && c != '\t' && (c < 0x20 || c > 0x7E)) return false;
+    }
+    return false;
+}
+
 }  // namespace
 
 const std::string* Request::param(std::string_view name) const {
@@ -113,7 +129,7 @@ struct RequestCutter::State {
     beast::error_code error;       // the parser's error: it takes nothing more
     bool too_large = false;        // kMaxRequest bytes came and the request is not whole
     bool continued = false;        // its 100 Continue was sent
-    bool bare_lf = false;          // its first line ended in LF alone (the parser's error's cause)
+    bool bare_lf = false;          // a line of its head ended in LF alone (bare_lf_in_head)
 };
 
 RequestCutter::RequestCutter() = default;
@@ -148,9 +164,7 @@ listener::Split RequestCutter::split(std::span<const std::uint8_t> buffered) noe
         const bool more = ec == bhttp::error::need_more;
         if (ec && !more) {
             s.error = ec;
-            // Beast names what it met next ("bad version"); the cause is the line's end.
-            const auto lf = std::find(buffered.begin(), buffered.end(), std::uint8_t{'\n'});
-            s.bare_lf = lf != buffered.end() && (lf == buffered.begin() || *(lf - 1) != '\r');
+            s.bare_lf = bare_lf_in_head(buffered);
             return {listener::Cut::Frame, buffered.size(), ""};
         }
         // Chunks' sizes, extensions and trailers are bytes too, which the body limit does not

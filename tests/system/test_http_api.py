@@ -897,10 +897,17 @@ def test_empty_lines_before_a_request_line_are_ignored(fbs):
         r = recv_response(s)
         assert r.status == 200 and r.json()["values"] == [152], r
     assert holding(fbs.client(), 152) == [152]
-    # Lines ended in LF alone are refused for what they are (it was "bad version").
+    # Lines ended in LF alone are refused for what they are (it was "bad version"), a header's
+    # line as well ("bad value"); bytes that are no text (a TLS hello) are not said to be.
+    for head in (b"GET /healthz HTTP/1.1\nHost: 127.0.0.1\n\n",
+                 b"GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\nX-A: b\r\n\r\n"):
+        with connect(fbs.http) as s:
+            s.sendall(head)
+            assert_error(recv_response(s), 400, "its lines end in LF alone")
     with connect(fbs.http) as s:
-        s.sendall(b"GET /healthz HTTP/1.1\nHost: 127.0.0.1\n\n")
-        assert_error(recv_response(s), 400, "its lines end in LF alone")
+        s.sendall(bytes.fromhex("16030100a5010000a10303") + bytes(range(32)) + b"\n\n")
+        message = assert_error(recv_response(s), 400, "not an HTTP/1.1 request")
+        assert "LF alone" not in message, message
 
 
 def test_a_body_over_24_kib_is_413_and_closes(fbs):
