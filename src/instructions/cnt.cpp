@@ -88,7 +88,7 @@ std::unique_ptr<engine::Instruction> make_cnt(const Entry& ic, const BindContext
                           " has no current value in this PLC");
     }
     ops.note("c", {Area::CV, b.value_word, b.wide ? 2u : 1u}, "value");
-    if (ops.constant("k")) {
+    if (ops.numeric("k")) {
         b.k = b.wide ? ops.integer("k", -2147483648LL, 2147483647LL) : ops.integer("k", 0, 32767);
     } else {
         b.k_constant = false;

@@ -93,7 +93,7 @@ std::unique_ptr<engine::Instruction> make(Direction dir, const Entry& ic, const 
             ops.output_words("d", n,
                              {image::Area::R, image::Area::D, image::Area::M, image::Area::Y,
                               image::Area::S, image::Area::TV, image::Area::CV});
-    } else if (ops.constant("s")) {
+    } else if (ops.numeric("s")) {
         data = ops.word_source("s");
     } else {
         data.device =

@@ -56,6 +56,14 @@ std::optional<long long> Operands::constant(const char* key) const {
     return v;
 }
 
+bool Operands::numeric(const char* key) const {
+    if (constant(key)) return true;
+    const Operand* op = find(key);
+    long long v = 0;
+    bool too_large = false;
+    return op != nullptr && !naming_.parse_integer(op->text, v, &too_large) && too_large;
+}
+
 void Operands::fail(const char* key, const std::string& message) const {
     const Operand* op = find(key);
     std::string text = image::excerpt(ic_.mnemonic) + "." + key + ": " + message;
@@ -122,11 +130,7 @@ WordSource Operands::word_source(const char* key) {
     auto d = naming_.parse_device(op.text);
     if (!d) {
         // A number too large for any integer is a constant out of range as well.
-        long long v = 0;
-        bool too_large = false;
-        if (!naming_.parse_integer(op.text, v, &too_large) && too_large) {
-            fail(key, "constant out of 16-bit range");
-        }
+        if (numeric(key)) fail(key, "constant out of 16-bit range");
         // The family's own register names: a VB has no R, and spells timer values TN.
         fail(key, "expected a register (" +
                       names({image::Area::R, image::Area::D, image::Area::TV, image::Area::CV}) +

@@ -50,6 +50,10 @@ public:
     bool has(const char* key) const;
     /// The operand's value when it is present and a constant (K10, 0x1F), not a device.
     std::optional<long long> constant(const char* key) const;
+    /// True when the operand is present and written as a number, whether or not any integer
+    /// holds it (99999999999999999999): where a constant or a device goes, the constant's
+    /// refusal ("out of range") is the one that fits.
+    bool numeric(const char* key) const;
     /// A required operand's text as written (a keyword such as CMPOUT's `op`).
     const std::string& text(const char* key) { return require(key).text; }
     /// A bit input; absent gives `fallback`.

@@ -79,7 +79,7 @@ std::unique_ptr<engine::Instruction> make_tmr(const Entry& ic, const BindContext
     }
     b.group = *group;
     ops.note("t", {Area::TV, b.timer, 1}, "value");
-    if (ops.constant("k")) {
+    if (ops.numeric("k")) {
         b.k = {true, static_cast<std::uint16_t>(ops.integer("k", 0, 32767)), {}};
     } else {
         b.k = ops.word_source("k");

@@ -350,9 +350,16 @@ TEST(FatekListing, RefusalsNameLineColumnAndMnemonic) {
     // A stray colon: the word is quoted as written (it was "operand 'y0' has no value").
     expect_listing_error("fbs", {"ORG X0", "OUT Y0:"}, 2, 12,
                          "OUT: operand 'Y0:' has no value after it (a word ending in ':' names");
-    // A number no integer holds is a constant out of range, not "expected a register".
+    // A number no integer holds is a constant out of range, not "expected a register" or
+    // "expected 1 word(s) in D, R".
     expect_listing_error("fbs", {"ORG X0", "TMR T0 99999999999999999999999"}, 2, 15,
-                         "constant out of 16-bit range");
+                         "99999999999999999999999 is out of range 0..32767");
+    expect_listing_error("fbs", {"ORG X0", "CTR C0 99999999999999999999"}, 2, 15,
+                         "99999999999999999999 is out of range 0..32767");
+    expect_listing_error("fbs", {"ORG X0", "CTR C200 -99999999999999999999"}, 2, 17,
+                         "-99999999999999999999 is out of range -2147483648..2147483647");
+    expect_listing_error("fbs", {"ORG X0", "FUN8 MOV S:99999999999999999999 D:R0"}, 2, 19,
+                         "MOV.s: constant out of 16-bit range");
     expect_listing_error("fbs", {"ORG X0", "FUN8 MOV S:R0 D:R1 EN:M0"}, 2, 30,
                          "MOV: EN is the rung's result; leave `en` out");
     expect_listing_error("fbs", {"ORG X0", "MOV S:R0 D:Q1"}, 2, 19, "MOV.d");
