@@ -116,8 +116,9 @@ std::string outside(const image::Naming& naming,
     if (rg.count <= layout.size_of(rg.area) && rg.start <= layout.size_of(rg.area) - rg.count) {
         return name + " does not exist on this PLC (no " + area + " device has that number)";
     }
+    // Devices, not entries: 256 counters whose values fill 312 words.
     return name + " is outside this PLC's " + area + " area (" +
-           std::to_string(layout.size_of(rg.area)) + " devices)";
+           std::to_string(naming.devices_in({rg.area, 0, layout.size_of(rg.area)})) + " devices)";
 }
 
 namespace {

@@ -111,16 +111,18 @@ TEST(Config, EveryInitDeviceOutsideItsAreaIsAnErrorOfItsOwn) {
     const auto f = testing::config_failure([] {
         parse_config(
             "profile: fbs\n"
-            "init: {R9000: 1, D5000: 1, D3999: [1, 2], R5: 3, WM2000: 1}\n"
+            "init: {R9000: 1, D5000: 1, D3999: [1, 2], R5: 3, WM2000: 1, CTR255: [1, 2, 3]}\n"
             "modbus: {write_protect: [Q1]}\n",
             "i.yaml");
     });
+    // Counters are counted as counters: 256, whose values fill 312 words (it said 312).
     testing::expect_config_errors(
         f, "i.yaml",
         {{2, 8, "init: R9000 is outside this PLC's R area (8072 devices)"},
          {2, 18, "init: D5000 is outside this PLC's D area (4000 devices)"},
          {2, 28, "init: D3999-D4000 is outside this PLC's D area"},
          {2, 50, "init: M2000-M2015 is outside this PLC's M area"},
+         {2, 61, "init: CTR255-CTR256 is outside this PLC's CTR area (256 devices)"},
          {3, 26, "modbus.write_protect entry: expected a device range"}});
 }
 
