@@ -698,7 +698,7 @@ bool TcpListener::State::evict_one(Clock::time_point now) {
         }
     }
     if (victim) {
-        victim->close(mute ? "evicted for a new client: nothing sent since it connected"
+        victim->close(mute ? "evicted for a new client: no request since it connected"
                            : "evicted for a new client: stuck mid-request");
         return true;
     }

@@ -213,7 +213,7 @@ def test_out_of_descriptors_connections_that_say_nothing_give_way(start_plcemud)
         while not served(d.port, 1.0) and time.monotonic() - t0 < 15:
             pass
         assert time.monotonic() - t0 < 6, d.log_text()[-3000:]
-        assert "nothing sent since it connected" in d.log_text()
+        assert "no request since it connected" in d.log_text()
         assert cpu_over(d.proc.pid, 1.0) < 0.3
     finally:
         for s in mute:
@@ -346,7 +346,7 @@ def test_bare_connects_cannot_lock_out_a_new_client(start_plcemud):
         finally:
             for s in held:
                 s.close()
-    assert "evicted for a new client: nothing sent since it connected" in d.log_text()
+    assert "evicted for a new client: no request since it connected" in d.log_text()
 
 
 def test_a_partial_frame_older_than_the_frame_timeout_closes_its_connection(start_plcemud):
