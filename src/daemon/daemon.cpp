@@ -231,7 +231,9 @@ public:
     // listeners). Returns the previous Plc, for the Runtime to retire once no listener routes to
     // its dispatcher; null when the new one could not be built and the previous one runs on.
     std::unique_ptr<Plc> apply(config::Config next, engine::Program program) {
-        if (!same_state_file(next)) {
+        // Asked once: each answer walks the path's links on the loop.
+        const bool same_file = same_state_file(next);
+        if (!same_file) {
             spdlog::warn(
                 "reload: {}the state file becomes {} at the next start (persistence.enabled "
                 "or persistence.file, or a one-PLC config made a plcs: list or back); the image "
@@ -254,7 +256,7 @@ public:
                                                 std::to_string(next.station));
         }
         // The state file stays the one in use until a restart, and later reloads compare with it.
-        if (!same_state_file(next)) {
+        if (!same_file) {
             // What runs is then not what the file says: no later reload finds it unchanged, and
             // each says again where the image stays.
             next.fingerprint = {};

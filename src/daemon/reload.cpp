@@ -208,9 +208,11 @@ std::vector<std::string> config_changes(const config::Config& a,
             a.simulator.writable ? text(*a.simulator.writable) : std::string("default"),
             b.simulator.writable ? text(*b.simulator.writable) : std::string("default"));
     compare(out, "persistence.enabled", a.persistence.enabled, b.persistence.enabled);
-    // The same file written otherwise ("sub/x.state", "./sub/x.state") is no change.
-    if (config::state_file_key(config::state_file_path(a, state_directory)) !=
-        config::state_file_key(config::state_file_path(b, state_directory))) {
+    // The same file written otherwise ("sub/x.state", "./sub/x.state") is no change; the paths
+    // are resolved (their links walked) only when written otherwise.
+    if (a.persistence.file != b.persistence.file &&
+        config::state_file_key(config::state_file_path(a, state_directory)) !=
+            config::state_file_key(config::state_file_path(b, state_directory))) {
         compare(out, "persistence.file",
                 a.persistence.file.empty() ? std::string("default") : a.persistence.file,
                 b.persistence.file.empty() ? std::string("default") : b.persistence.file);
