@@ -187,28 +187,32 @@ image::Device Operands::word_device(const char* key,
              layout_.contains({d->area, d->index, n});
     }
     if (!ok) {
-        std::string msg = "expected " + std::to_string(span) + " word(s) in " + names(areas);
-        msg += ", got '";
-        msg += image::excerpt(op.text);
-        msg += '\'';
-        if (d) msg += past_the_end(*d, d->word_of_bits ? 16 * span : span, areas);
-        fail(key, msg);
+        const std::uint32_t n = d && d->word_of_bits ? 16 * span : span;
+        fail(key, expected(std::to_string(span) + " word(s)", op.text, d, n, areas));
     }
     note(key, {d->area, d->index, d->word_of_bits ? 16 * span : span});
     return *d;
 }
 
-// ": R8065-R8074 go past the last R, R8071" when `d` is a device of one of `areas` whose `n`
-// devices run past its area's end; else "".
-std::string Operands::past_the_end(const image::Device& d,
-                                   std::uint32_t n,
-                                   std::initializer_list<image::Area> areas) const {
-    const std::uint32_t size = layout_.size_of(d.area);
-    if (!among(d.area, areas) || n < 2 || d.index >= size || d.index + n <= size) return {};
-    std::string out = ": ";
-    out += naming_.format_range({d.area, d.index, n});
+// "expected 10 word(s) in R, D, got 'R8065'", and ": R8065-R8074 go past the last R, R8071"
+// when `d`, read from `text`, is a device of one of `areas` whose `n` devices run past its
+// area's end.
+std::string Operands::expected(const std::string& what,
+                               const std::string& text,
+                               const std::optional<image::Device>& d,
+                               std::uint32_t n,
+                               std::initializer_list<image::Area> areas) const {
+    std::string out = "expected " + what + " in " + names(areas);
+    out += ", got '";
+    out += image::excerpt(text);
+    out += '\'';
+    if (!d) return out;
+    const std::uint32_t size = layout_.size_of(d->area);
+    if (!among(d->area, areas) || n < 2 || d->index >= size || d->index + n <= size) return out;
+    out += ": ";
+    out += naming_.format_range({d->area, d->index, n});
     out += " go past ";
-    out += naming_.last_of(d.area, size);
+    out += naming_.last_of(d->area, size);
     return out;
 }
 
@@ -222,13 +226,10 @@ image::Device Operands::device(const char* key,
         ok = among(d->area, areas) && layout_.contains({d->area, d->index, span});
     }
     if (!ok) {
-        std::string msg =
-            "expected " + std::to_string(span) + " consecutive device(s) in " + names(areas);
-        msg += ", got '";
-        msg += image::excerpt(op.text);
-        msg += '\'';
-        if (d && !d->word_of_bits) msg += past_the_end(*d, span, areas);
-        fail(key, msg);
+        // A word of bits is no run of devices: nothing of it goes past anything.
+        if (d && d->word_of_bits) d.reset();
+        fail(key,
+             expected(std::to_string(span) + " consecutive device(s)", op.text, d, span, areas));
     }
     note(key, {d->area, d->index, span});
     return *d;
@@ -238,14 +239,10 @@ long long Operands::integer(const char* key, long long lo, long long hi) {
     const auto& op = require(key);
     long long v = 0;
     bool too_large = false;
-    if (!naming_.parse_integer(op.text, v, &too_large)) {
-        if (too_large) {
-            fail(key, image::excerpt(op.text) + " is out of range " + std::to_string(lo) + ".." +
-                          std::to_string(hi));
-        }
+    const bool read = naming_.parse_integer(op.text, v, &too_large);
+    if (!read && !too_large)
         fail(key, "expected an integer, got '" + image::excerpt(op.text) + "'");
-    }
-    if (v < lo || v > hi) {
+    if (!read || v < lo || v > hi) {
         fail(key, image::excerpt(op.text) + " is out of range " + std::to_string(lo) + ".." +
                       std::to_string(hi));
     }

@@ -105,9 +105,12 @@ private:
     const Operand* find(const char* key) const;
     /// "D, TN, CN": the family's names of `areas`, leaving out those it does not have.
     std::string names(std::initializer_list<image::Area> areas) const;
-    std::string past_the_end(const image::Device& d,
-                             std::uint32_t n,
-                             std::initializer_list<image::Area> areas) const;
+    /// The refusal of `text` where `what` of `areas` was expected (see operands.cpp).
+    std::string expected(const std::string& what,
+                         const std::string& text,
+                         const std::optional<image::Device>& d,
+                         std::uint32_t n,
+                         std::initializer_list<image::Area> areas) const;
     const Operand& require(const char* key);
 
     const Entry& ic_;
