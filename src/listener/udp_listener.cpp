@@ -127,19 +127,13 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     const Client& client_of(const udp::endpoint& ep) {
         const auto now = std::chrono::steady_clock::now();
         Peer* hit = nullptr;
-        std::erase_if(peers, [&](const Peer& p) {
-            const bool gone = p.endpoint != ep && now - p.last > options.forget_after;
-            if (gone) protocol.units().client_gone(p.client.id);
-            return gone;
-        });
+        forget_silent(now, &ep);
         for (auto& p : peers) {
             if (p.endpoint == ep) hit = &p;
         }
         if (hit == nullptr) {
             if (peers.size() >= kPeers) {
-                auto oldest =
-                    std::min_element(peers.begin(), peers.end(),
-                                     [](const Peer& a, const Peer& b) { return a.last < b.last; });
+                auto oldest = std::min_element(peers.begin(), peers.end(), heard_earlier);
                 protocol.units().client_gone(oldest->client.id);
                 peers.erase(oldest);
             }
@@ -156,22 +150,24 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
     // another datagram comes: the timer waits for the first peer due to go.
     void arm_forget() {
         if (peers.empty()) return;
-        const auto first =
-            std::min_element(peers.begin(), peers.end(), [](const Peer& a, const Peer& b) {
-                return a.last < b.last;
-            })->last;
+        const auto first = std::min_element(peers.begin(), peers.end(), heard_earlier)->last;
         forget_armed = true;
         forget.expires_at(first + options.forget_after + std::chrono::milliseconds(1));
         forget.async_wait([self = shared_from_this()](const asio::error_code& ec) {
             self->forget_armed = false;
             if (ec || !self->socket.is_open()) return;
-            const auto now = std::chrono::steady_clock::now();
-            std::erase_if(self->peers, [&](const Peer& p) {
-                const bool gone = now - p.last > self->options.forget_after;
-                if (gone) self->protocol.units().client_gone(p.client.id);
-                return gone;
-            });
+            self->forget_silent(std::chrono::steady_clock::now(), nullptr);
             self->arm_forget();
+        });
+    }
+
+    // Unlists the peers silent for options.forget_after, but `keep` (the one heard now).
+    void forget_silent(std::chrono::steady_clock::time_point now, const udp::endpoint* keep) {
+        std::erase_if(peers, [&](const Peer& p) {
+            const bool gone =
+                (keep == nullptr || p.endpoint != *keep) && now - p.last > options.forget_after;
+            if (gone) protocol.units().client_gone(p.client.id);
+            return gone;
         });
     }
 
@@ -201,6 +197,7 @@ struct UdpListener::State : std::enable_shared_from_this<State> {
         Client client;
         std::chrono::steady_clock::time_point last;
     };
+    static bool heard_earlier(const Peer& a, const Peer& b) { return a.last < b.last; }
     std::vector<Peer> peers;  // the peers listed as clients
     std::size_t held = 0;     // answers waiting out a delay fault
 };
